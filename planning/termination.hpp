@@ -1,0 +1,67 @@
+// When a planner must stop: a deadline, an iteration budget, or a cancel request, whichever first.
+// Planners take one of these instead of loose flags (as OMPL's PlannerTerminationCondition), so the
+// daemon can cancel an in-flight plan from another thread.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string_view>
+
+namespace skyroute {
+
+class TerminationCondition {
+ public:
+  using Clock = std::chrono::steady_clock;
+  enum class Reason { kNone, kDeadline, kIterations, kCancelled };
+
+  TerminationCondition() = default;
+
+  static TerminationCondition after(std::chrono::nanoseconds budget) {
+    TerminationCondition t;
+    t.deadline_ = Clock::now() + budget;
+    return t;
+  }
+  static TerminationCondition afterMilliseconds(double budget_ms) {
+    return after(std::chrono::nanoseconds(static_cast<std::int64_t>(budget_ms * 1e6)));
+  }
+  TerminationCondition& withIterationBudget(std::uint64_t iterations) {
+    max_iterations_ = iterations;
+    return *this;
+  }
+  // The flag is shared: setting it from any thread stops the planner at its next check.
+  TerminationCondition& withCancelFlag(std::shared_ptr<std::atomic<bool>> cancel) {
+    cancel_ = std::move(cancel);
+    return *this;
+  }
+
+  // iterations_done: the planner's own count, compared with the iteration budget.
+  bool shouldStop(std::uint64_t iterations_done = 0) const { return reason(iterations_done) != Reason::kNone; }
+  Reason reason(std::uint64_t iterations_done = 0) const {
+    if (cancel_ && cancel_->load(std::memory_order_relaxed)) return Reason::kCancelled;
+    if (iterations_done >= max_iterations_) return Reason::kIterations;
+    if (deadline_ && Clock::now() >= *deadline_) return Reason::kDeadline;
+    return Reason::kNone;
+  }
+  bool hasDeadline() const { return deadline_.has_value(); }
+
+ private:
+  std::optional<Clock::time_point> deadline_;
+  std::uint64_t max_iterations_ = std::numeric_limits<std::uint64_t>::max();
+  std::shared_ptr<std::atomic<bool>> cancel_;
+};
+
+inline std::string_view to_string(TerminationCondition::Reason r) {
+  switch (r) {
+    case TerminationCondition::Reason::kNone: return "none";
+    case TerminationCondition::Reason::kDeadline: return "deadline";
+    case TerminationCondition::Reason::kIterations: return "iterations";
+    case TerminationCondition::Reason::kCancelled: return "cancelled";
+  }
+  return "unknown";
+}
+
+}  // namespace skyroute

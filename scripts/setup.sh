@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs every Debian package the build, tests and benchmarks need (skipping what is there),
+# then configures and builds skyroute in ./build (or $SKYROUTE_BUILD_DIR).
+# Usage: scripts/setup.sh [--preset default|asan] [extra cmake --build args]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(
+  build-essential cmake ccache pkg-config
+  libeigen3-dev libgdal-dev gdal-bin liboctomap-dev libfcl-dev
+  cyclonedds-dev cyclonedds-tools
+  libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libompl-dev
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+preset=default
+if [ "${1:-}" = "--preset" ]; then preset="$2"; shift 2; fi
+cmake --preset "$preset" >/dev/null
+cmake --build --preset "$preset" -j "$(nproc)" "$@"

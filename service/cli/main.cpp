@@ -1,0 +1,24 @@
+// skyroute: the command-line tool, with git-style subcommands.
+#include <CLI/CLI.hpp>
+#include <gdal.h>
+
+#include "service/cli/commands.hpp"
+
+int main(int argc, char** argv) {
+  GDALAllRegister();
+  CLI::App app{"skyroute: terrain-aware 3D trajectory planning for UAVs"};
+  app.set_version_flag("--version", std::string("skyroute ") + SKYROUTE_VERSION);
+  app.require_subcommand(1);
+
+  skyroute::cli::addTerrainCommands(app);
+  CLI::App* grid = app.add_subcommand("grid", "Grid searches on Moving AI maps and terrain grid layers");
+  grid->require_subcommand(1);
+  skyroute::cli::addGridSolveCommand(*grid);
+  skyroute::cli::addGridPathCommand(*grid);
+  skyroute::cli::addMissionCommand(app);
+  skyroute::cli::addPlanCommand(app);
+  skyroute::cli::addFleetCommand(app);
+
+  CLI11_PARSE(app, argc, argv);
+  return 0;
+}

@@ -1,0 +1,79 @@
+// CollisionWorld: the one place that answers "may the vehicle be here / fly this". Terrain checks
+// run on the Heightfield (exact on its bilinear surface, nanoseconds); the terrain octree and the
+// obstacles are FCL objects (the octree answers distance-to-terrain queries and cross-checks the
+// heightfield in tests). Many readers may query while one writer updates obstacles.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <shared_mutex>
+#include <vector>
+
+#include "terrain/heightfield.hpp"
+#include "terrain/obstacle.hpp"
+#include "terrain/terrain_octree.hpp"
+
+namespace skyroute {
+
+struct CollisionWorldOptions {
+  double vehicle_radius_m = 5.0;     // the vehicle's bounding sphere
+  double min_clearance_m = 30.0;     // lowest height above ground allowed (>= vehicle radius)
+  double ceiling_m = 1.0e9;          // highest up (altitude AMSL with the default frame) allowed
+  double octree_resolution_m = 30.0;
+  bool build_octree = true;          // the heightfield alone is enough for every validity check
+};
+
+class CollisionWorld {
+ public:
+  static Result<std::shared_ptr<CollisionWorld>> create(std::shared_ptr<const Heightfield> terrain,
+                                                        const CollisionWorldOptions& options);
+  ~CollisionWorld();
+
+  const Heightfield& terrain() const { return *terrain_; }
+  std::shared_ptr<const Heightfield> terrainPtr() const { return terrain_; }
+  const CollisionWorldOptions& options() const { return options_; }
+  const TerrainOctree* octree() const { return octree_.get(); }
+
+  // Obstacles. Upsert replaces an obstacle with the same id.
+  void upsertObstacle(const Obstacle& obstacle);
+  bool removeObstacle(std::uint64_t id);
+  void clearObstacles();
+  std::vector<Obstacle> obstacles() const;
+  std::uint64_t obstacleVersion() const;
+
+  // Valid: inside the DEM, at least min_clearance above the (radius-dilated) ground, under the
+  // ceiling, and the vehicle sphere clear of every obstacle. Without a time, a moving obstacle
+  // blocks every place it can reach (its whole back-and-forth sweep); with a time, only where it
+  // is at that time.
+  bool isPointValid(const Eigen::Vector3d& p_m, std::optional<double> t_s = std::nullopt) const;
+  bool isTerrainValid(const Eigen::Vector3d& p_m) const;  // terrain, bounds and ceiling only
+  // The sphere swept along a -> b, exactly against the terrain surface and obstacles (no samples).
+  bool isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const;
+  // Vehicle moving at constant velocity from a at t0 to b at t1, against moving obstacles at their
+  // positions over that interval (conservative advancement on FCL distances: no tunnelling).
+  bool isSegmentValidDuring(const Eigen::Vector3d& a_m, double t0_s, const Eigen::Vector3d& b_m,
+                            double t1_s) const;
+  // Euclidean distance from p to the nearest terrain voxel (FCL on the octree), capped at cap_m.
+  double terrainDistance(const Eigen::Vector3d& p_m, double cap_m = 1000.0) const;
+  // Smallest distance between the vehicle sphere's surface and any obstacle at time t_s (inf if none).
+  double obstacleDistance(const Eigen::Vector3d& p_m, double t_s) const;
+
+  // The flyable box: the DEM's ENU rectangle, from the lowest ground plus clearance to the
+  // ceiling (or the highest ground plus a margin when the ceiling is unlimited).
+  Eigen::AlignedBox3d flyableBounds() const;
+
+ private:
+  struct FclObstacles;
+  CollisionWorld() = default;
+
+  std::shared_ptr<const Heightfield> terrain_;
+  std::shared_ptr<const Heightfield> dilated_terrain_;
+  CollisionWorldOptions options_;
+  std::unique_ptr<TerrainOctree> octree_;
+  mutable std::shared_mutex mutex_;
+  std::unique_ptr<FclObstacles> fcl_;
+  std::uint64_t obstacle_version_ = 0;
+};
+
+}  // namespace skyroute

@@ -1,0 +1,113 @@
+#include "terrain/grid_layer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace skyroute {
+
+GridLayer::GridLayer(int width, int height, double cell_size_m, const Eigen::Vector2d& origin_m)
+    : width_(std::max(0, width)),
+      height_(std::max(0, height)),
+      cell_size_m_(cell_size_m),
+      origin_m_(origin_m),
+      static_blocked_(cellCount(), 0),
+      obstacle_count_(cellCount(), 0),
+      blocked_(cellCount(), 0) {}
+
+std::size_t GridLayer::blockedCount() const {
+  return static_cast<std::size_t>(std::count(blocked_.begin(), blocked_.end(), std::uint8_t{1}));
+}
+
+void GridLayer::refresh(std::size_t i, std::vector<GridCell>& changed) {
+  const std::uint8_t now = (static_blocked_[i] != 0 || obstacle_count_[i] > 0) ? 1 : 0;
+  if (now != blocked_[i]) {
+    blocked_[i] = now;
+    changed.push_back(cellOf(i));
+  }
+}
+
+std::vector<GridCell> GridLayer::setStaticBlocked(std::span<const GridCell> cells, bool blocked) {
+  std::vector<GridCell> changed;
+  for (const GridCell& c : cells) {
+    if (!inside(c)) continue;
+    const std::size_t i = index(c);
+    static_blocked_[i] = blocked ? 1 : 0;
+    refresh(i, changed);
+  }
+  if (!changed.empty()) ++version_;
+  return changed;
+}
+
+std::vector<GridCell> GridLayer::addObstacleCover(std::span<const GridCell> cells) {
+  std::vector<GridCell> changed;
+  for (const GridCell& c : cells) {
+    if (!inside(c)) continue;
+    const std::size_t i = index(c);
+    if (obstacle_count_[i] < UINT16_MAX) ++obstacle_count_[i];
+    refresh(i, changed);
+  }
+  if (!changed.empty()) ++version_;
+  return changed;
+}
+
+std::vector<GridCell> GridLayer::removeObstacleCover(std::span<const GridCell> cells) {
+  std::vector<GridCell> changed;
+  for (const GridCell& c : cells) {
+    if (!inside(c)) continue;
+    const std::size_t i = index(c);
+    if (obstacle_count_[i] > 0) --obstacle_count_[i];
+    refresh(i, changed);
+  }
+  if (!changed.empty()) ++version_;
+  return changed;
+}
+
+Eigen::Vector2d GridLayer::cellCenter(GridCell c) const {
+  return origin_m_ + cell_size_m_ * Eigen::Vector2d(c.x, c.y);
+}
+
+std::optional<GridCell> GridLayer::cellAt(const Eigen::Vector2d& east_north_m) const {
+  const Eigen::Vector2d g = (east_north_m - origin_m_) / cell_size_m_;
+  if (!std::isfinite(g.x()) || !std::isfinite(g.y())) return std::nullopt;
+  const GridCell c{static_cast<int>(std::floor(g.x() + 0.5)), static_cast<int>(std::floor(g.y() + 0.5))};
+  if (!inside(c)) return std::nullopt;
+  return c;
+}
+
+bool GridLayer::lineOfSight(GridCell a, GridCell b) const {
+  if (blocked(a) || blocked(b)) return false;
+  const int dx = std::abs(b.x - a.x);
+  const int dy = std::abs(b.y - a.y);
+  const int sx = b.x > a.x ? 1 : -1;
+  const int sy = b.y > a.y ? 1 : -1;
+  // Cells are unit squares around integer centres. The segment crosses the k-th vertical cell
+  // boundary at parameter (2k+1)/(2dx) and the m-th horizontal one at (2m+1)/(2dy); comparing
+  // (2k+1)*dy with (2m+1)*dx in integers orders the crossings exactly, ties being corners.
+  int x = a.x;
+  int y = a.y;
+  long long k = 0;
+  long long m = 0;
+  while (k < dx || m < dy) {
+    const long long tv = (k < dx) ? (2 * k + 1) * static_cast<long long>(dy) : -1;
+    const long long th = (m < dy) ? (2 * m + 1) * static_cast<long long>(dx) : -1;
+    if (m >= dy || (k < dx && tv < th)) {
+      x += sx;
+      ++k;
+    } else if (k >= dx || th < tv) {
+      y += sy;
+      ++m;
+    } else {  // exactly through a corner: both side cells must be free
+      if (blocked(GridCell{x + sx, y}) || blocked(GridCell{x, y + sy})) return false;
+      x += sx;
+      y += sy;
+      ++k;
+      ++m;
+    }
+    if (blocked(GridCell{x, y})) return false;
+  }
+  return true;
+}
+
+}  // namespace skyroute

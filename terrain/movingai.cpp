@@ -1,0 +1,86 @@
+#include "terrain/movingai.hpp"
+
+#include <fstream>
+#include <sstream>
+
+namespace skyroute {
+namespace {
+
+Error parseError(const std::string& path, int line, const std::string& what) {
+  return make_error(ErrorCode::kParseError, path, "line " + std::to_string(line) + ": " + what);
+}
+
+}  // namespace
+
+Result<GridLayer> loadMovingAiMap(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return make_error(ErrorCode::kFileNotFound, path, "cannot open the map file");
+  int width = -1;
+  int height = -1;
+  std::string line;
+  int line_no = 0;
+  bool in_map = false;
+  while (!in_map && std::getline(in, line)) {
+    ++line_no;
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (key == "type" || key.empty()) continue;
+    if (key == "height") {
+      words >> height;
+    } else if (key == "width") {
+      words >> width;
+    } else if (key == "map") {
+      in_map = true;
+    } else {
+      return parseError(path, line_no, "unexpected header '" + key + "'");
+    }
+  }
+  if (!in_map) return parseError(path, line_no, "no 'map' line");
+  if (width <= 0 || height <= 0 || width > 100000 || height > 100000) {
+    return parseError(path, line_no, "missing or absurd width/height");
+  }
+  GridLayer grid(width, height);
+  std::vector<GridCell> walls;
+  for (int y = 0; y < height; ++y) {
+    if (!std::getline(in, line)) return parseError(path, line_no + 1, "map has fewer rows than its height");
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (static_cast<int>(line.size()) < width) return parseError(path, line_no, "row shorter than the width");
+    for (int x = 0; x < width; ++x) {
+      switch (line[x]) {
+        case '.': case 'G': case 'S': break;
+        case '@': case 'O': case 'T': case 'W': walls.push_back(GridCell{x, y}); break;
+        default: return parseError(path, line_no, std::string("unknown map character '") + line[x] + "'");
+      }
+    }
+  }
+  grid.setStaticBlocked(walls, true);
+  return grid;
+}
+
+Result<std::vector<MovingAiProblem>> loadMovingAiScenario(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return make_error(ErrorCode::kFileNotFound, path, "cannot open the scenario file");
+  std::vector<MovingAiProblem> problems;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    if (line_no == 1 && line.rfind("version", 0) == 0) continue;
+    std::istringstream fields(line);
+    MovingAiProblem p;
+    int map_width = 0;
+    int map_height = 0;
+    if (!(fields >> p.bucket >> p.map_name >> map_width >> map_height >> p.start.x >> p.start.y >> p.goal.x >>
+          p.goal.y >> p.optimal_length)) {
+      return parseError(path, line_no, "expected 9 fields: bucket map width height sx sy gx gy optimal");
+    }
+    problems.push_back(p);
+  }
+  return problems;
+}
+
+}  // namespace skyroute

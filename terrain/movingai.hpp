@@ -1,0 +1,28 @@
+// Loaders for the Moving AI grid benchmark (Sturtevant 2012): `.map` files into a GridLayer and
+// `.scen` files into problems with their optimal lengths, the independent check of every search.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "terrain/grid_layer.hpp"
+#include "terrain/result.hpp"
+
+namespace skyroute {
+
+// `.` `G` `S` are passable; `@` `O` `T` `W` are blocked; any other character is a parse error
+// naming the line. Cell (x, y) is column x, row y, both from 0, as in the `.scen` files.
+Result<GridLayer> loadMovingAiMap(const std::string& path);
+
+struct MovingAiProblem {
+  int bucket = 0;
+  std::string map_name;
+  GridCell start;
+  GridCell goal;
+  double optimal_length = 0.0;  // 8-connected, diagonal sqrt(2), no corner cutting
+};
+
+// Parses a `version 1` scenario file; a malformed line is an error naming its line number.
+Result<std::vector<MovingAiProblem>> loadMovingAiScenario(const std::string& path);
+
+}  // namespace skyroute

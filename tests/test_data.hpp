@@ -1,0 +1,20 @@
+// Where tests find data: the project's data/ (always there) and ../shared/data (CI has it, a fresh
+// clone may not: tests that need it call SKYROUTE_REQUIRE_SHARED and skip with a message).
+#pragma once
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace skyroute::testing {
+
+// Absolute path of ../shared/data/<relative>, or "" when it is not there.
+std::string sharedDataPath(const std::string& relative);
+std::string projectDataPath(const std::string& relative);
+
+}  // namespace skyroute::testing
+
+#define SKYROUTE_REQUIRE_SHARED(var, relative)                                                   \
+  const std::string var = ::skyroute::testing::sharedDataPath(relative);                         \
+  if (var.empty()) GTEST_SKIP() << "shared data " << (relative) << " not found under "          \
+                                << SKYROUTE_SHARED_DATA_DIR << " (../shared/data is absent in a fresh clone)"
