@@ -1,0 +1,23 @@
+// Derives the 2D GridLayer at a flight band from the terrain: a cell is blocked where the terrain
+// anywhere in the cell, plus the clearance, rises above the band's ceiling, or where the DEM is
+// unknown or absent. Cell (0, 0) is at the south-west corner of the heightfield's ENU bounds;
+// x grows east, y grows north.
+#pragma once
+
+#include "terrain/grid_layer.hpp"
+#include "terrain/heightfield.hpp"
+#include "terrain/result.hpp"
+
+namespace skyroute {
+
+struct TerrainGridOptions {
+  double cell_size_m = 90.0;
+  double flight_ceiling_m = 1500.0;  // top of the flight band (up axis, metres AMSL by default)
+  double min_clearance_m = 30.0;     // required height above ground
+  int max_cells_per_axis = 4000;     // refuse absurd grids rather than exhaust memory
+};
+
+// Errors: kInvalidArgument naming the option (cell size <= 0, grid too large).
+Result<GridLayer> buildTerrainGrid(const Heightfield& terrain, const TerrainGridOptions& options);
+
+}  // namespace skyroute
