@@ -1,0 +1,419 @@
+#include "service/dds/conversions.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <string>
+
+namespace skyroute::dds {
+
+namespace {
+
+// ---- writing: every string and buffer comes from dds_alloc, so dds_sample_free releases it ----
+
+char* dup(const std::string& s) { return dds_string_dup(s.c_str()); }
+
+// Allocates a zeroed buffer of n elements for an IDL sequence (nullptr for an empty one).
+template <class Seq, class Elem>
+Elem* allocSequence(Seq& seq, std::size_t n) {
+  seq._length = static_cast<uint32_t>(n);
+  seq._maximum = static_cast<uint32_t>(n);
+  seq._release = n > 0;
+  if (n == 0) {
+    seq._buffer = nullptr;
+    return nullptr;
+  }
+  auto* buffer = static_cast<Elem*>(dds_alloc(n * sizeof(Elem)));
+  std::memset(static_cast<void*>(buffer), 0, n * sizeof(Elem));
+  seq._buffer = buffer;
+  return buffer;
+}
+
+skyroute_msgs_Vec3 vec(const Eigen::Vector3d& v) { return skyroute_msgs_Vec3{v.x(), v.y(), v.z()}; }
+Eigen::Vector3d vec(const skyroute_msgs_Vec3& v) { return {v.x, v.y, v.z}; }
+
+void pointToWire(const MissionPointData& in, skyroute_msgs_MissionPoint& out) {
+  out = skyroute_msgs_MissionPoint{};
+  if (in.frame == MissionPointData::Frame::kWgs84) {
+    out.frame = skyroute_msgs_FRAME_WGS84;
+    out.lat_deg = in.geo.lat_deg;
+    out.lon_deg = in.geo.lon_deg;
+    out.alt_amsl_m = in.geo.alt_amsl_m;
+  } else {
+    out.frame = skyroute_msgs_FRAME_ENU;
+    out.east_m = in.enu_m.x();
+    out.north_m = in.enu_m.y();
+    out.up_m = in.enu_m.z();
+  }
+}
+
+void pointsToWire(const std::vector<MissionPointData>& in, dds_sequence_skyroute_msgs_MissionPoint& out) {
+  auto* buf = allocSequence<dds_sequence_skyroute_msgs_MissionPoint, skyroute_msgs_MissionPoint>(out, in.size());
+  for (std::size_t i = 0; i < in.size(); ++i) pointToWire(in[i], buf[i]);
+}
+
+skyroute_msgs_VehicleLimits limitsToWire(const VehicleLimitsData& l) {
+  return skyroute_msgs_VehicleLimits{l.v_ref_mps,          l.max_speed_mps,        l.max_accel_mps2,
+                                     l.max_climb_rate_mps, l.max_descent_rate_mps, l.min_turn_radius_m,
+                                     l.min_clearance_agl_m, l.ceiling_amsl_m};
+}
+
+// ---- reading: first problem wins; field names are built only when something is wrong ----
+
+Error invalid(const std::string& field, const std::string& reason) {
+  return make_error(ErrorCode::kInvalidArgument, field, field + " " + reason);
+}
+
+std::string numberText(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+std::optional<Error> finite(double v, const std::string& field) {
+  if (std::isfinite(v)) return std::nullopt;
+  return invalid(field, "is not a finite number (" + numberText(v) + ")");
+}
+
+std::optional<Error> finite(const skyroute_msgs_Vec3& v, const std::string& field) {
+  if (auto e = finite(v.x, field + ".x")) return e;
+  if (auto e = finite(v.y, field + ".y")) return e;
+  return finite(v.z, field + ".z");
+}
+
+std::optional<Error> required(const char* s, const std::string& field) {
+  if (s != nullptr && s[0] != '\0') return std::nullopt;
+  return invalid(field, "is missing (empty)");
+}
+
+std::string text(const char* s) { return s != nullptr ? std::string(s) : std::string(); }
+
+template <class Enum>
+std::optional<Error> enumInRange(Enum v, int last, const std::string& field) {
+  const int i = static_cast<int>(v);
+  if (i >= 0 && i <= last) return std::nullopt;
+  return invalid(field, "has an unknown value " + std::to_string(i));
+}
+
+Result<MissionPointData> pointFromWire(const skyroute_msgs_MissionPoint& in, const std::string& field) {
+  if (auto e = enumInRange(in.frame, skyroute_msgs_FRAME_ENU, field + ".frame")) return *e;
+  if (in.frame == skyroute_msgs_FRAME_WGS84) {
+    if (auto e = finite(in.lat_deg, field + ".lat_deg")) return *e;
+    if (auto e = finite(in.lon_deg, field + ".lon_deg")) return *e;
+    if (auto e = finite(in.alt_amsl_m, field + ".alt_amsl_m")) return *e;
+    return MissionPointData::wgs84(in.lat_deg, in.lon_deg, in.alt_amsl_m);
+  }
+  if (auto e = finite(in.east_m, field + ".east_m")) return *e;
+  if (auto e = finite(in.north_m, field + ".north_m")) return *e;
+  if (auto e = finite(in.up_m, field + ".up_m")) return *e;
+  return MissionPointData::enu({in.east_m, in.north_m, in.up_m});
+}
+
+Result<std::vector<MissionPointData>> pointsFromWire(const dds_sequence_skyroute_msgs_MissionPoint& in,
+                                                     const std::string& field) {
+  std::vector<MissionPointData> out;
+  out.reserve(in._length);
+  for (uint32_t i = 0; i < in._length; ++i) {
+    auto p = pointFromWire(in._buffer[i], field + "[" + std::to_string(i) + "]");
+    if (!p) return p.error();
+    out.push_back(*p);
+  }
+  return out;
+}
+
+Result<VehicleLimitsData> limitsFromWire(const skyroute_msgs_VehicleLimits& in, const std::string& field) {
+  const std::pair<double, const char*> values[] = {
+      {in.v_ref_mps, "v_ref_mps"},
+      {in.max_speed_mps, "max_speed_mps"},
+      {in.max_accel_mps2, "max_accel_mps2"},
+      {in.max_climb_rate_mps, "max_climb_rate_mps"},
+      {in.max_descent_rate_mps, "max_descent_rate_mps"},
+      {in.min_turn_radius_m, "min_turn_radius_m"},
+      {in.min_clearance_agl_m, "min_clearance_agl_m"},
+      {in.ceiling_amsl_m, "ceiling_amsl_m"},
+  };
+  for (const auto& [v, name] : values)
+    if (auto e = finite(v, field + "." + name)) return *e;
+  return VehicleLimitsData{in.v_ref_mps,          in.max_speed_mps,        in.max_accel_mps2,
+                           in.max_climb_rate_mps, in.max_descent_rate_mps, in.min_turn_radius_m,
+                           in.min_clearance_agl_m, in.ceiling_amsl_m};
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------------------------
+
+void toWire(const MissionRequestData& in, skyroute_msgs_MissionRequest& out) {
+  out.request_id = dup(in.request_id);
+  out.vehicle_id = dup(in.vehicle_id);
+  pointToWire(in.begin, out.begin);
+  pointsToWire(in.points, out.points);
+  pointToWire(in.end, out.end);
+  out.limits = limitsToWire(in.limits);
+  out.planner = dup(in.planner);
+  out.fixed_order = in.fixed_order;
+}
+
+Result<MissionRequestData> fromWire(const skyroute_msgs_MissionRequest& in) {
+  if (auto e = required(in.request_id, "request_id")) return *e;
+  if (auto e = required(in.vehicle_id, "vehicle_id")) return *e;
+  MissionRequestData out;
+  out.request_id = in.request_id;
+  out.vehicle_id = in.vehicle_id;
+  auto begin = pointFromWire(in.begin, "begin");
+  if (!begin) return begin.error();
+  out.begin = *begin;
+  auto points = pointsFromWire(in.points, "points");
+  if (!points) return points.error();
+  out.points = std::move(*points);
+  auto end = pointFromWire(in.end, "end");
+  if (!end) return end.error();
+  out.end = *end;
+  auto limits = limitsFromWire(in.limits, "limits");
+  if (!limits) return limits.error();
+  out.limits = *limits;
+  out.planner = text(in.planner);
+  out.fixed_order = in.fixed_order;
+  return out;
+}
+
+void toWire(const TrajectoryData& in, skyroute_msgs_Trajectory& out) {
+  out.vehicle_id = dup(in.vehicle_id);
+  out.plan_id = dup(in.plan_id);
+  out.revision = in.revision;
+  out.request_id = dup(in.request_id);
+  out.created_utc_ns = in.created_utc_ns;
+  auto* order = allocSequence<dds_sequence_uint32, uint32_t>(out.visiting_order, in.visiting_order.size());
+  for (std::size_t i = 0; i < in.visiting_order.size(); ++i) order[i] = in.visiting_order[i];
+  auto* legs = allocSequence<dds_sequence_skyroute_msgs_LegBoundary, skyroute_msgs_LegBoundary>(out.legs, in.legs.size());
+  for (std::size_t i = 0; i < in.legs.size(); ++i) {
+    const LegBoundaryData& l = in.legs[i];
+    legs[i] = skyroute_msgs_LegBoundary{l.from_point, l.to_point, l.start_s, l.end_s};
+  }
+  auto* samples = allocSequence<dds_sequence_skyroute_msgs_TrajectorySample, skyroute_msgs_TrajectorySample>(
+      out.samples, in.samples.size());
+  for (std::size_t i = 0; i < in.samples.size(); ++i) {
+    const TrajectorySampleData& s = in.samples[i];
+    samples[i] = skyroute_msgs_TrajectorySample{s.t_rel_s,
+                                                s.utc_ns,
+                                                vec(s.position_enu_m),
+                                                vec(s.velocity_enu_mps),
+                                                vec(s.acceleration_enu_mps2),
+                                                s.heading_deg,
+                                                s.geo.lat_deg,
+                                                s.geo.lon_deg,
+                                                s.geo.alt_amsl_m};
+  }
+}
+
+Result<TrajectoryData> fromWire(const skyroute_msgs_Trajectory& in) {
+  if (auto e = required(in.vehicle_id, "vehicle_id")) return *e;
+  if (auto e = required(in.plan_id, "plan_id")) return *e;
+  TrajectoryData out;
+  out.vehicle_id = in.vehicle_id;
+  out.plan_id = in.plan_id;
+  out.revision = in.revision;
+  out.request_id = text(in.request_id);
+  out.created_utc_ns = in.created_utc_ns;
+  out.visiting_order.assign(in.visiting_order._buffer, in.visiting_order._buffer + in.visiting_order._length);
+  out.legs.reserve(in.legs._length);
+  for (uint32_t i = 0; i < in.legs._length; ++i) {
+    const skyroute_msgs_LegBoundary& l = in.legs._buffer[i];
+    const std::string field = "legs[" + std::to_string(i) + "]";
+    if (auto e = finite(l.start_s, field + ".start_s")) return *e;
+    if (auto e = finite(l.end_s, field + ".end_s")) return *e;
+    out.legs.push_back(LegBoundaryData{l.from_point, l.to_point, l.start_s, l.end_s});
+  }
+  out.samples.reserve(in.samples._length);
+  for (uint32_t i = 0; i < in.samples._length; ++i) {
+    const skyroute_msgs_TrajectorySample& s = in.samples._buffer[i];
+    const double values[] = {s.t_rel_s, s.position_enu_m.x, s.position_enu_m.y, s.position_enu_m.z,
+                             s.velocity_enu_mps.x, s.velocity_enu_mps.y, s.velocity_enu_mps.z,
+                             s.acceleration_enu_mps2.x, s.acceleration_enu_mps2.y, s.acceleration_enu_mps2.z,
+                             s.heading_deg, s.lat_deg, s.lon_deg, s.alt_amsl_m};
+    bool all_finite = true;
+    for (double v : values) all_finite = all_finite && std::isfinite(v);
+    if (!all_finite) {  // slow path: name the member
+      const std::string field = "samples[" + std::to_string(i) + "]";
+      if (auto e = finite(s.t_rel_s, field + ".t_rel_s")) return *e;
+      if (auto e = finite(s.position_enu_m, field + ".position_enu_m")) return *e;
+      if (auto e = finite(s.velocity_enu_mps, field + ".velocity_enu_mps")) return *e;
+      if (auto e = finite(s.acceleration_enu_mps2, field + ".acceleration_enu_mps2")) return *e;
+      if (auto e = finite(s.heading_deg, field + ".heading_deg")) return *e;
+      if (auto e = finite(s.lat_deg, field + ".lat_deg")) return *e;
+      if (auto e = finite(s.lon_deg, field + ".lon_deg")) return *e;
+      if (auto e = finite(s.alt_amsl_m, field + ".alt_amsl_m")) return *e;
+    }
+    TrajectorySampleData d;
+    d.t_rel_s = s.t_rel_s;
+    d.utc_ns = s.utc_ns;
+    d.position_enu_m = vec(s.position_enu_m);
+    d.velocity_enu_mps = vec(s.velocity_enu_mps);
+    d.acceleration_enu_mps2 = vec(s.acceleration_enu_mps2);
+    d.heading_deg = s.heading_deg;
+    d.geo = GeoPoint{s.lat_deg, s.lon_deg, s.alt_amsl_m};
+    out.samples.push_back(d);
+  }
+  return out;
+}
+
+void toWire(const PlanStatusData& in, skyroute_msgs_PlanStatus& out) {
+  out.request_id = dup(in.request_id);
+  out.vehicle_id = dup(in.vehicle_id);
+  out.state = static_cast<skyroute_msgs_PlanState>(static_cast<int>(in.state));
+  out.error_code = static_cast<skyroute_msgs_PlanErrorCode>(static_cast<int>(in.error_code));
+  out.field = dup(in.field);
+  out.message = dup(in.message);
+  out.planning_time_s = in.planning_time_s;
+}
+
+// The plain enums list their values in the IDL's order; these pin that down at compile time.
+static_assert(static_cast<int>(PlanState::kReplanned) == skyroute_msgs_STATE_REPLANNED);
+static_assert(static_cast<int>(PlanErrorCode::kInternal) == skyroute_msgs_ERROR_INTERNAL);
+static_assert(static_cast<int>(PlanErrorCode::kUnderGround) == skyroute_msgs_ERROR_UNDER_GROUND);
+static_assert(static_cast<int>(ObstacleShape::kCylinder) == skyroute_msgs_SHAPE_CYLINDER);
+static_assert(static_cast<int>(ObstacleMotionKind::kBackAndForth) == skyroute_msgs_MOTION_BACK_AND_FORTH);
+
+Result<PlanStatusData> fromWire(const skyroute_msgs_PlanStatus& in) {
+  if (auto e = required(in.request_id, "request_id")) return *e;
+  if (auto e = enumInRange(in.state, skyroute_msgs_STATE_REPLANNED, "state")) return *e;
+  if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_INTERNAL, "error_code")) return *e;
+  if (auto e = finite(in.planning_time_s, "planning_time_s")) return *e;
+  PlanStatusData out;
+  out.request_id = in.request_id;
+  out.vehicle_id = text(in.vehicle_id);
+  out.state = static_cast<PlanState>(static_cast<int>(in.state));
+  out.error_code = static_cast<PlanErrorCode>(static_cast<int>(in.error_code));
+  out.field = text(in.field);
+  out.message = text(in.message);
+  out.planning_time_s = in.planning_time_s;
+  return out;
+}
+
+void toWire(const ObstacleUpdateData& in, skyroute_msgs_ObstacleUpdate& out) {
+  const Obstacle& o = in.obstacle;
+  out.obstacle_id = o.id;
+  out.shape = static_cast<skyroute_msgs_ObstacleShapeKind>(static_cast<int>(o.shape));
+  out.size_m = vec(o.size_m);
+  out.position_enu_m = vec(o.center_m);
+  out.motion = static_cast<skyroute_msgs_ObstacleMotionKind>(static_cast<int>(in.motionKind()));
+  out.velocity_enu_mps = vec(in.constant_velocity_enu_mps.value_or(Eigen::Vector3d::Zero()));
+  if (o.motion) {
+    out.from_enu_m = vec(o.motion->from_m);
+    out.to_enu_m = vec(o.motion->to_m);
+    out.speed_mps = o.motion->speed_mps;
+  }
+  out.valid_from_utc_ns = in.valid_from_utc_ns;
+  out.valid_until_utc_ns = in.valid_until_utc_ns;
+  out.remove = in.remove;
+}
+
+Result<ObstacleUpdateData> fromWire(const skyroute_msgs_ObstacleUpdate& in, std::int64_t now_utc_ns) {
+  ObstacleUpdateData out;
+  out.obstacle.id = in.obstacle_id;
+  out.remove = in.remove;
+  out.valid_from_utc_ns = in.valid_from_utc_ns != 0 ? in.valid_from_utc_ns : now_utc_ns;
+  out.valid_until_utc_ns = in.valid_until_utc_ns;
+  if (in.remove) return out;  // the geometry of a removal is ignored
+  if (auto e = enumInRange(in.shape, skyroute_msgs_SHAPE_CYLINDER, "shape")) return *e;
+  if (auto e = enumInRange(in.motion, skyroute_msgs_MOTION_BACK_AND_FORTH, "motion")) return *e;
+  if (auto e = finite(in.size_m, "size_m")) return *e;
+  if (auto e = finite(in.position_enu_m, "position_enu_m")) return *e;
+  out.obstacle.shape = static_cast<ObstacleShape>(static_cast<int>(in.shape));
+  out.obstacle.size_m = vec(in.size_m);
+  out.obstacle.center_m = vec(in.position_enu_m);
+  if (in.motion == skyroute_msgs_MOTION_CONSTANT_VELOCITY) {
+    if (auto e = finite(in.velocity_enu_mps, "velocity_enu_mps")) return *e;
+    out.constant_velocity_enu_mps = vec(in.velocity_enu_mps);
+  } else if (in.motion == skyroute_msgs_MOTION_BACK_AND_FORTH) {
+    if (auto e = finite(in.from_enu_m, "from_enu_m")) return *e;
+    if (auto e = finite(in.to_enu_m, "to_enu_m")) return *e;
+    if (auto e = finite(in.speed_mps, "speed_mps")) return *e;
+    BackAndForth motion;
+    motion.from_m = vec(in.from_enu_m);
+    motion.to_m = vec(in.to_enu_m);
+    motion.speed_mps = in.speed_mps;
+    motion.start_time_s = static_cast<double>(out.valid_from_utc_ns) * 1e-9;
+    out.obstacle.motion = motion;
+  }
+  if (auto problem = validateObstacleUpdate(out))
+    return make_error(ErrorCode::kInvalidArgument, problem->field, problem->message);
+  return out;
+}
+
+Result<ObstacleUpdateData> fromWire(const skyroute_msgs_ObstacleUpdate& in) { return fromWire(in, utcNowNs()); }
+
+void toWire(const CancelRequestData& in, skyroute_msgs_CancelRequest& out) {
+  out.request_id = dup(in.request_id);
+  out.vehicle_id = dup(in.vehicle_id);
+}
+
+Result<CancelRequestData> fromWire(const skyroute_msgs_CancelRequest& in) {
+  if (auto e = required(in.vehicle_id, "vehicle_id")) return *e;
+  return CancelRequestData{text(in.request_id), in.vehicle_id};
+}
+
+void toWire(const ServiceStatusData& in, skyroute_msgs_ServiceStatus& out) {
+  out.service_id = dup(in.service_id);
+  out.stamp_utc_ns = in.stamp_utc_ns;
+  out.terrain_loaded = in.terrain_loaded;
+  out.terrain_name = dup(in.terrain_name);
+  out.vehicles = in.vehicles;
+  out.replans = in.replans;
+  out.queue_length = in.queue_length;
+  out.service_version = dup(in.service_version);
+  out.idl_version = dup(in.idl_version);
+}
+
+Result<ServiceStatusData> fromWire(const skyroute_msgs_ServiceStatus& in) {
+  if (auto e = required(in.service_id, "service_id")) return *e;
+  ServiceStatusData out;
+  out.service_id = in.service_id;
+  out.stamp_utc_ns = in.stamp_utc_ns;
+  out.terrain_loaded = in.terrain_loaded;
+  out.terrain_name = text(in.terrain_name);
+  out.vehicles = in.vehicles;
+  out.replans = in.replans;
+  out.queue_length = in.queue_length;
+  out.service_version = text(in.service_version);
+  out.idl_version = text(in.idl_version);
+  return out;
+}
+
+void toWire(const FleetRequestData& in, skyroute_msgs_FleetRequest& out) {
+  out.request_id = dup(in.request_id);
+  auto* ids = allocSequence<dds_sequence_string, char*>(out.vehicle_ids, in.vehicle_ids.size());
+  for (std::size_t i = 0; i < in.vehicle_ids.size(); ++i) ids[i] = dup(in.vehicle_ids[i]);
+  pointsToWire(in.begins, out.begins);
+  pointsToWire(in.tasks, out.tasks);
+  pointsToWire(in.ends, out.ends);
+  out.limits = limitsToWire(in.limits);
+  out.planner = dup(in.planner);
+}
+
+Result<FleetRequestData> fromWire(const skyroute_msgs_FleetRequest& in) {
+  if (auto e = required(in.request_id, "request_id")) return *e;
+  FleetRequestData out;
+  out.request_id = in.request_id;
+  for (uint32_t i = 0; i < in.vehicle_ids._length; ++i) {
+    const std::string field = "vehicle_ids[" + std::to_string(i) + "]";
+    if (auto e = required(in.vehicle_ids._buffer[i], field)) return *e;
+    out.vehicle_ids.emplace_back(in.vehicle_ids._buffer[i]);
+  }
+  auto begins = pointsFromWire(in.begins, "begins");
+  if (!begins) return begins.error();
+  auto tasks = pointsFromWire(in.tasks, "tasks");
+  if (!tasks) return tasks.error();
+  auto ends = pointsFromWire(in.ends, "ends");
+  if (!ends) return ends.error();
+  auto limits = limitsFromWire(in.limits, "limits");
+  if (!limits) return limits.error();
+  out.begins = std::move(*begins);
+  out.tasks = std::move(*tasks);
+  out.ends = std::move(*ends);
+  out.limits = *limits;
+  out.planner = text(in.planner);
+  return out;
+}
+
+}  // namespace skyroute::dds

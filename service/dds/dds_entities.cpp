@@ -1,0 +1,55 @@
+#include "service/dds/dds_entities.hpp"
+
+namespace skyroute::dds {
+
+Error ddsError(dds_return_t rc, const std::string& operation) {
+  return make_error(ErrorCode::kInternal, operation, operation + " failed: " + dds_strretcode(rc));
+}
+
+void Entity::reset() {
+  if (handle_ > 0) {
+    // An entity already deleted with its parent reports "already deleted": nothing left to do.
+    (void)dds_delete(handle_);
+  }
+  handle_ = 0;
+}
+
+namespace {
+
+Result<Entity> owned(dds_entity_t handle, const char* operation) {
+  if (handle < 0) return ddsError(handle, operation);
+  return Entity(handle);
+}
+
+}  // namespace
+
+Result<Entity> createParticipant(dds_domainid_t domain) {
+  return owned(dds_create_participant(domain, nullptr, nullptr), "dds_create_participant");
+}
+
+Result<Entity> createTopic(dds_entity_t participant, const dds_topic_descriptor_t* descriptor,
+                           const std::string& name, const dds_qos_t* qos) {
+  return owned(dds_create_topic(participant, descriptor, name.c_str(), qos, nullptr), "dds_create_topic");
+}
+
+Result<Entity> createReader(dds_entity_t participant, dds_entity_t topic, const dds_qos_t* qos) {
+  return owned(dds_create_reader(participant, topic, qos, nullptr), "dds_create_reader");
+}
+
+Result<Entity> createWriter(dds_entity_t participant, dds_entity_t topic, const dds_qos_t* qos) {
+  return owned(dds_create_writer(participant, topic, qos, nullptr), "dds_create_writer");
+}
+
+Result<Entity> createWaitset(dds_entity_t participant) {
+  return owned(dds_create_waitset(participant), "dds_create_waitset");
+}
+
+Result<Entity> createGuardCondition(dds_entity_t participant) {
+  return owned(dds_create_guardcondition(participant), "dds_create_guardcondition");
+}
+
+Result<Entity> createReadCondition(dds_entity_t reader, uint32_t mask) {
+  return owned(dds_create_readcondition(reader, mask), "dds_create_readcondition");
+}
+
+}  // namespace skyroute::dds

@@ -1,0 +1,41 @@
+#include "service/dds/qos.hpp"
+
+namespace skyroute::dds {
+
+namespace {
+
+Qos lastValuePerKey() {
+  Qos qos(dds_create_qos());
+  dds_qset_reliability(qos.get(), DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_durability(qos.get(), DDS_DURABILITY_TRANSIENT_LOCAL);
+  dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, 1);
+  // service_cleanup_delay 0, keep-last 1, no sample or instance limits.
+  dds_qset_durability_service(qos.get(), 0, DDS_HISTORY_KEEP_LAST, 1, DDS_LENGTH_UNLIMITED,
+                              DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+  dds_qset_writer_data_lifecycle(qos.get(), false);
+  return qos;
+}
+
+}  // namespace
+
+Qos trajectoryQos() { return lastValuePerKey(); }
+
+Qos obstacleQos() { return lastValuePerKey(); }
+
+Qos commandQos(double max_blocking_s) {
+  Qos qos(dds_create_qos());
+  dds_qset_reliability(qos.get(), DDS_RELIABILITY_RELIABLE, static_cast<dds_duration_t>(max_blocking_s * 1e9));
+  dds_qset_durability(qos.get(), DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos.get(), DDS_HISTORY_KEEP_ALL, 0);
+  return qos;
+}
+
+Qos heartbeatQos() {
+  Qos qos(dds_create_qos());
+  dds_qset_reliability(qos.get(), DDS_RELIABILITY_BEST_EFFORT, 0);
+  dds_qset_durability(qos.get(), DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, 1);
+  return qos;
+}
+
+}  // namespace skyroute::dds

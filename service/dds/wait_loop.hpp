@@ -1,0 +1,57 @@
+// A waitset that dispatches samples of several typed readers on the calling thread (never in
+// Cyclone's listener threads), until stop() triggers its guard condition or a deadline passes.
+// stop() may be called from any thread. From a signal handler, call signalStop() with the
+// handle from waitsetHandle(): it only triggers the waitset (as the Cyclone examples do).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "service/dds/typed_io.hpp"
+
+namespace skyroute::dds {
+
+class WaitLoop {
+ public:
+  enum class Outcome { kStopped, kTimedOut };
+
+  static Result<WaitLoop> create(dds_entity_t participant);
+
+  // Adds a reader: whenever it has data, its samples go to on_sample and bad ones to on_error.
+  // The reader must outlive the loop.
+  template <class Plain>
+  Status add(const Reader<Plain>& reader, typename Reader<Plain>::SampleHandler on_sample,
+             typename Reader<Plain>::ErrorHandler on_error) {
+    return addSource(reader.handle(), [&reader, on_sample = std::move(on_sample), on_error = std::move(on_error)]() {
+      auto taken = reader.takeAvailable(on_sample, on_error);
+      if (!taken) return Status(taken.error());
+      return Status::success();
+    });
+  }
+
+  // Dispatches until stop() (kStopped) or until timeout_s passes (kTimedOut; nullopt = forever).
+  Result<Outcome> run(std::optional<double> timeout_s = std::nullopt);
+  // One wait of at most timeout_s, dispatching what arrived; kStopped if a stop was requested.
+  Result<Outcome> runOnce(double timeout_s);
+
+  void stop() const;  // thread-safe
+  bool stopRequested() const;
+  dds_entity_t waitsetHandle() const { return waitset_.get(); }
+  static void signalStop(dds_entity_t waitset) { (void)dds_waitset_set_trigger(waitset, true); }
+
+ private:
+  WaitLoop(Entity waitset, Entity guard) : waitset_(std::move(waitset)), guard_(std::move(guard)) {}
+  Status addSource(dds_entity_t reader, std::function<Status()> take);
+
+  struct Source {
+    Entity condition;
+    std::function<Status()> take;
+  };
+  Entity waitset_;
+  Entity guard_;
+  std::vector<std::unique_ptr<Source>> sources_;
+};
+
+}  // namespace skyroute::dds

@@ -1,0 +1,252 @@
+#include "service/mission_types.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace skyroute {
+
+std::int64_t utcNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+MissionPointData MissionPointData::wgs84(double lat_deg, double lon_deg, double alt_amsl_m) {
+  MissionPointData p;
+  p.frame = Frame::kWgs84;
+  p.geo = GeoPoint{lat_deg, lon_deg, alt_amsl_m};
+  return p;
+}
+
+MissionPointData MissionPointData::enu(const Eigen::Vector3d& enu_m) {
+  MissionPointData p;
+  p.frame = Frame::kEnu;
+  p.enu_m = enu_m;
+  return p;
+}
+
+std::string_view to_string(PlanState state) {
+  switch (state) {
+    case PlanState::kAccepted: return "accepted";
+    case PlanState::kPlanning: return "planning";
+    case PlanState::kSucceeded: return "succeeded";
+    case PlanState::kFailed: return "failed";
+    case PlanState::kCancelled: return "cancelled";
+    case PlanState::kReplanned: return "replanned";
+  }
+  return "unknown";
+}
+
+bool isTerminal(PlanState state) {
+  return state == PlanState::kSucceeded || state == PlanState::kFailed || state == PlanState::kCancelled;
+}
+
+std::string_view to_string(PlanErrorCode code) {
+  switch (code) {
+    case PlanErrorCode::kNone: return "none";
+    case PlanErrorCode::kInvalidArgument: return "invalid_argument";
+    case PlanErrorCode::kUnknownPlanner: return "unknown_planner";
+    case PlanErrorCode::kEmptyMission: return "empty_mission";
+    case PlanErrorCode::kMissionTooLarge: return "mission_too_large";
+    case PlanErrorCode::kLimitsOutOfRange: return "limits_out_of_range";
+    case PlanErrorCode::kOutsideMap: return "outside_map";
+    case PlanErrorCode::kUnderGround: return "under_ground";
+    case PlanErrorCode::kUnreachable: return "unreachable";
+    case PlanErrorCode::kTimeout: return "timeout";
+    case PlanErrorCode::kCancelled: return "cancelled";
+    case PlanErrorCode::kBusy: return "busy";
+    case PlanErrorCode::kInternal: return "internal";
+  }
+  return "unknown";
+}
+
+std::string PlanError::describe() const {
+  if (field.empty()) return message;
+  return field + ": " + message;
+}
+
+PlanError toPlanError(const Error& error) {
+  PlanErrorCode code = PlanErrorCode::kInternal;
+  switch (error.code) {
+    case ErrorCode::kInvalidArgument:
+    case ErrorCode::kParseError: code = PlanErrorCode::kInvalidArgument; break;
+    case ErrorCode::kOutsideMap: code = PlanErrorCode::kOutsideMap; break;
+    case ErrorCode::kOccupied: code = PlanErrorCode::kUnderGround; break;
+    case ErrorCode::kUnreachable: code = PlanErrorCode::kUnreachable; break;
+    case ErrorCode::kTimeout: code = PlanErrorCode::kTimeout; break;
+    case ErrorCode::kCancelled: code = PlanErrorCode::kCancelled; break;
+    case ErrorCode::kFileNotFound:
+    case ErrorCode::kNotARaster:
+    case ErrorCode::kNoCrs:
+    case ErrorCode::kBandAmbiguous:
+    case ErrorCode::kAllNodata:
+    case ErrorCode::kAbsurdHeights:
+    case ErrorCode::kInternal: code = PlanErrorCode::kInternal; break;
+  }
+  return PlanError{code, error.field, error.message};
+}
+
+PlanStatusData PlanStatusData::failed(const MissionRequestData& request, const PlanError& error,
+                                      double planning_time_s) {
+  PlanStatusData status;
+  status.request_id = request.request_id;
+  status.vehicle_id = request.vehicle_id;
+  status.state = error.code == PlanErrorCode::kCancelled ? PlanState::kCancelled : PlanState::kFailed;
+  status.error_code = error.code;
+  status.field = error.field;
+  status.message = error.describe();
+  status.planning_time_s = planning_time_s;
+  return status;
+}
+
+namespace {
+
+PlanError problem(PlanErrorCode code, std::string field, const std::string& reason) {
+  std::string message = field + " " + reason;
+  return PlanError{code, std::move(field), std::move(message)};
+}
+
+std::string numberText(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+std::optional<PlanError> checkFinite(double v, const std::string& field) {
+  if (!std::isfinite(v)) return problem(PlanErrorCode::kInvalidArgument, field, "is not a finite number (" + numberText(v) + ")");
+  return std::nullopt;
+}
+
+std::optional<PlanError> checkPoint(const MissionPointData& p, const std::string& field) {
+  if (p.frame == MissionPointData::Frame::kWgs84) {
+    if (auto e = checkFinite(p.geo.lat_deg, field + ".lat_deg")) return e;
+    if (auto e = checkFinite(p.geo.lon_deg, field + ".lon_deg")) return e;
+    if (auto e = checkFinite(p.geo.alt_amsl_m, field + ".alt_amsl_m")) return e;
+    if (std::abs(p.geo.lat_deg) > 90.0)
+      return problem(PlanErrorCode::kInvalidArgument, field + ".lat_deg", "must be within [-90, 90] (got " + numberText(p.geo.lat_deg) + ")");
+    if (std::abs(p.geo.lon_deg) > 180.0)
+      return problem(PlanErrorCode::kInvalidArgument, field + ".lon_deg", "must be within [-180, 180] (got " + numberText(p.geo.lon_deg) + ")");
+    return std::nullopt;
+  }
+  if (auto e = checkFinite(p.enu_m.x(), field + ".east_m")) return e;
+  if (auto e = checkFinite(p.enu_m.y(), field + ".north_m")) return e;
+  return checkFinite(p.enu_m.z(), field + ".up_m");
+}
+
+std::optional<PlanError> checkRange(double v, double lo, double hi, bool lo_open, const std::string& field) {
+  if (auto e = checkFinite(v, field)) return e;
+  const bool below = lo_open ? !(v > lo) : v < lo;
+  if (below || v > hi) {
+    const std::string range = std::string(lo_open ? "(" : "[") + numberText(lo) + ", " + numberText(hi) + "]";
+    return problem(PlanErrorCode::kLimitsOutOfRange, field, "must be within " + range + " (got " + numberText(v) + ")");
+  }
+  return std::nullopt;
+}
+
+std::optional<PlanError> checkFiniteVector(const Eigen::Vector3d& v, const std::string& field) {
+  static const char* const kAxes[3] = {".x", ".y", ".z"};
+  for (int i = 0; i < 3; ++i)
+    if (auto e = checkFinite(v[i], field + kAxes[i])) return e;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<PlanError> validateMissionRequest(const MissionRequestData& request, const MissionRequestBounds& bounds) {
+  if (request.request_id.empty()) return problem(PlanErrorCode::kInvalidArgument, "request_id", "is missing (empty)");
+  if (request.vehicle_id.empty()) return problem(PlanErrorCode::kInvalidArgument, "vehicle_id", "is missing (empty)");
+  if (!request.planner.empty() &&
+      std::find(bounds.planners.begin(), bounds.planners.end(), request.planner) == bounds.planners.end()) {
+    std::string known;
+    for (const auto& name : bounds.planners) known += (known.empty() ? "" : ", ") + name;
+    return problem(PlanErrorCode::kUnknownPlanner, "planner", "'" + request.planner + "' is not a known planner (known: " + known + ")");
+  }
+  if (request.points.empty())
+    return problem(PlanErrorCode::kEmptyMission, "points", "is empty: a mission needs at least one point between begin and end");
+  if (request.points.size() > bounds.max_points)
+    return problem(PlanErrorCode::kMissionTooLarge, "points",
+                   "has " + std::to_string(request.points.size()) + " points, more than the limit of " + std::to_string(bounds.max_points));
+  if (auto e = checkPoint(request.begin, "begin")) return e;
+  for (std::size_t i = 0; i < request.points.size(); ++i)
+    if (auto e = checkPoint(request.points[i], "points[" + std::to_string(i) + "]")) return e;
+  if (auto e = checkPoint(request.end, "end")) return e;
+
+  const VehicleLimitsData& l = request.limits;
+  if (auto e = checkRange(l.max_speed_mps, 0.0, bounds.max_speed_limit_mps, true, "limits.max_speed_mps")) return e;
+  if (auto e = checkRange(l.v_ref_mps, 0.0, l.max_speed_mps, true, "limits.v_ref_mps")) return e;
+  if (auto e = checkRange(l.max_accel_mps2, 0.0, bounds.max_accel_limit_mps2, true, "limits.max_accel_mps2")) return e;
+  if (auto e = checkRange(l.max_climb_rate_mps, 0.0, bounds.max_speed_limit_mps, true, "limits.max_climb_rate_mps")) return e;
+  if (auto e = checkRange(l.max_descent_rate_mps, 0.0, bounds.max_speed_limit_mps, true, "limits.max_descent_rate_mps")) return e;
+  if (auto e = checkRange(l.min_turn_radius_m, 0.0, bounds.max_turn_radius_m, false, "limits.min_turn_radius_m")) return e;
+  if (auto e = checkRange(l.min_clearance_agl_m, 0.0, bounds.max_clearance_m, false, "limits.min_clearance_agl_m")) return e;
+  if (auto e = checkRange(l.ceiling_amsl_m, -500.0, bounds.max_ceiling_amsl_m, true, "limits.ceiling_amsl_m")) return e;
+  return std::nullopt;
+}
+
+std::string_view to_string(ObstacleMotionKind kind) {
+  switch (kind) {
+    case ObstacleMotionKind::kStatic: return "static";
+    case ObstacleMotionKind::kConstantVelocity: return "constant_velocity";
+    case ObstacleMotionKind::kBackAndForth: return "back_and_forth";
+  }
+  return "unknown";
+}
+
+ObstacleMotionKind ObstacleUpdateData::motionKind() const {
+  if (obstacle.motion) return ObstacleMotionKind::kBackAndForth;
+  if (constant_velocity_enu_mps) return ObstacleMotionKind::kConstantVelocity;
+  return ObstacleMotionKind::kStatic;
+}
+
+std::string_view obstacleShapeName(ObstacleShape shape) {
+  switch (shape) {
+    case ObstacleShape::kSphere: return "sphere";
+    case ObstacleShape::kEllipsoid: return "ellipsoid";
+    case ObstacleShape::kBox: return "box";
+    case ObstacleShape::kCylinder: return "cylinder";
+  }
+  return "unknown";
+}
+
+std::optional<ObstacleShape> parseObstacleShape(std::string_view name) {
+  for (ObstacleShape s : {ObstacleShape::kSphere, ObstacleShape::kEllipsoid, ObstacleShape::kBox, ObstacleShape::kCylinder})
+    if (obstacleShapeName(s) == name) return s;
+  return std::nullopt;
+}
+
+std::optional<ObstacleMotionKind> parseObstacleMotionKind(std::string_view name) {
+  for (ObstacleMotionKind k : {ObstacleMotionKind::kStatic, ObstacleMotionKind::kConstantVelocity, ObstacleMotionKind::kBackAndForth})
+    if (to_string(k) == name) return k;
+  return std::nullopt;
+}
+
+std::optional<PlanError> validateObstacleUpdate(const ObstacleUpdateData& update) {
+  if (update.remove) return std::nullopt;  // geometry is ignored
+  const Obstacle& o = update.obstacle;
+  if (auto e = checkFiniteVector(o.size_m, "size_m")) return e;
+  static const char* const kAxes[3] = {"size_m.x", "size_m.y", "size_m.z"};
+  // Which size components the shape uses: sphere x; cylinder x and z; the others all three.
+  const bool used[3] = {true, o.shape == ObstacleShape::kEllipsoid || o.shape == ObstacleShape::kBox,
+                        o.shape != ObstacleShape::kSphere};
+  for (int i = 0; i < 3; ++i)
+    if (used[i] && !(o.size_m[i] > 0.0))
+      return problem(PlanErrorCode::kInvalidArgument, kAxes[i], "must be positive for a " + std::string(obstacleShapeName(o.shape)) +
+                                                                    " (got " + numberText(o.size_m[i]) + ")");
+  if (auto e = checkFiniteVector(o.center_m, "position_enu_m")) return e;
+  if (update.constant_velocity_enu_mps)
+    if (auto e = checkFiniteVector(*update.constant_velocity_enu_mps, "velocity_enu_mps")) return e;
+  if (o.motion) {
+    if (auto e = checkFiniteVector(o.motion->from_m, "from_enu_m")) return e;
+    if (auto e = checkFiniteVector(o.motion->to_m, "to_enu_m")) return e;
+    if (auto e = checkFinite(o.motion->speed_mps, "speed_mps")) return e;
+    if (!(o.motion->speed_mps > 0.0))
+      return problem(PlanErrorCode::kInvalidArgument, "speed_mps", "must be positive for a back-and-forth motion (got " + numberText(o.motion->speed_mps) + ")");
+  }
+  if (update.valid_until_utc_ns != 0 && update.valid_until_utc_ns <= update.valid_from_utc_ns)
+    return problem(PlanErrorCode::kInvalidArgument, "valid_until_utc_ns", "must be after valid_from_utc_ns (or 0 for until removed)");
+  return std::nullopt;
+}
+
+}  // namespace skyroute

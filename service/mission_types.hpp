@@ -1,0 +1,199 @@
+// Plain C++ mirrors of the DDS messages (idl/skyroute.idl), without any DDS type, so the engine,
+// the CLI tools and the tests work with them directly. service/dds/ converts at the boundary.
+// Times: absolute times are UTC nanoseconds since the Unix epoch (*_utc_ns); relative times are
+// seconds (*_s). Positions are in the daemon's local ENU frame (terrain/local_frame.hpp) or WGS84.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "terrain/local_frame.hpp"
+#include "terrain/obstacle.hpp"
+#include "terrain/result.hpp"
+
+namespace skyroute {
+
+// Wall-clock now as UTC nanoseconds since the Unix epoch (the same clock as dds_time()).
+std::int64_t utcNowNs();
+
+// A mission point as the requester gave it: WGS84 or local ENU.
+struct MissionPointData {
+  enum class Frame { kWgs84, kEnu };
+  Frame frame = Frame::kWgs84;
+  GeoPoint geo;                                      // when frame == kWgs84
+  Eigen::Vector3d enu_m = Eigen::Vector3d::Zero();   // when frame == kEnu
+
+  static MissionPointData wgs84(double lat_deg, double lon_deg, double alt_amsl_m);
+  static MissionPointData enu(const Eigen::Vector3d& enu_m);
+};
+
+// Vehicle limits (defaults are a small fixed-wing UAV; ranges in MissionRequestBounds).
+struct VehicleLimitsData {
+  double v_ref_mps = 20.0;             // cruise speed for time allocation (V_ref)
+  double max_speed_mps = 30.0;
+  double max_accel_mps2 = 4.0;
+  double max_climb_rate_mps = 5.0;
+  double max_descent_rate_mps = 4.0;   // positive number
+  double min_turn_radius_m = 50.0;
+  double min_clearance_agl_m = 30.0;   // minimum height above ground
+  double ceiling_amsl_m = 5000.0;      // maximum altitude AMSL
+};
+
+struct MissionRequestData {
+  std::string request_id;
+  std::string vehicle_id;
+  MissionPointData begin;
+  std::vector<MissionPointData> points;
+  MissionPointData end;
+  VehicleLimitsData limits;
+  std::string planner;       // "" = the daemon's default
+  bool fixed_order = false;  // true: visit points in the given order; false: MMD*L orders them
+};
+
+// Point indices in a trajectory follow the request: 0 = begin, 1..N = points[0..N-1], N+1 = end.
+struct LegBoundaryData {
+  std::uint32_t from_point = 0;
+  std::uint32_t to_point = 0;
+  double start_s = 0.0;  // relative time where the leg starts
+  double end_s = 0.0;
+};
+
+struct TrajectorySampleData {
+  double t_rel_s = 0.0;       // seconds since the trajectory start
+  std::int64_t utc_ns = 0;    // absolute UTC time of this sample
+  Eigen::Vector3d position_enu_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_enu_mps = Eigen::Vector3d::Zero();
+  Eigen::Vector3d acceleration_enu_mps2 = Eigen::Vector3d::Zero();
+  double heading_deg = 0.0;   // clockwise from north, [0, 360)
+  GeoPoint geo;               // WGS84 latitude, longitude, altitude AMSL
+};
+
+struct TrajectoryData {
+  std::string vehicle_id;     // the DDS key: one current trajectory per vehicle
+  std::string plan_id;
+  std::uint32_t revision = 0; // grows with each replan of the same plan
+  std::string request_id;
+  std::int64_t created_utc_ns = 0;
+  std::vector<std::uint32_t> visiting_order;  // begin (0) first, end (N+1) last
+  std::vector<LegBoundaryData> legs;
+  std::vector<TrajectorySampleData> samples;
+};
+
+enum class PlanState { kAccepted, kPlanning, kSucceeded, kFailed, kCancelled, kReplanned };
+std::string_view to_string(PlanState state);
+bool isTerminal(PlanState state);  // succeeded, failed or cancelled
+
+// The one error-code table of the service's replies (mirrors PlanErrorCode in the IDL).
+enum class PlanErrorCode {
+  kNone,
+  kInvalidArgument,   // NaN, malformed or missing field
+  kUnknownPlanner,
+  kEmptyMission,
+  kMissionTooLarge,
+  kLimitsOutOfRange,
+  kOutsideMap,
+  kUnderGround,       // a point lies inside the terrain or an obstacle
+  kUnreachable,
+  kTimeout,
+  kCancelled,
+  kBusy,
+  kInternal,
+};
+std::string_view to_string(PlanErrorCode code);
+
+// A rejected or failed request: the wire code, the offending field and a message naming it.
+struct PlanError {
+  PlanErrorCode code = PlanErrorCode::kInternal;
+  std::string field;
+  std::string message;
+  std::string describe() const;  // "field: message"
+};
+// Maps the library-wide ErrorCode onto the reply table (field and message carried over).
+PlanError toPlanError(const Error& error);
+
+struct PlanStatusData {
+  std::string request_id;
+  std::string vehicle_id;
+  PlanState state = PlanState::kAccepted;
+  PlanErrorCode error_code = PlanErrorCode::kNone;
+  std::string field;            // the offending request field ("" when none)
+  std::string message;          // names the field
+  double planning_time_s = 0.0;
+
+  static PlanStatusData failed(const MissionRequestData& request, const PlanError& error, double planning_time_s);
+};
+
+// Limits the service accepts for a request before any planning (cheap checks first, as Nav2).
+struct MissionRequestBounds {
+  std::size_t max_points = 64;                 // mission points between begin and end
+  std::vector<std::string> planners = {"rrtstar_lospo"};  // accepted names besides "" (default)
+  double max_speed_limit_mps = 150.0;          // upper bound of any speed limit
+  double max_accel_limit_mps2 = 50.0;
+  double max_turn_radius_m = 20000.0;
+  double max_clearance_m = 5000.0;
+  double max_ceiling_amsl_m = 12000.0;
+};
+
+// Structural checks of a request: ids present, every number finite, latitudes and longitudes in
+// range, mission not empty and not oversize, limits in range, planner known. Terrain checks
+// (outside the DEM, under the ground) are the engine's. Returns the first problem found.
+std::optional<PlanError> validateMissionRequest(const MissionRequestData& request,
+                                                const MissionRequestBounds& bounds = {});
+
+struct CancelRequestData {
+  std::string request_id;  // "" = whatever the vehicle is doing
+  std::string vehicle_id;
+};
+
+enum class ObstacleMotionKind { kStatic, kConstantVelocity, kBackAndForth };
+std::string_view to_string(ObstacleMotionKind kind);
+
+// An obstacle appears, moves or disappears. The geometry is terrain's Obstacle; its world clock
+// here is UTC seconds since the epoch: a back-and-forth motion starts (at from_m) at valid_from.
+struct ObstacleUpdateData {
+  Obstacle obstacle;  // id, shape, size, centre at valid_from, optional back-and-forth motion
+  std::optional<Eigen::Vector3d> constant_velocity_enu_mps;  // moves from centre_m at valid_from
+  std::int64_t valid_from_utc_ns = 0;
+  std::int64_t valid_until_utc_ns = 0;  // 0 = until removed
+  bool remove = false;                   // the obstacle is gone (geometry ignored)
+
+  ObstacleMotionKind motionKind() const;
+};
+
+// Names used in files and messages: "sphere", "ellipsoid", "box", "cylinder".
+std::string_view obstacleShapeName(ObstacleShape shape);
+std::optional<ObstacleShape> parseObstacleShape(std::string_view name);
+std::optional<ObstacleMotionKind> parseObstacleMotionKind(std::string_view name);
+
+// Checks an obstacle update: finite numbers, positive sizes, speed > 0 for back and forth,
+// valid_until after valid_from. field names follow the message ("size_m.x", "speed_mps", ...).
+std::optional<PlanError> validateObstacleUpdate(const ObstacleUpdateData& update);
+
+struct ServiceStatusData {
+  std::string service_id;
+  std::int64_t stamp_utc_ns = 0;
+  bool terrain_loaded = false;
+  std::string terrain_name;
+  std::uint32_t vehicles = 0;
+  std::uint32_t replans = 0;
+  std::uint32_t queue_length = 0;
+  std::string service_version;
+  std::string idl_version;
+};
+
+struct FleetRequestData {
+  std::string request_id;
+  std::vector<std::string> vehicle_ids;
+  std::vector<MissionPointData> begins;  // one per vehicle
+  std::vector<MissionPointData> tasks;
+  std::vector<MissionPointData> ends;    // one per vehicle
+  VehicleLimitsData limits;
+  std::string planner;
+};
+
+}  // namespace skyroute
