@@ -1,0 +1,59 @@
+// Feasibility of a trajectory: the vehicle's limits checked on the densely sampled trajectory, and
+// (optionally) every piece of the sampled curve re-checked against the world through a motion
+// check, so the flown curve, not only the planner's straight path, is known to be clear.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <limits>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "trajectory/trajectory.hpp"
+#include "trajectory/vehicle_limits.hpp"
+
+namespace skyroute {
+
+// Is the straight motion a -> b, flown from trajectory time t_a_s to t_b_s, clear of terrain and
+// obstacles? (collision_recheck.hpp makes one from a CollisionWorld.)
+using MotionCheck =
+    std::function<bool(const Eigen::Vector3d& a_m, double t_a_s, const Eigen::Vector3d& b_m, double t_b_s)>;
+
+enum class ViolationKind { kSpeed, kAcceleration, kClimbRate, kDescentRate, kTurnRadius, kCollision };
+std::string_view to_string(ViolationKind kind);
+
+// The worst violation of one kind in one segment.
+struct Violation {
+  ViolationKind kind = ViolationKind::kSpeed;
+  std::size_t segment = 0;
+  double time_s = 0.0;  // where it is worst (collision: start of the first blocked piece)
+  double value = 0.0;   // m/s, m/s^2 or m (collision: 0)
+  double limit = 0.0;
+};
+
+struct FeasibilityOptions {
+  double dt_s = 0.05;                 // sampling step of the checks (per segment, never coarser)
+  double relative_tolerance = 1e-6;   // a value above limit * (1 + tolerance) is a violation
+};
+
+struct FeasibilityReport {
+  std::vector<Violation> violations;  // by segment, then kind
+  double max_speed_mps = 0.0;
+  double max_accel_mps2 = 0.0;
+  double max_climb_mps = 0.0;
+  double max_descent_mps = 0.0;
+  double min_turn_radius_m = std::numeric_limits<double>::infinity();  // where speed >= the check speed
+  std::size_t samples = 0;
+  std::size_t motions_checked = 0;
+
+  bool ok() const { return violations.empty(); }
+  bool has(ViolationKind kind) const;
+};
+
+// collision may be null (limits only).
+FeasibilityReport checkFeasibility(const Trajectory& trajectory, const VehicleLimits& limits,
+                                   const FeasibilityOptions& options = {}, const MotionCheck* collision = nullptr);
+
+}  // namespace skyroute

@@ -1,0 +1,70 @@
+// Waypoints + vehicle limits + options -> trajectory + report. The steps (seed 003 section 3-1):
+// extra waypoints at the LOSPO spacing, time allocation, minimum-snap degree-7 spline, then
+// feasibility (limits and, with a motion check, terrain and obstacles) and repair: segments whose
+// curve collides are split at the middle of their straight chord (pulling the curve onto the
+// checked path); segments over a limit are stretched in time, first locally, then the whole
+// trajectory uniformly (which scales speeds by 1/k and accelerations by 1/k^2 exactly for a
+// rest-to-rest spline). Then it checks again; the report says what was repaired or why not.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "terrain/result.hpp"
+#include "trajectory/feasibility.hpp"
+#include "trajectory/spline7.hpp"
+#include "trajectory/time_allocation.hpp"
+#include "trajectory/trajectory.hpp"
+#include "trajectory/vehicle_limits.hpp"
+
+namespace skyroute {
+
+struct TrajectoryOptions {
+  // Extra waypoints between the original ones at this spacing (m), the LOSPO vertex spacing;
+  // 0 = none (the curve may then stray from the checked straight path).
+  double waypoint_spacing_m = 100.0;
+  TimeAllocationOptions time_allocation;  // its start/end speeds are taken from `boundary`
+  SplineBoundary boundary;                // rest to rest by default
+  FeasibilityOptions feasibility;
+  bool repair = true;
+  int max_repair_rounds = 12;
+  double min_waypoint_separation_m = 1e-3;  // consecutive input waypoints closer than this: error
+  double min_split_length_m = 0.5;          // never split a segment whose chord is shorter
+};
+
+enum class TrajectoryStatus {
+  kFeasible,    // passed every check as built
+  kRepaired,    // passed after repairs (listed in the report)
+  kInfeasible,  // still violates something; failure_reason says what and why it could not be fixed
+};
+std::string_view to_string(TrajectoryStatus status);
+
+struct TrajectoryBuildReport {
+  TrajectoryStatus status = TrajectoryStatus::kInfeasible;
+  std::vector<std::string> repairs;  // one line per repair action
+  std::string failure_reason;        // empty unless kInfeasible
+  FeasibilityReport final_check;     // of the returned trajectory
+  std::size_t input_waypoints = 0;
+  std::size_t knots = 0;             // waypoints of the final spline (input + extra + repair)
+  int repair_rounds = 0;
+  double build_ms = 0.0;
+};
+
+struct BuiltTrajectory {
+  Trajectory trajectory;
+  std::vector<Eigen::Vector3d> knots;  // the spline's waypoints, knots[j] at trajectory.knotTimes()[j]
+  TrajectoryBuildReport report;
+};
+
+// Errors (bad input only, naming the field): "waypoints", "waypoints[i]", "limits.*",
+// "options.*", "boundary.*". An infeasible trajectory is not an error: it comes back with
+// status kInfeasible so the caller can decide (replan, relax limits).
+// collision: optional motion check (times are trajectory times from 0).
+Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits,
+                                        const TrajectoryOptions& options = {}, const MotionCheck* collision = nullptr);
+
+}  // namespace skyroute
