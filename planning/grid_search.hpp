@@ -1,0 +1,118 @@
+// Move rules shared by every grid search (A*, Dijkstra, D* Lite, MMD*L) and the two reference
+// searches. Costs are in cell edges: a straight move costs 1, a diagonal move `diagonal_cost`
+// (sqrt(2) by default, the Moving AI convention; 1.4 in the MMD*L paper). A diagonal move needs both
+// orthogonal neighbours passable (no corner cutting), so every move is symmetric: c(a, b) = c(b, a).
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <string_view>
+#include <vector>
+
+#include "planning/termination.hpp"
+#include "terrain/grid_layer.hpp"
+
+namespace skyroute {
+
+inline constexpr double kInfiniteCost = std::numeric_limits<double>::infinity();
+
+struct GridMoves {
+  enum class Heuristic {
+    kOctile,     // exact distance on an empty grid: straight + diagonal_cost * diagonal steps
+    kChebyshev,  // max(|dx|, |dy|), the paper's choice (eq. 4): cheaper, weaker
+  };
+  double diagonal_cost = std::numbers::sqrt2;
+  Heuristic heuristic = Heuristic::kOctile;
+
+  // The paper's rules: diagonal 1.4, Chebyshev heuristic.
+  static GridMoves paper() { return GridMoves{1.4, Heuristic::kChebyshev}; }
+
+  // Admissible and consistent for these moves (diagonal_cost >= 1).
+  double estimate(GridCell a, GridCell b) const {
+    const int dx = std::abs(a.x - b.x);
+    const int dy = std::abs(a.y - b.y);
+    const int lo = dx < dy ? dx : dy;
+    const int hi = dx < dy ? dy : dx;
+    if (heuristic == Heuristic::kChebyshev) return hi;
+    return (hi - lo) + diagonal_cost * lo;
+  }
+};
+
+struct GridOffset {
+  int dx = 0;
+  int dy = 0;
+};
+// The 8 moves: the 4 straight ones first.
+inline constexpr std::array<GridOffset, 8> kGridOffsets{{
+    {1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}}};
+
+// Cost of the move from `a` by `d` (one of kGridOffsets); infinity when either end is blocked or
+// outside, or when a diagonal move would cut a blocked corner.
+inline double moveCost(const GridLayer& grid, GridCell a, GridOffset d, const GridMoves& moves) {
+  const GridCell b{a.x + d.dx, a.y + d.dy};
+  if (grid.blocked(a) || grid.blocked(b)) return kInfiniteCost;
+  if (d.dx != 0 && d.dy != 0) {
+    if (grid.blocked(GridCell{a.x + d.dx, a.y}) || grid.blocked(GridCell{a.x, a.y + d.dy})) return kInfiniteCost;
+    return moves.diagonal_cost;
+  }
+  return 1.0;
+}
+
+// Calls f(neighbour, cost) for every allowed move out of `a`.
+template <class F>
+void forEachMove(const GridLayer& grid, GridCell a, const GridMoves& moves, F&& f) {
+  for (const GridOffset& d : kGridOffsets) {
+    const double c = moveCost(grid, a, d, moves);
+    if (c < kInfiniteCost) f(GridCell{a.x + d.dx, a.y + d.dy}, c);
+  }
+}
+
+// Counters every search reports; queue operations count pushes and pops of its priority queue.
+struct SearchStats {
+  std::uint64_t expansions = 0;
+  std::uint64_t queue_pushes = 0;
+  std::uint64_t queue_pops = 0;
+  double time_ms = 0.0;
+
+  SearchStats& operator+=(const SearchStats& o) {
+    expansions += o.expansions;
+    queue_pushes += o.queue_pushes;
+    queue_pops += o.queue_pops;
+    time_ms += o.time_ms;
+    return *this;
+  }
+};
+
+enum class SearchStatus {
+  kFound,         // cost and path are optimal
+  kNoPath,        // start and goal are valid but not connected
+  kInvalidStart,  // outside the grid or blocked
+  kInvalidGoal,   // outside the grid or blocked
+  kStopped,       // the termination condition fired first
+};
+std::string_view to_string(SearchStatus status);
+
+struct GridPath {
+  SearchStatus status = SearchStatus::kNoPath;
+  double cost = kInfiniteCost;   // cell edges
+  std::vector<GridCell> cells;   // start .. goal, empty unless found
+  SearchStats stats;
+};
+
+// A* with the moves' heuristic; closed cells are never reopened (the heuristic is consistent).
+GridPath astarSearch(const GridLayer& grid, GridCell start, GridCell goal, const GridMoves& moves = {},
+                     const TerminationCondition& stop = {});
+// Dijkstra from start until goal is settled: the heuristic-free reference.
+GridPath dijkstraSearch(const GridLayer& grid, GridCell start, GridCell goal, const GridMoves& moves = {},
+                        const TerminationCondition& stop = {});
+// Exact cost from `source` to every cell (infinity where unreachable or blocked), indexed by
+// GridLayer::index: the reference for cost matrices.
+std::vector<double> dijkstraCostField(const GridLayer& grid, GridCell source, const GridMoves& moves = {});
+
+// Cells reachable from `source` (1) or not (0), by the same moves; for early "unreachable" errors.
+std::vector<std::uint8_t> reachableCells(const GridLayer& grid, GridCell source, const GridMoves& moves = {});
+
+}  // namespace skyroute

@@ -1,0 +1,145 @@
+#include "planning/mmdstar_lite.hpp"
+
+#include <algorithm>
+
+namespace skyroute {
+
+SharedGoalSearch::SharedGoalSearch(const GridLayer& grid, GridCell goal, const GridMoves& moves)
+    : field_(grid, goal, moves), queue_(goal, 0.0) {}
+
+SearchStatus SharedGoalSearch::solveFrom(GridCell start, const TerminationCondition& stop) {
+  if (field_.grid().blocked(start)) return SearchStatus::kInvalidStart;
+  if (field_.grid().blocked(field_.goal())) return SearchStatus::kInvalidGoal;
+  queue_.setStart(start);
+  if (!initialized_) {
+    dstarInitialize(field_, queue_, stats_);
+    initialized_ = true;
+  } else {
+    queue_.adapt(field_, stats_);
+  }
+  return dstarComputeShortestPath(field_, queue_, {}, stats_, stop);
+}
+
+MmdStarLite::MmdStarLite(const GridLayer& grid, std::vector<GridCell> points, const GridMoves& moves)
+    : MissionSearch(grid, std::move(points), moves) {}
+
+MmdStarLite::GoalSlot* MmdStarLite::slot(int goal_point) {
+  for (GoalSlot& g : goals_)
+    if (g.point == goal_point) return &g;
+  return nullptr;
+}
+
+const MmdStarLite::GoalSlot* MmdStarLite::slot(int goal_point) const {
+  for (const GoalSlot& g : goals_)
+    if (g.point == goal_point) return &g;
+  return nullptr;
+}
+
+const DStarGoalField* MmdStarLite::field(int goal_point) const {
+  const GoalSlot* g = slot(goal_point);
+  return g ? g->field.get() : nullptr;
+}
+
+SearchStatus MmdStarLite::preplan(const TerminationCondition& stop) {
+  goals_.clear();
+  SearchStatus status = SearchStatus::kFound;
+  for (int goal_point : remainingGoals()) {  // line 33
+    GoalSlot goal;
+    goal.point = goal_point;
+    goal.field = std::make_unique<DStarGoalField>(*grid_, points_[goal_point], moves_);
+    const std::vector<int> starts = startsFor(goal_point);
+    if (starts.empty()) continue;
+    // One U carried from start to start (lines 34-38).
+    DStarQueue carried(startCell(starts.front()), 0.0);
+    dstarInitialize(*goal.field, carried, stats_);  // line 34
+    for (int start_point : starts) {                // line 35
+      carried.setStart(startCell(start_point));
+      carried.setKm(0.0);
+      carried.adapt(*goal.field, stats_);  // line 37
+      const SearchStatus s = dstarComputeShortestPath(*goal.field, carried, {}, stats_, stop);  // line 38
+      if (s == SearchStatus::kStopped) status = s;
+      if (status == SearchStatus::kStopped) break;
+    }
+    // Lines 39-41: every start keeps the final U adapted to itself.
+    for (int start_point : starts) {
+      StartSlot st{start_point, carried};
+      st.queue.setStart(startCell(start_point));
+      st.queue.setKm(start_point == vehicle_point_ ? km_ : 0.0);
+      st.queue.adapt(*goal.field, stats_);
+      goal.starts.push_back(std::move(st));
+    }
+    goals_.push_back(std::move(goal));
+    if (status == SearchStatus::kStopped) break;
+  }
+  return status;
+}
+
+SearchStatus MmdStarLite::applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop) {
+  if (changed.empty()) return SearchStatus::kFound;
+  accumulateKm();  // lines 52-54
+  SearchStatus status = SearchStatus::kFound;
+  for (GoalSlot& goal : goals_) {  // line 56
+    std::vector<DStarQueue*> queues;
+    for (StartSlot& st : goal.starts) {
+      // Lines 60-61 / 67-68: the vehicle's queue uses its k_m; unreached mission points use 0.
+      const bool is_vehicle = st.point == vehicle_point_;
+      st.queue.setKm(is_vehicle ? km_ : 0.0);
+      st.queue.setStart(startCell(st.point));
+      queues.push_back(&st.queue);
+    }
+    dstarUpdateChangedCells(*goal.field, changed, queues, stats_);  // lines 58-65
+    for (std::size_t i = 0; i < queues.size(); ++i) {               // lines 66-70
+      std::vector<DStarQueue*> mirrors;
+      mirrors.reserve(queues.size());
+      for (std::size_t j = 0; j < queues.size(); ++j)
+        if (j != i) mirrors.push_back(queues[j]);
+      const SearchStatus s = dstarComputeShortestPath(*goal.field, *queues[i], mirrors, stats_, stop);
+      if (s == SearchStatus::kStopped) return s;
+    }
+  }
+  return status;
+}
+
+double MmdStarLite::cost(int from_point, int to_point) const {
+  if (!planned(from_point, to_point)) return kInfiniteCost;
+  const GoalSlot* g = slot(to_point);
+  return g ? g->field->costFrom(startCell(from_point)) : kInfiniteCost;
+}
+
+std::vector<GridCell> MmdStarLite::path(int from_point, int to_point) const {
+  if (!planned(from_point, to_point)) return {};
+  const GoalSlot* g = slot(to_point);
+  return g ? g->field->pathFrom(startCell(from_point)) : std::vector<GridCell>{};
+}
+
+GridCell MmdStarLite::nextCell(int goal_point) const {
+  const GoalSlot* g = slot(goal_point);
+  return g ? g->field->nextCell(vehicle_cell_) : vehicle_cell_;
+}
+
+std::size_t MmdStarLite::costMapCount() const { return goals_.size(); }
+
+void MmdStarLite::moveVehicle(GridCell cell) {
+  MissionSearch::moveVehicle(cell);
+  for (GoalSlot& goal : goals_)
+    for (StartSlot& st : goal.starts)
+      if (st.point == vehicle_point_) st.queue.setStart(cell);
+}
+
+void MmdStarLite::arriveAt(int point) {
+  const int old_vehicle = vehicle_point_;
+  MissionSearch::arriveAt(point);
+  // Lines 73-77: the reached point stops being a goal; its queues become the vehicle's (k_m = 0),
+  // and the old vehicle's queues, and now unplanned pairs, are dropped.
+  goals_.erase(std::remove_if(goals_.begin(), goals_.end(), [&](const GoalSlot& g) { return g.point == point; }),
+               goals_.end());
+  for (GoalSlot& goal : goals_) {
+    std::erase_if(goal.starts, [&](const StartSlot& st) {
+      return st.point == old_vehicle || !planned(st.point, goal.point);
+    });
+    for (StartSlot& st : goal.starts)
+      if (st.point == vehicle_point_) st.queue.setKm(0.0);
+  }
+}
+
+}  // namespace skyroute

@@ -1,0 +1,79 @@
+// Multiple Mission D* Lite (Lee, Chang & Jang, JKSAS 2019; seed 000, Fig. 8 and 9).
+//
+// One g/rhs map per goal (remaining mission points and E), shared by every start that leads to it
+// (the vehicle and the other remaining mission points), because g does not depend on the start
+// (section 3.2). Each start keeps its own queue U:
+//  - preplanning (lines 33-42): per goal one queue is carried from start to start, re-keyed by
+//    inconsistent cell adaptation, and each start gets a copy adapted to it at the end;
+//  - replanning (lines 51-71): changed cells update the vertex in every queue of the goal, then each
+//    start's ComputeShortestPath mirrors its vertex updates into the other queues of the goal,
+//    with k_m = 0 for starts that are mission points not reached yet and the vehicle's k_m for the
+//    vehicle's queue (lines 20-30, 60-61, 67-68).
+// Memory: n+1 maps of g/rhs (plus the queues, which hold only inconsistent cells).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "planning/dstar_lite.hpp"
+#include "planning/mission_search.hpp"
+
+namespace skyroute {
+
+// Lines 34-38 for one goal and any number of starts, outside a mission: one g/rhs map and one queue
+// carried from start to start with inconsistent cell adaptation (used by `grid solve` to answer
+// problems that share a goal).
+class SharedGoalSearch {
+ public:
+  SharedGoalSearch(const GridLayer& grid, GridCell goal, const GridMoves& moves = {});
+  // Plans from `start` reusing everything earlier starts computed. kInvalidStart / kInvalidGoal
+  // when outside or blocked.
+  SearchStatus solveFrom(GridCell start, const TerminationCondition& stop = {});
+  double cost(GridCell start) const { return field_.costFrom(start); }
+  std::vector<GridCell> path(GridCell start) const { return field_.pathFrom(start); }
+  GridCell goal() const { return field_.goal(); }
+  const SearchStats& stats() const { return stats_; }
+
+ private:
+  DStarGoalField field_;
+  DStarQueue queue_;
+  bool initialized_ = false;
+  SearchStats stats_;
+};
+
+class MmdStarLite final : public MissionSearch {
+ public:
+  // points: [B, M1..Mn, E]; every point must be inside and passable (the caller validates).
+  MmdStarLite(const GridLayer& grid, std::vector<GridCell> points, const GridMoves& moves = {});
+
+  std::string_view name() const override { return "mmdstar"; }
+  SearchStatus preplan(const TerminationCondition& stop = {}) override;
+  SearchStatus applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop = {}) override;
+  double cost(int from_point, int to_point) const override;
+  std::vector<GridCell> path(int from_point, int to_point) const override;
+  GridCell nextCell(int goal_point) const override;
+  std::size_t costMapCount() const override;
+  void moveVehicle(GridCell cell) override;
+  void arriveAt(int point) override;
+
+  // The shared map of a remaining goal (nullptr otherwise); for tests.
+  const DStarGoalField* field(int goal_point) const;
+
+ private:
+  struct StartSlot {
+    int point = 0;
+    DStarQueue queue;
+  };
+  struct GoalSlot {
+    int point = 0;
+    std::unique_ptr<DStarGoalField> field;
+    std::vector<StartSlot> starts;
+  };
+
+  GoalSlot* slot(int goal_point);
+  const GoalSlot* slot(int goal_point) const;
+
+  std::vector<GoalSlot> goals_;
+};
+
+}  // namespace skyroute
