@@ -1,0 +1,192 @@
+// HAB-PP vs Improved HAB-PP (seed 004, section 5) next to 8-connected A* and Theta*, on Moving AI
+// maps: 8room_000 cropped to 100x100 and 160x170 (stand-ins for the paper's office and apartment
+// maps, which are not public) and Boston_0_256. Seeded runs per map (30 by default); prints one
+// table per map with mean, median and max of first-path time, total time, length and angle change.
+//
+//   habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N]
+//
+// Writes nothing; docs/benchmarks/habpp.md records its output.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "planning/any_angle_search.hpp"
+#include "planning/hab_pp.hpp"
+#include "terrain/movingai.hpp"
+
+namespace {
+
+using namespace skyroute;
+
+struct Case {
+  std::string name;
+  std::string file;
+  int x0, y0, width, height;  // crop; width 0 = whole map
+  GridCell start, goal;       // in the cropped map's coordinates
+};
+
+GridLayer crop(const GridLayer& full, int x0, int y0, int width, int height) {
+  GridLayer out(width, height);
+  std::vector<GridCell> blocked;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (full.blocked(GridCell{x0 + x, y0 + y})) blocked.push_back(GridCell{x, y});
+    }
+  }
+  out.setStaticBlocked(blocked, true);
+  return out;
+}
+
+// The cell nearest to c (Euclidean, then row-major) among those `ok` accepts.
+template <class Ok>
+GridCell nearestWhere(const GridLayer& g, GridCell c, Ok ok) {
+  GridCell best = c;
+  double best_d = 1e300;
+  for (int y = 0; y < g.height(); ++y) {
+    for (int x = 0; x < g.width(); ++x) {
+      const double d = std::hypot(double(x - c.x), double(y - c.y));
+      if (d < best_d && ok(GridCell{x, y})) {
+        best_d = d;
+        best = GridCell{x, y};
+      }
+    }
+  }
+  return best;
+}
+
+// Cells 8-connected (no corner cutting) to `from`.
+std::vector<std::uint8_t> reachable(const GridLayer& g, GridCell from) {
+  std::vector<std::uint8_t> seen(g.cellCount(), 0);
+  std::vector<GridCell> stack{from};
+  seen[g.index(from)] = 1;
+  while (!stack.empty()) {
+    const GridCell c = stack.back();
+    stack.pop_back();
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const GridCell n{c.x + dx, c.y + dy};
+        if (g.blocked(n) || seen[g.index(n)] != 0) continue;
+        if (dx != 0 && dy != 0 && (g.blocked(GridCell{c.x + dx, c.y}) || g.blocked(GridCell{c.x, c.y + dy}))) continue;
+        seen[g.index(n)] = 1;
+        stack.push_back(n);
+      }
+    }
+  }
+  return seen;
+}
+
+struct Stats {
+  std::vector<double> first_s, total_s, length, angle;
+  int solved = 0, converged = 0;
+};
+
+double mean(const std::vector<double>& v) {
+  return v.empty() ? NAN : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+double maxOf(const std::vector<double>& v) { return v.empty() ? NAN : *std::max_element(v.begin(), v.end()); }
+double minOf(const std::vector<double>& v) { return v.empty() ? NAN : *std::min_element(v.begin(), v.end()); }
+
+void printRow(const char* name, const Stats& s, int runs) {
+  std::printf("| %-16s | %2d/%2d | %2d | %8.4f / %8.4f / %8.4f | %8.4f / %8.4f / %8.4f | %8.2f / %8.2f / %8.2f | %6.3f |\n",
+              name, s.solved, runs, s.converged, mean(s.first_s), median(s.first_s), maxOf(s.first_s), mean(s.total_s),
+              median(s.total_s), maxOf(s.total_s), mean(s.length), minOf(s.length), maxOf(s.length), mean(s.angle));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 30;
+  double budget_s = 120.0;
+  int stable = 0;  // 0: the default HabPpParameters::stable_iterations
+  std::vector<std::string> wanted;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--runs" && i + 1 < argc) runs = std::atoi(argv[++i]);
+    else if (a == "--map" && i + 1 < argc) wanted.push_back(argv[++i]);
+    else if (a == "--budget-s" && i + 1 < argc) budget_s = std::atof(argv[++i]);
+    else if (a == "--stable" && i + 1 < argc) stable = std::atoi(argv[++i]);
+    else {
+      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N]\n");
+      return 2;
+    }
+  }
+  const std::string dir = std::string(SKYROUTE_SHARED_DATA_DIR) + "/movingai/";
+  std::vector<Case> cases = {
+      {"office", "8room_000.map", 0, 0, 100, 100, {}, {}},
+      {"apartment", "8room_000.map", 0, 0, 160, 170, {}, {}},
+      {"boston", "Boston_0_256.map", 0, 0, 0, 0, GridCell{5, 14}, GridCell{254, 254}},
+  };
+  for (Case& c : cases) {
+    if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), c.name) == wanted.end()) continue;
+    auto full = loadMovingAiMap(dir + c.file);
+    if (!full) {
+      std::fprintf(stderr, "%s\n", full.error().describe().c_str());
+      return 1;
+    }
+    const GridLayer grid = c.width > 0 ? crop(*full, c.x0, c.y0, c.width, c.height) : *full;
+    if (c.width > 0) {  // corners of the crop
+      c.start = nearestWhere(grid, GridCell{0, 0}, [&](GridCell q) { return grid.passable(q); });
+      // The goal: the cell nearest the opposite corner that the start can reach.
+      const std::vector<std::uint8_t> reach = reachable(grid, c.start);
+      c.goal = nearestWhere(grid, GridCell{grid.width() - 1, grid.height() - 1},
+                            [&](GridCell q) { return reach[grid.index(q)] != 0; });
+    }
+    std::printf("\n### %s: %s %dx%d (crop at %d,%d), start (%d,%d), goal (%d,%d), %d runs\n\n", c.name.c_str(),
+                c.file.c_str(), grid.width(), grid.height(), c.x0, c.y0, c.start.x, c.start.y, c.goal.x, c.goal.y, runs);
+    std::printf("| planner          | found | conv | first path s mean/median/max | total s mean/median/max "
+                "| length mean/min/max | angle rad |\n|---|---|---|---|---|---|---|\n");
+    Stats astar, theta;
+    for (int r = 0; r < runs; ++r) {
+      for (auto [fn, st] : {std::pair{&gridAStar8, &astar}, std::pair{&thetaStar, &theta}}) {
+        const AnyAngleResult res = fn(grid, c.start, c.goal, TerminationCondition{});
+        if (res.status != AnyAngleStatus::kExact) continue;
+        ++st->solved;
+        ++st->converged;
+        st->first_s.push_back(res.time_s);
+        st->total_s.push_back(res.time_s);
+        st->length.push_back(res.length_cells);
+        st->angle.push_back(polylineAngleChange(res.path));
+      }
+    }
+    printRow("A* (8-conn.)", astar, runs);
+    printRow("Theta*", theta, runs);
+    const double reference = mean(theta.length);
+    for (bool improved : {false, true}) {
+      HabPpParameters params = improved ? HabPpParameters::improved() : HabPpParameters{};
+      if (stable > 0) params.stable_iterations = stable;
+      Stats s;
+      double iterations = 0.0, first_iteration = 0.0;
+      for (int r = 0; r < runs; ++r) {
+        const HabPpResult res = planHabPp(grid, c.start, c.goal, params, 1000 + static_cast<std::uint64_t>(r),
+                                          TerminationCondition::after(std::chrono::nanoseconds(
+                                              static_cast<std::int64_t>(budget_s * 1e9))));
+        if (res.first_path_time_s >= 0.0) s.first_s.push_back(res.first_path_time_s);
+        iterations += static_cast<double>(res.iterations) / runs;
+        first_iteration += static_cast<double>(res.first_path_iteration) / runs;
+        if (!hasPath(res.status)) continue;
+        ++s.solved;
+        if (res.status == HabPpStatus::kConverged) ++s.converged;
+        s.total_s.push_back(res.total_time_s);
+        s.length.push_back(res.length_cells);
+        s.angle.push_back(res.angle_change_rad);
+        std::fflush(stdout);
+      }
+      printRow(improved ? "Improved HAB-PP" : "HAB-PP", s, runs);
+      std::printf("|   (details) | length vs Theta*: mean %+.2f%%, best %+.2f%%; iterations: first path %.0f, total %.0f |\n",
+                  100.0 * (mean(s.length) / reference - 1.0), 100.0 * (minOf(s.length) / reference - 1.0),
+                  first_iteration, iterations);
+    }
+    std::printf("\nRRT* with LOSPO: not measured here yet (planning/rrt_star and planning/lospo are being written "
+                "in parallel; to be added when the engine integrates them).\n");
+  }
+  return 0;
+}

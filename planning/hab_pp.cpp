@@ -1,0 +1,615 @@
+#include "planning/hab_pp.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <optional>
+#include <string>
+#include <unordered_map>
+
+#include "planning/any_angle_search.hpp"
+#include "planning/hab_pp_rrt.hpp"
+
+namespace skyroute {
+
+std::string_view to_string(HabPpStatus status) {
+  switch (status) {
+    case HabPpStatus::kConverged: return "converged";
+    case HabPpStatus::kStoppedWithPath: return "stopped with path";
+    case HabPpStatus::kStoppedWithoutPath: return "stopped without path";
+    case HabPpStatus::kInvalidStart: return "invalid start";
+    case HabPpStatus::kInvalidGoal: return "invalid goal";
+    case HabPpStatus::kUnreachable: return "unreachable";
+    case HabPpStatus::kInvalidParameters: return "invalid parameters";
+  }
+  return "unknown";
+}
+
+Status HabPpParameters::validate() const {
+  auto bad = [](const char* field, const std::string& why) {
+    return Status(make_error(ErrorCode::kInvalidArgument, field, std::string(field) + ": " + why));
+  };
+  const std::pair<const char*, int> counts[] = {
+      {"simple_ants", simple_ants},         {"general_ants", general_ants},
+      {"far_sighted_ants", far_sighted_ants}, {"sight_general_ants", sight_general_ants},
+      {"sight_far_sighted_ants", sight_far_sighted_ants}, {"rrt_ants", rrt_ants},
+      {"crossover_paths", crossover_paths}, {"max_ant_steps", max_ant_steps},
+      {"crossover_points", crossover_points}};
+  for (const auto& [field, value] : counts) {
+    if (value < 0) return bad(field, "must be >= 0, got " + std::to_string(value));
+  }
+  if (totalAnts() + rrt_ants == 0) return bad("simple_ants", "the colony has no ant of any species");
+  if (ranked_paths < 1) return bad("ranked_paths", "must be >= 1");
+  const std::pair<const char*, double> non_negative[] = {
+      {"alpha", alpha}, {"beta", beta}, {"gamma", gamma}, {"w_length", w_length}, {"w_angle", w_angle},
+      {"w_points", w_points}};
+  for (const auto& [field, value] : non_negative) {
+    if (!std::isfinite(value) || value < 0.0) return bad(field, "must be finite and >= 0");
+  }
+  if (!(w_length + w_angle + w_points > 0.0)) return bad("w_length", "the weights of eq. (2) sum to 0");
+  if (!(rho > 0.0 && rho < 1.0)) return bad("rho", "must lie in (0, 1)");
+  if (!(k_mix >= 0.0 && k_mix <= 1.0)) return bad("k_mix", "must lie in [0, 1]");
+  if (!(d0_cells > 0.0) || !std::isfinite(d0_cells)) return bad("d0_cells", "must be > 0");
+  if (!(rrt_step_cells >= 1.0) || !std::isfinite(rrt_step_cells)) return bad("rrt_step_cells", "must be >= 1");
+  if (!(rrt_near_radius_cells >= 1.0) || !std::isfinite(rrt_near_radius_cells)) {
+    return bad("rrt_near_radius_cells", "must be >= 1");
+  }
+  if (general_radius < 1) return bad("general_radius", "must be >= 1");
+  if (far_sighted_radius < 1) return bad("far_sighted_radius", "must be >= 1");
+  if (sight_max_radius < std::max(general_radius, far_sighted_radius)) {
+    return bad("sight_max_radius", "must be >= general_radius and far_sighted_radius");
+  }
+  if (!(pheromone_min > 0.0 && pheromone_min <= pheromone_max) || !std::isfinite(pheromone_max)) {
+    return bad("pheromone_min", "need 0 < pheromone_min <= pheromone_max");
+  }
+  if (!(angle_factor_floor > 0.0 && angle_factor_floor <= 1.0)) return bad("angle_factor_floor", "must lie in (0, 1]");
+  if (!(angle_eval_epsilon_rad > 0.0) || !std::isfinite(angle_eval_epsilon_rad)) {
+    return bad("angle_eval_epsilon_rad", "must be > 0");
+  }
+  if (stable_iterations < 1) return bad("stable_iterations", "must be >= 1");
+  if (rrt_nodes_after_solution < 1) return bad("rrt_nodes_after_solution", "must be >= 1");
+  return Status::success();
+}
+
+namespace habpp {
+
+// ---- geometry ------------------------------------------------------------------------------------
+
+std::vector<GridCell> segmentCells(GridCell a, GridCell b) {
+  // Same walk as GridLayer::lineOfSight: order the crossings of vertical and horizontal cell
+  // boundaries exactly in integers; through a corner the segment touches both side cells too.
+  std::vector<GridCell> cells{a};
+  const int dx = std::abs(b.x - a.x);
+  const int dy = std::abs(b.y - a.y);
+  const int sx = b.x > a.x ? 1 : -1;
+  const int sy = b.y > a.y ? 1 : -1;
+  int x = a.x;
+  int y = a.y;
+  long long k = 0;
+  long long m = 0;
+  while (k < dx || m < dy) {
+    const long long tv = (k < dx) ? (2 * k + 1) * static_cast<long long>(dy) : -1;
+    const long long th = (m < dy) ? (2 * m + 1) * static_cast<long long>(dx) : -1;
+    if (m >= dy || (k < dx && tv < th)) {
+      x += sx;
+      ++k;
+    } else if (k >= dx || th < tv) {
+      y += sy;
+      ++m;
+    } else {
+      cells.push_back(GridCell{x + sx, y});
+      cells.push_back(GridCell{x, y + sy});
+      x += sx;
+      y += sy;
+      ++k;
+      ++m;
+    }
+    cells.push_back(GridCell{x, y});
+  }
+  return cells;
+}
+
+// ---- fields --------------------------------------------------------------------------------------
+
+GridFields::GridFields(const GridLayer& grid, GridCell goal, const HabPpParameters& params)
+    : grid_(&grid), goal_(goal), visibility_(grid.cellCount(), 0.0) {
+  const int w = grid.width();
+  const int h = grid.height();
+  blocked_prefix_.assign(static_cast<std::size_t>(w + 1) * (h + 1), 0);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y + 1) * (w + 1) + (x + 1);
+      blocked_prefix_[i] = (grid.blocked(GridCell{x, y}) ? 1 : 0) + blocked_prefix_[i - 1] +
+                           blocked_prefix_[i - (w + 1)] - blocked_prefix_[i - (w + 1) - 1];
+    }
+  }
+  double far = 1.0;
+  for (GridCell corner : {GridCell{0, 0}, GridCell{w - 1, 0}, GridCell{0, h - 1}, GridCell{w - 1, h - 1}}) {
+    far = std::max(far, std::hypot(double(corner.x - goal.x), double(corner.y - goal.y)));
+  }
+  const int reach = static_cast<int>(std::ceil(params.d0_cells));
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const GridCell c{x, y};
+      const double closeness = 1.0 - std::hypot(double(x - goal.x), double(y - goal.y)) / far;
+      // Distance to the nearest blocked cell centre, exact up to d_0 (only that range matters).
+      double nearest = params.d0_cells;
+      for (int oy = -reach; oy <= reach; ++oy) {
+        for (int ox = -reach; ox <= reach; ++ox) {
+          const GridCell o{x + ox, y + oy};
+          if (grid.inside(o) && grid.blocked(o)) nearest = std::min(nearest, std::hypot(double(ox), double(oy)));
+        }
+      }
+      const double clearance = nearest / params.d0_cells;
+      visibility_[grid.index(c)] = std::max(1e-3, params.k_mix * closeness + (1.0 - params.k_mix) * clearance);
+    }
+  }
+}
+
+bool GridFields::windowFree(GridCell c, int r) const {
+  const int w = grid_->width();
+  const int x0 = c.x - r, y0 = c.y - r, x1 = c.x + r + 1, y1 = c.y + r + 1;
+  if (x0 < 0 || y0 < 0 || x1 > w || y1 > grid_->height()) return false;
+  auto at = [&](int x, int y) { return blocked_prefix_[static_cast<std::size_t>(y) * (w + 1) + x]; };
+  return at(x1, y1) - at(x0, y1) - at(x1, y0) + at(x0, y0) == 0;
+}
+
+int sightRadius(const GridFields& fields, GridCell at, int base_radius, bool expanding, int max_radius) {
+  int r = base_radius;
+  if (!expanding) return r;
+  while (r < max_radius && fields.windowFree(at, r + 1)) ++r;
+  return r;
+}
+
+std::vector<GridCell> candidates(const GridFields& fields, GridCell at, int radius,
+                                 const std::vector<std::uint8_t>& visited) {
+  const GridLayer& grid = fields.grid();
+  const GridCell goal = fields.goal();
+  if (std::max(std::abs(goal.x - at.x), std::abs(goal.y - at.y)) <= radius && grid.lineOfSight(at, goal)) {
+    return {goal};
+  }
+  std::vector<GridCell> out;
+  for (int r = radius; r >= 1; --r) {
+    // A free window makes every border point visible (the segment stays inside the free square).
+    const bool window_free = fields.windowFree(at, r);
+    auto consider = [&](GridCell c) {
+      if (grid.blocked(c) || visited[grid.index(c)] != 0) return;
+      if (window_free || grid.lineOfSight(at, c)) out.push_back(c);
+    };
+    for (int dx = -r; dx <= r; ++dx) {
+      consider(GridCell{at.x + dx, at.y - r});
+      consider(GridCell{at.x + dx, at.y + r});
+    }
+    for (int dy = -r + 1; dy <= r - 1; ++dy) {
+      consider(GridCell{at.x - r, at.y + dy});
+      consider(GridCell{at.x + r, at.y + dy});
+    }
+    if (!out.empty()) return out;
+  }
+  return out;
+}
+
+double angleFactor(double heading_x, double heading_y, GridCell at, GridCell to, double floor) {
+  const double sx = to.x - at.x;
+  const double sy = to.y - at.y;
+  const double hn = std::hypot(heading_x, heading_y);
+  const double sn = std::hypot(sx, sy);
+  if (hn == 0.0 || sn == 0.0) return 1.0;
+  const double cos_theta = (heading_x * sx + heading_y * sy) / (hn * sn);
+  return std::max(floor, 0.5 * (1.0 + cos_theta));
+}
+
+std::size_t rouletteSelect(const std::vector<double>& weights, Rng& rng) {
+  double sum = 0.0;
+  for (double w : weights) sum += w;
+  const double r = std::uniform_real_distribution<double>(0.0, sum)(rng);
+  double acc = 0.0;
+  for (std::size_t i = 0; i < weights.size(); ++i) {
+    acc += weights[i];
+    if (r < acc) return i;
+  }
+  // Rounding can leave r == sum: the last index with a positive weight.
+  for (std::size_t i = weights.size(); i-- > 0;) {
+    if (weights[i] > 0.0) return i;
+  }
+  return weights.size() - 1;
+}
+
+// ---- pruning and crossover -----------------------------------------------------------------------
+
+void pruneLastStep(const GridLayer& grid, Path& path) {
+  while (path.size() >= 3 && grid.lineOfSight(path[path.size() - 3], path.back())) {
+    path.erase(path.end() - 2);
+  }
+}
+
+Path prunePath(const GridLayer& grid, const Path& path) {
+  if (path.size() <= 2) return path;
+  Path out{path.front()};
+  std::size_t i = 0;
+  while (i + 1 < path.size()) {
+    std::size_t k = path.size() - 1;
+    while (k > i + 1 && !grid.lineOfSight(path[i], path[k])) --k;
+    if (!(path[k] == out.back())) out.push_back(path[k]);
+    i = k;
+  }
+  return out;
+}
+
+namespace {
+
+bool allSegmentsVisible(const GridLayer& grid, const Path& p) {
+  for (std::size_t i = 1; i < p.size(); ++i) {
+    if (!grid.lineOfSight(p[i - 1], p[i])) return false;
+  }
+  return true;
+}
+
+Path joined(const Path& head, std::size_t head_last, GridCell via, const Path& tail, std::size_t tail_first) {
+  Path out(head.begin(), head.begin() + static_cast<std::ptrdiff_t>(head_last + 1));
+  if (!(out.back() == via)) out.push_back(via);
+  for (std::size_t i = tail_first; i < tail.size(); ++i) {
+    if (!(out.back() == tail[i])) out.push_back(tail[i]);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Path> crossover(const GridLayer& grid, const Path& a, const Path& b, int max_points) {
+  std::vector<Path> children;
+  if (a.size() < 2 || b.size() < 2 || max_points <= 0) return children;
+  const GridCell start = a.front();
+  const GridCell goal = a.back();
+  std::unordered_map<std::size_t, std::size_t> segment_of_a;  // cell index -> first segment of a touching it
+  for (std::size_t s = 0; s + 1 < a.size(); ++s) {
+    for (GridCell c : segmentCells(a[s], a[s + 1])) segment_of_a.emplace(grid.index(c), s);
+  }
+  struct Crossing {
+    GridCell cell;
+    std::size_t seg_a;
+    std::size_t seg_b;
+  };
+  std::vector<Crossing> crossings;
+  bool in_run = false;
+  for (std::size_t s = 0; s + 1 < b.size(); ++s) {
+    for (GridCell c : segmentCells(b[s], b[s + 1])) {
+      if (!grid.inside(c)) continue;
+      const auto it = segment_of_a.find(grid.index(c));
+      const bool shared = it != segment_of_a.end() && !(c == start) && !(c == goal) && grid.passable(c);
+      if (shared && !in_run) crossings.push_back({c, it->second, s});  // one crossing per run of shared cells
+      in_run = shared;
+    }
+  }
+  const std::size_t count = crossings.size();
+  const std::size_t used = std::min<std::size_t>(count, static_cast<std::size_t>(max_points));
+  for (std::size_t k = 0; k < used; ++k) {
+    const Crossing& x = crossings[count <= used ? k : (2 * k + 1) * count / (2 * used)];
+    for (Path child : {joined(a, x.seg_a, x.cell, b, x.seg_b + 1), joined(b, x.seg_b, x.cell, a, x.seg_a + 1)}) {
+      if (child.front() == start && child.back() == goal && allSegmentsVisible(grid, child)) {
+        children.push_back(prunePath(grid, child));
+      }
+    }
+  }
+  return children;
+}
+
+// ---- evaluation and pheromone --------------------------------------------------------------------
+
+std::vector<double> evaluate(const std::vector<Path>& paths, const HabPpParameters& params) {
+  std::vector<double> out(paths.size(), 0.0);
+  if (paths.empty()) return out;
+  const double wsum = params.w_length + params.w_angle + params.w_points;  // eq. (2) wants sum 1
+  std::vector<double> fl(paths.size()), fa(paths.size()), fp(paths.size());
+  double min_l = std::numeric_limits<double>::infinity(), min_a = min_l, min_p = min_l;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    fl[i] = std::max(polylineLength(paths[i]), 1e-12);
+    fa[i] = polylineAngleChange(paths[i]) + params.angle_eval_epsilon_rad;
+    fp[i] = static_cast<double>(paths[i].size());
+    min_l = std::min(min_l, fl[i]);
+    min_a = std::min(min_a, fa[i]);
+    min_p = std::min(min_p, fp[i]);
+  }
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    out[i] = (params.w_length * min_l / fl[i] + params.w_angle * min_a / fa[i] + params.w_points * min_p / fp[i]) / wsum;
+  }
+  return out;
+}
+
+PheromoneField::PheromoneField(const GridFields& fields, const HabPpParameters& params)
+    : fields_(&fields), params_(params), tau_(fields.grid().cellCount()), stamp_(fields.grid().cellCount(), 0) {
+  const GridLayer& grid = fields.grid();
+  for (std::size_t i = 0; i < tau_.size(); ++i) {
+    const GridCell c = grid.cellOf(i);
+    tau_[i] = std::clamp(fields.visibility(c), params.pheromone_min, params.pheromone_max);
+    if (grid.passable(c)) free_cells_.push_back(i);
+  }
+}
+
+void PheromoneField::update(const std::vector<Path>& ranked, const std::vector<double>& evaluation) {
+  const GridLayer& grid = fields_->grid();
+  for (double& t : tau_) t *= (1.0 - params_.rho);
+  for (std::size_t k = 0; k < ranked.size(); ++k) {
+    const double deposit = params_.rho * evaluation[k];
+    if (++stamp_now_ == 0) {  // wrapped: clear the stamps once
+      std::fill(stamp_.begin(), stamp_.end(), 0);
+      stamp_now_ = 1;
+    }
+    const Path& p = ranked[k];
+    for (std::size_t s = 0; s + 1 < p.size(); ++s) {
+      for (GridCell c : segmentCells(p[s], p[s + 1])) {  // Fig. 3: the cells between points too
+        if (!grid.inside(c)) continue;
+        const std::size_t i = grid.index(c);
+        if (stamp_[i] == stamp_now_) continue;
+        stamp_[i] = stamp_now_;
+        tau_[i] += deposit;
+      }
+    }
+  }
+  for (double& t : tau_) t = std::clamp(t, params_.pheromone_min, params_.pheromone_max);
+}
+
+GridCell PheromoneField::sample(Rng& rng) const {
+  std::uniform_int_distribution<std::size_t> pick(0, free_cells_.size() - 1);
+  std::uniform_real_distribution<double> accept(0.0, 1.0);
+  for (;;) {
+    const std::size_t i = free_cells_[pick(rng)];
+    if (accept(rng) < std::pow(tau_[i] / params_.pheromone_max, params_.alpha)) return fields_->grid().cellOf(i);
+  }
+}
+
+// ---- the colony ----------------------------------------------------------------------------------
+
+namespace {
+
+struct Ant {
+  int base_radius = 1;
+  bool expanding = false;
+  Path path;
+  std::vector<std::uint8_t> visited;  // tabu marks, one per cell
+  std::vector<std::size_t> marked;    // which marks to clear on restart
+  int steps = 0;
+};
+
+class Colony {
+ public:
+  Colony(const GridLayer& grid, GridCell start, GridCell goal, const HabPpParameters& params)
+      : grid_(grid), start_(start), goal_(goal), params_(params), fields_(grid, goal, params),
+        pheromone_(fields_, params) {
+    max_steps_ = params.max_ant_steps > 0 ? params.max_ant_steps : 2 * (grid.width() + grid.height());
+    auto add = [&](int count, int radius, bool expanding) {
+      for (int i = 0; i < count; ++i) {
+        Ant a;
+        a.base_radius = radius;
+        a.expanding = expanding;
+        a.visited.assign(grid.cellCount(), 0);
+        restart(a);
+        ants_.push_back(std::move(a));
+      }
+    };
+    add(params.simple_ants, 1, false);
+    add(params.general_ants, params.general_radius, false);
+    add(params.far_sighted_ants, params.far_sighted_radius, false);
+    add(params.sight_general_ants, params.general_radius, true);
+    add(params.sight_far_sighted_ants, params.far_sighted_radius, true);
+    for (int i = 0; i < params.rrt_ants; ++i) rrt_.emplace_back(grid, start, goal, params);
+  }
+
+  // One iteration n_I of Table 2 (lines 6-27). Returns whether the ranked list changed.
+  bool iterate(Rng& rng, HabPpResult& stats) {
+    std::vector<Path> arrivals;
+    for (Ant& ant : ants_) {
+      if (std::optional<Path> p = step(ant, rng)) {
+        arrivals.push_back(std::move(*p));
+        ++stats.ant_arrivals;
+      }
+    }
+    for (RrtAnt& tree : rrt_) {
+      if (std::optional<Path> p = tree.step(pheromone_, rng)) {
+        arrivals.push_back(prunePath(grid_, *p));
+        ++stats.rrt_arrivals;
+      }
+    }
+    bool changed = false;
+    if (!arrivals.empty()) {
+      std::vector<Path> pool = ranked_;
+      const std::size_t parents = std::min<std::size_t>(ranked_.size(), params_.crossover_paths);
+      for (std::size_t r = 0; r < parents; ++r) {
+        for (const Path& a : arrivals) {
+          for (Path& child : crossover(grid_, ranked_[r], a, params_.crossover_points)) {
+            pool.push_back(std::move(child));
+            ++stats.crossover_children;
+          }
+        }
+      }
+      for (Path& a : arrivals) pool.push_back(std::move(a));
+      changed = rank(pool);
+    }
+    pheromone_.update(ranked_, ranked_eval_);
+    return changed;
+  }
+
+  const std::vector<Path>& ranked() const { return ranked_; }
+
+ private:
+  void restart(Ant& ant) {
+    for (std::size_t i : ant.marked) ant.visited[i] = 0;
+    ant.marked.clear();
+    ant.path.assign(1, start_);
+    mark(ant, start_);
+    ant.steps = 0;
+  }
+  void mark(Ant& ant, GridCell c) {
+    const std::size_t i = grid_.index(c);
+    if (ant.visited[i] == 0) {
+      ant.visited[i] = 1;
+      ant.marked.push_back(i);
+    }
+  }
+
+  // Lines 10-18 of Table 2 for one ant: choose j by eq. (1), move, prune; a path on arrival.
+  std::optional<Path> step(Ant& ant, Rng& rng) {
+    const GridCell at = ant.path.back();
+    const int radius = sightRadius(fields_, at, ant.base_radius, ant.expanding, params_.sight_max_radius);
+    const std::vector<GridCell> c = candidates(fields_, at, radius, ant.visited);
+    if (c.empty() || ant.steps >= max_steps_) {  // Choice: a stuck or lost ant starts over
+      restart(ant);
+      return std::nullopt;
+    }
+    // Choice: before its first step an ant's heading points at the goal.
+    double hx = goal_.x - at.x, hy = goal_.y - at.y;
+    if (ant.path.size() >= 2) {
+      hx = at.x - ant.path[ant.path.size() - 2].x;
+      hy = at.y - ant.path[ant.path.size() - 2].y;
+    }
+    weights_.resize(c.size());
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      weights_[k] = std::pow(pheromone_.at(c[k]), params_.alpha) * std::pow(fields_.visibility(c[k]), params_.beta) *
+                    std::pow(angleFactor(hx, hy, at, c[k], params_.angle_factor_floor), params_.gamma);
+    }
+    const GridCell j = c[rouletteSelect(weights_, rng)];
+    ant.path.push_back(j);
+    mark(ant, j);
+    ++ant.steps;
+    pruneLastStep(grid_, ant.path);
+    if (!(j == goal_)) return std::nullopt;
+    Path arrived = prunePath(grid_, ant.path);
+    restart(ant);
+    return arrived;
+  }
+
+  // Lines 23-25: evaluate (eq. 2), sort, drop duplicates, cut to N_R.
+  bool rank(std::vector<Path>& pool) {
+    const std::vector<double> eval = evaluate(pool, params_);
+    std::vector<std::size_t> order(pool.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    auto lex = [](const Path& p, const Path& q) {
+      return std::lexicographical_compare(p.begin(), p.end(), q.begin(), q.end(), [](GridCell u, GridCell v) {
+        return u.x != v.x ? u.x < v.x : u.y < v.y;
+      });
+    };
+    std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t k) {
+      if (eval[i] != eval[k]) return eval[i] > eval[k];
+      return lex(pool[i], pool[k]);
+    });
+    std::vector<Path> next;
+    std::vector<double> next_eval;
+    for (std::size_t i : order) {
+      if (!next.empty() && next.back() == pool[i]) continue;  // equal paths sort next to each other
+      if (next.size() >= static_cast<std::size_t>(params_.ranked_paths)) break;
+      next.push_back(pool[i]);
+      next_eval.push_back(eval[i]);
+    }
+    const bool changed = next != ranked_;
+    ranked_ = std::move(next);
+    ranked_eval_ = std::move(next_eval);
+    return changed;
+  }
+
+  const GridLayer& grid_;
+  GridCell start_;
+  GridCell goal_;
+  HabPpParameters params_;
+  GridFields fields_;
+  PheromoneField pheromone_;
+  int max_steps_ = 0;
+  std::vector<Ant> ants_;
+  std::vector<RrtAnt> rrt_;
+  std::vector<Path> ranked_;
+  std::vector<double> ranked_eval_;
+  std::vector<double> weights_;
+};
+
+// 8-connected flood fill without corner cutting: exactly the cells an any-angle path can reach,
+// since a segment that passes lineOfSight steps through side- or corner-adjacent free cells.
+bool connected(const GridLayer& grid, GridCell start, GridCell goal) {
+  std::vector<std::uint8_t> seen(grid.cellCount(), 0);
+  std::deque<GridCell> queue{start};
+  seen[grid.index(start)] = 1;
+  while (!queue.empty()) {
+    const GridCell c = queue.front();
+    queue.pop_front();
+    if (c == goal) return true;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const GridCell n{c.x + dx, c.y + dy};
+        if ((dx == 0 && dy == 0) || grid.blocked(n) || seen[grid.index(n)] != 0) continue;
+        if (dx != 0 && dy != 0 && (grid.blocked(GridCell{c.x + dx, c.y}) || grid.blocked(GridCell{c.x, c.y + dy}))) {
+          continue;
+        }
+        seen[grid.index(n)] = 1;
+        queue.push_back(n);
+      }
+    }
+  }
+  return false;
+}
+
+}  // namespace
+}  // namespace habpp
+
+HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, const HabPpParameters& params,
+                      std::uint64_t seed, const TerminationCondition& stop) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  HabPpResult result;
+  auto fail = [&](HabPpStatus status, std::string message) {
+    result.status = status;
+    result.message = std::move(message);
+    result.total_time_s = seconds();
+    return result;
+  };
+  if (const Status valid = params.validate(); !valid) return fail(HabPpStatus::kInvalidParameters, valid.error().describe());
+  auto where = [](GridCell c) { return "(" + std::to_string(c.x) + ", " + std::to_string(c.y) + ")"; };
+  if (!grid.inside(start)) return fail(HabPpStatus::kInvalidStart, "start: " + where(start) + " is outside the grid");
+  if (grid.blocked(start)) return fail(HabPpStatus::kInvalidStart, "start: " + where(start) + " is blocked");
+  if (!grid.inside(goal)) return fail(HabPpStatus::kInvalidGoal, "goal: " + where(goal) + " is outside the grid");
+  if (grid.blocked(goal)) return fail(HabPpStatus::kInvalidGoal, "goal: " + where(goal) + " is blocked");
+  if (start == goal) {
+    result.status = HabPpStatus::kConverged;
+    result.path = {start};
+    result.first_path_time_s = seconds();
+    result.total_time_s = result.first_path_time_s;
+    return result;
+  }
+  if (!habpp::connected(grid, start, goal)) {
+    return fail(HabPpStatus::kUnreachable, "goal: no free path joins start " + where(start) + " and goal " + where(goal));
+  }
+
+  habpp::Rng rng(seed);
+  habpp::Colony colony(grid, start, goal, params);
+  int unchanged = 0;
+  for (;;) {
+    const auto reason = stop.reason(result.iterations);
+    if (reason != TerminationCondition::Reason::kNone) {
+      result.stop_reason = reason;
+      result.status = colony.ranked().empty() ? HabPpStatus::kStoppedWithoutPath : HabPpStatus::kStoppedWithPath;
+      break;
+    }
+    ++result.iterations;
+    const bool changed = colony.iterate(rng, result);
+    if (result.first_path_time_s < 0.0 && !colony.ranked().empty()) {
+      result.first_path_time_s = seconds();
+      result.first_path_iteration = result.iterations;
+    }
+    unchanged = changed ? 0 : unchanged + 1;
+    if (!colony.ranked().empty() && unchanged >= params.stable_iterations) {  // Table 2's termination
+      result.status = HabPpStatus::kConverged;
+      break;
+    }
+  }
+  if (!colony.ranked().empty()) {
+    result.path = colony.ranked().front();
+    result.length_cells = polylineLength(result.path);
+    result.angle_change_rad = polylineAngleChange(result.path);
+  } else {
+    result.message = "no ant reached the goal before the termination condition (" +
+                     std::string(to_string(result.stop_reason)) + ")";
+  }
+  result.total_time_s = seconds();
+  return result;
+}
+
+}  // namespace skyroute

@@ -1,0 +1,204 @@
+// HAB-PP (Heterogeneous-Ants-Based Path Planner, Lee 2017) and Improved HAB-PP (Lee 2019, seed
+// 004: HAB-PP plus an RRT* species sharing the pheromone field). An any-angle global planner on a
+// GridLayer: ants of several species walk from the start to the goal by roulette-wheel selection
+// with the modified transition probability of eq. (1); arrived paths are pruned, crossed over,
+// ranked by eq. (2) in a list of N_R paths, and laid down as pheromone by eqs. (3) and (4) with the
+// interpolation of Fig. 3. The planner stops when the ranked list stops changing.
+//
+// Points are cell centres (integer coordinates); a path is a polyline of cell centres whose every
+// segment passes GridLayer::lineOfSight.
+//
+// Where seed 004 defers a detail to the earlier paper [19], which we do not have, we chose; every
+// such choice is marked "Choice:" below and in hab_pp.cpp and has a test in
+// tests/planning/hab_pp_test.cpp.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <string_view>
+#include <vector>
+
+#include "planning/termination.hpp"
+#include "terrain/grid_layer.hpp"
+#include "terrain/result.hpp"
+
+namespace skyroute {
+
+// Parameters, named as in Table 2 and section 5. Defaults are the paper's values (section 5) with
+// the RRT* species off (N_RA = 0, the original HAB-PP); HabPpParameters::improved() turns it on.
+struct HabPpParameters {
+  // Colony (section 5). Species, Choice (Table 1 names them, [19] defines them):
+  //   SA  simple ant: moves one cell, to one of its 8 neighbours (a 3x3 sight window).
+  //   GA  general ant: moves to a point on the border of a window of radius general_radius.
+  //   FA  far-sighted ant: the same with far_sighted_radius.
+  //   SGA, SFA: GA and FA with the dynamic sight expansion principle (see sightRadius()).
+  int simple_ants = 100;             // N_SA
+  int general_ants = 30;             // N_GA
+  int far_sighted_ants = 30;         // N_FA
+  int sight_general_ants = 5;        // N_SGA
+  int sight_far_sighted_ants = 5;    // N_SFA
+  int rrt_ants = 0;                  // N_RA: RRT* trees growing one node per ant step (section 4)
+  int crossover_paths = 5;           // N_P: best ranked paths crossed with each new arrival
+  int ranked_paths = 30;             // N_R: size of the ranked list L_R
+
+  double alpha = 2.0;                // pheromone exponent of eq. (1)
+  double beta = 1.0;                 // visibility exponent of eq. (1)
+  double gamma = 1.0;                // angle-change exponent of eq. (1)
+  double rho = 0.1;                  // evaporation of eq. (3), in (0, 1)
+  double k_mix = 0.8;                // weight of goal closeness against obstacle clearance in the MVF
+  double d0_cells = 2.0;             // clearance (cells) beyond which obstacles no longer lower the MVF
+  double w_length = 1.0 / 3.0;       // w_L of eq. (2)
+  double w_angle = 1.0 / 3.0;        // w_A of eq. (2)
+  double w_points = 1.0 / 3.0;       // w_P of eq. (2)
+  double rrt_step_cells = 30.0;      // s_RRT: longest extension of the RRT* species, in cells
+  double rrt_near_radius_cells = 30.0;  // r_RRT: RRT* choose-parent and rewire radius, in cells
+
+  // Choices for what the seed leaves to [19] (all in cells, radians or iterations):
+  int general_radius = 2;            // GA sight window radius (Chebyshev), cells
+  int far_sighted_radius = 4;        // FA sight window radius, cells
+  int sight_max_radius = 12;         // largest window the dynamic sight expansion may open, cells
+  double pheromone_min = 0.05;       // lower limit of the cumulative pheromone (Table 1), keeps exploring
+  double pheromone_max = 1.0;        // upper limit (Table 1, "normalized pheromone trail value")
+  double angle_factor_floor = 0.05;  // xi never drops below this, so a U-turn stays possible
+  double angle_eval_epsilon_rad = 0.1;  // added to f_A in eq. (2) so a straight path does not divide by 0
+  int stable_iterations = 60;        // the ranked list must stay unchanged this many iterations to stop
+  int max_ant_steps = 0;             // an ant that walked this many steps restarts; 0: 2 * (width + height)
+  int crossover_points = 2;          // crossings used per pair of paths in the path crossover
+  int rrt_nodes_after_solution = 150;  // an RRT* tree restarts after this many nodes past its first path
+
+  // The improved planner of seed 004: the same colony plus N_RA = 5 RRT* ants.
+  static HabPpParameters improved() {
+    HabPpParameters p;
+    p.rrt_ants = 5;
+    return p;
+  }
+  int totalAnts() const {
+    return simple_ants + general_ants + far_sighted_ants + sight_general_ants + sight_far_sighted_ants;
+  }
+  // An error naming the first parameter out of range.
+  Status validate() const;
+};
+
+enum class HabPpStatus {
+  kConverged,            // the ranked list stopped changing: path is the best ranked path
+  kStoppedWithPath,      // the termination condition stopped it after a path was found (best so far)
+  kStoppedWithoutPath,   // the termination condition stopped it before any path reached the goal
+  kInvalidStart,         // start outside the grid or blocked
+  kInvalidGoal,          // goal outside the grid or blocked
+  kUnreachable,          // no chain of free cells joins start and goal (checked before the search)
+  kInvalidParameters,    // HabPpParameters::validate failed (message in HabPpResult::message)
+};
+
+std::string_view to_string(HabPpStatus status);
+inline bool hasPath(HabPpStatus s) { return s == HabPpStatus::kConverged || s == HabPpStatus::kStoppedWithPath; }
+
+struct HabPpResult {
+  HabPpStatus status = HabPpStatus::kStoppedWithoutPath;
+  std::string message;               // why it failed, naming the field, when it did
+  std::vector<GridCell> path;        // best ranked path, start first, any-angle segments
+  double length_cells = 0.0;         // Euclidean length of path, in cell edges
+  double angle_change_rad = 0.0;     // sum of turning angles of path
+  double first_path_time_s = -1.0;   // time until the first path entered the ranked list; -1 if none
+  double total_time_s = 0.0;
+  std::uint64_t iterations = 0;      // n_I
+  std::uint64_t first_path_iteration = 0;
+  std::uint64_t ant_arrivals = 0;    // paths brought by the ants
+  std::uint64_t rrt_arrivals = 0;    // paths brought by the RRT* species
+  std::uint64_t crossover_children = 0;  // valid paths made by the path crossover
+  TerminationCondition::Reason stop_reason = TerminationCondition::Reason::kNone;
+};
+
+// The planner's entry point: HAB-PP when params.rrt_ants == 0, Improved HAB-PP otherwise.
+// Same grid, endpoints, parameters and seed give the same result (time aside).
+HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, const HabPpParameters& params,
+                      std::uint64_t seed, const TerminationCondition& stop = {});
+
+// ---- Building blocks, exposed for the tests and for the RRT* species -----------------------------
+namespace habpp {
+
+using Rng = std::mt19937_64;
+using Path = std::vector<GridCell>;
+
+// Cells whose closed square the segment a-b touches, in order from a to b, each once (the cells
+// GridLayer::lineOfSight examines). Used for the pheromone interpolation of Fig. 3 and crossover.
+std::vector<GridCell> segmentCells(GridCell a, GridCell b);
+
+// Fields precomputed once per plan (the grid does not change during a plan).
+class GridFields {
+ public:
+  GridFields(const GridLayer& grid, GridCell goal, const HabPpParameters& params);
+  const GridLayer& grid() const { return *grid_; }
+  GridCell goal() const { return goal_; }
+  // Modified visibility field (Table 1, MVF), in (0, 1]. Choice: eta_j = k_mix * closeness_j +
+  // (1 - k_mix) * clearance_j, closeness_j = 1 - |j - g| / (largest |c - g| over the grid),
+  // clearance_j = min(1, distance from j to the nearest blocked cell / d_0); floored at 1e-3.
+  double visibility(GridCell c) const { return visibility_[grid_->index(c)]; }
+  // True when every cell of the (2r+1)^2 window around c is inside the grid and free (O(1)).
+  bool windowFree(GridCell c, int r) const;
+
+ private:
+  const GridLayer* grid_;
+  GridCell goal_;
+  std::vector<double> visibility_;
+  std::vector<int> blocked_prefix_;  // summed-area table of blocked cells, (w+1) x (h+1)
+};
+
+// Dynamic sight expansion principle, Choice: an expanding ant's window grows from its base radius
+// one ring at a time while the whole window stays free, up to max_radius. In open space the ant
+// sees (and strides) far and walks straight; near obstacles it falls back to its base window.
+int sightRadius(const GridFields& fields, GridCell at, int base_radius, bool expanding, int max_radius);
+
+// Candidate set C of eq. (1), Choice: the points on the border of the window of radius r that are
+// free, not yet visited by this ant (visited[cell index] != 0) and in line of sight; when none, the radius
+// shrinks by one until some exist (radius 1 = the 8 neighbours). When the goal lies inside the
+// window and is in sight, it is the only candidate. Empty: the ant is stuck.
+std::vector<GridCell> candidates(const GridFields& fields, GridCell at, int radius,
+                                 const std::vector<std::uint8_t>& visited);
+
+// Angle-change factor xi of eq. (1), Choice: (1 + cos theta) / 2, theta the angle between the
+// ant's heading and the step at -> to, floored at `floor`. No heading (zero vector): 1.
+double angleFactor(double heading_x, double heading_y, GridCell at, GridCell to, double floor);
+
+// Roulette-wheel selection: index i with probability weights[i] / sum. weights must not all be 0.
+std::size_t rouletteSelect(const std::vector<double>& weights, Rng& rng);
+
+// Path pruning, Choice: after each step, drop the previous point while the point before it sees
+// the new one (string pulling); on arrival the whole path is pruned greedily (from each point jump
+// to the farthest visible later point).
+void pruneLastStep(const GridLayer& grid, Path& path);
+Path prunePath(const GridLayer& grid, const Path& path);
+
+// Path crossover, Choice: two paths cross where their interpolated cells (segmentCells) share a
+// cell other than start and goal. At up to `max_points` such crossings (spread evenly over the
+// crossings found) the heads and tails are swapped through the shared cell; children whose new
+// segments fail the line-of-sight check are dropped; the rest are pruned.
+std::vector<Path> crossover(const GridLayer& grid, const Path& a, const Path& b, int max_points);
+
+// Eq. (2) over a list: f_L, f_A (+ epsilon), f_P of each path normalised by the best (smallest)
+// value in the list, weighted. Returns one value in (0, 1] per path; larger is better.
+std::vector<double> evaluate(const std::vector<Path>& paths, const HabPpParameters& params);
+
+// Pheromone field tau (one value per cell), eqs. (3) and (4) with the Fig. 3 interpolation.
+class PheromoneField {
+ public:
+  PheromoneField(const GridFields& fields, const HabPpParameters& params);  // tau <- eta
+  double at(GridCell c) const { return tau_[fields_->grid().index(c)]; }
+  // tau_j <- clamp((1 - rho) tau_j + sum over ranked paths of rho * f_Eval(path) on every cell the
+  // path's segments touch (each cell once per path), to [pheromone_min, pheromone_max].
+  // Choice: the deposit of a path is rho * f_Eval, so a cell on a path of value 1 tends to the cap.
+  void update(const std::vector<Path>& ranked, const std::vector<double>& evaluation);
+  // Roulette-wheel choice of a free cell with probability proportional to tau^alpha (the RRT*
+  // species' sampling), drawn by rejection against pheromone_max^alpha: exact, no table to rebuild.
+  GridCell sample(Rng& rng) const;
+
+ private:
+  const GridFields* fields_;
+  HabPpParameters params_;
+  std::vector<double> tau_;
+  std::vector<std::size_t> free_cells_;
+  std::vector<std::uint32_t> stamp_;  // per-cell marker, so each path deposits once per cell
+  std::uint32_t stamp_now_ = 0;
+};
+
+}  // namespace habpp
+}  // namespace skyroute

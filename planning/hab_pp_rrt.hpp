@@ -1,0 +1,60 @@
+// The RRT* species of Improved HAB-PP (seed 004, section 4): an RRT* tree on integer grid
+// coordinates rooted at the start that grows one node per ant step, picks the point to grow towards
+// by roulette wheel on the shared pheromone field instead of uniform sampling, and hands every path
+// it finds (and every later improvement of it) to the colony's ranked list, whose pheromone it
+// samples in turn. Extension length s_RRT and rewiring radius r_RRT are larger than a stand-alone
+// RRT* would use, for fast rather than optimal paths (the ants optimise).
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "planning/hab_pp.hpp"
+
+namespace skyroute::habpp {
+
+class RrtAnt {
+ public:
+  RrtAnt(const GridLayer& grid, GridCell start, GridCell goal, const HabPpParameters& params);
+
+  // One RRT* iteration (Table 3, lines 5-32) with x_rand drawn from the pheromone field. Returns a
+  // start-to-goal path when the tree first reaches the goal or lowers the goal's cost.
+  // Choice (steering): a blocked step is halved until free and visible, see hab_pp_rrt.cpp.
+  // Choice: a tree that has grown rrt_nodes_after_solution nodes past its first path starts over
+  // from the start, like an arrived ant, so the species keeps bringing fresh paths.
+  std::optional<Path> step(const PheromoneField& pheromone, Rng& rng);
+
+  std::size_t nodeCount() const { return nodes_.size(); }
+  bool reachedGoal() const { return goal_node_ >= 0; }
+  std::uint64_t restarts() const { return restarts_; }
+
+ private:
+  struct Node {
+    GridCell cell;
+    int parent = -1;
+    double cost = 0.0;  // path length from the start, cells
+    std::vector<int> children;
+  };
+  void reset();
+  int nearest(GridCell c) const;
+  std::vector<int> near(GridCell c) const;
+  int addNode(GridCell cell, const std::vector<int>& near_nodes, int fallback_parent);
+  void rewire(int node, const std::vector<int>& near_nodes);
+  void setParent(int node, int parent);
+  Path pathTo(int node) const;
+
+  const GridLayer* grid_;
+  GridCell start_;
+  GridCell goal_;
+  double step_cells_;
+  double near_radius_cells_;
+  int nodes_after_solution_;
+  std::vector<Node> nodes_;
+  std::vector<int> node_at_;  // node index of each grid cell, -1 if none
+  int goal_node_ = -1;
+  double reported_goal_cost_ = 0.0;  // goal cost last handed to the colony (infinity: none yet)
+  int nodes_since_solution_ = 0;
+  std::uint64_t restarts_ = 0;
+};
+
+}  // namespace skyroute::habpp
