@@ -6,7 +6,7 @@ namespace skyroute::dds {
 
 std::string loopbackConfigXml(int max_auto_participant_index) {
   return "<CycloneDDS><Domain id=\"any\"><General><Interfaces><NetworkInterface name=\"lo\"/></Interfaces>"
-         "</General><Discovery><MaxAutoParticipantIndex>" +
+         "<AllowMulticast>false</AllowMulticast></General><Discovery><MaxAutoParticipantIndex>" +
          std::to_string(max_auto_participant_index) +
          "</MaxAutoParticipantIndex></Discovery></Domain></CycloneDDS>";
 }
