@@ -20,6 +20,8 @@ struct CollisionWorldOptions {
   double vehicle_radius_m = 5.0;     // the vehicle's bounding sphere
   double min_clearance_m = 30.0;     // lowest height above ground allowed (>= vehicle radius)
   double ceiling_m = 1.0e9;          // highest up (altitude AMSL with the default frame) allowed
+  double terrain_margin_m = 0.0;     // horizontal distance kept from the ground beside the path
+                                     // (checks run on the terrain dilated by it; 0 = vertical AGL only)
   double octree_resolution_m = 30.0;
   bool build_octree = true;          // the heightfield alone is enough for every validity check
 };

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,7 +59,8 @@ class Dem {
   double loadSeconds() const { return load_seconds_; }
 
  private:
-  static Result<std::shared_ptr<const Dem>> finish(std::shared_ptr<Dem> dem, const DemLoadOptions& options);
+  static Result<std::shared_ptr<const Dem>> finish(std::shared_ptr<Dem> dem, const DemLoadOptions& options,
+                                                   std::chrono::steady_clock::time_point started);
 
   std::string path_;
   int width_ = 0;

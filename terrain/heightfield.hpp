@@ -60,6 +60,8 @@ class Heightfield {
   float heightCell(int col, int row) const { return heights_[static_cast<std::size_t>(row) * width_ + col]; }
   double bilinear(double px, double py) const;
 
+  struct CrsTransforms;  // DEM CRS <-> WGS84, behind a mutex
+  std::shared_ptr<CrsTransforms> crs_;
   std::shared_ptr<const Dem> dem_;
   LocalFrame frame_;
   int width_ = 0;

@@ -1,0 +1,62 @@
+#include "terrain/obstacle.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace skyroute {
+
+std::string_view to_string(ObstacleShape shape) {
+  switch (shape) {
+    case ObstacleShape::kSphere: return "sphere";
+    case ObstacleShape::kEllipsoid: return "ellipsoid";
+    case ObstacleShape::kBox: return "box";
+    case ObstacleShape::kCylinder: return "cylinder";
+  }
+  return "unknown";
+}
+
+Eigen::Vector3d Obstacle::centerAt(double t_s) const {
+  if (!moving()) return motion ? motion->from_m : center_m;
+  const Eigen::Vector3d leg = motion->to_m - motion->from_m;
+  const double length = leg.norm();
+  if (length <= 0.0) return motion->from_m;
+  // Triangle wave: from -> to -> from -> ..., one leg every length / speed seconds.
+  const double travelled = std::max(0.0, t_s - motion->start_time_s) * motion->speed_mps;
+  const double phase = std::fmod(travelled, 2.0 * length);
+  const double along = phase <= length ? phase : 2.0 * length - phase;
+  return motion->from_m + leg * (along / length);
+}
+
+double Obstacle::boundingRadius() const {
+  switch (shape) {
+    case ObstacleShape::kSphere: return size_m.x();
+    case ObstacleShape::kEllipsoid: return size_m.maxCoeff();
+    case ObstacleShape::kBox: return size_m.norm();
+    case ObstacleShape::kCylinder: return std::hypot(size_m.x(), size_m.z());
+  }
+  return size_m.norm();
+}
+
+bool Obstacle::contains(const Eigen::Vector3d& p_m, double t_s, double margin_m) const {
+  const Eigen::Vector3d d = p_m - centerAt(t_s);
+  switch (shape) {
+    case ObstacleShape::kSphere: return d.norm() <= size_m.x() + margin_m;
+    case ObstacleShape::kEllipsoid: {
+      // The ellipsoid with every semi-axis grown by the margin contains the true offset surface.
+      const Eigen::Vector3d axes = size_m.array() + margin_m;
+      return (d.array() / axes.array()).matrix().squaredNorm() <= 1.0;
+    }
+    case ObstacleShape::kBox: {
+      const Eigen::Vector3d outside = (d.cwiseAbs() - size_m).cwiseMax(0.0);
+      return outside.norm() <= margin_m;
+    }
+    case ObstacleShape::kCylinder: {
+      const double radial = std::max(0.0, d.head<2>().norm() - size_m.x());
+      const double vertical = std::max(0.0, std::abs(d.z()) - size_m.z());
+      return std::hypot(radial, vertical) <= margin_m;
+    }
+  }
+  return false;
+}
+
+}  // namespace skyroute
