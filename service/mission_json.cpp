@@ -1,0 +1,244 @@
+#include "service/mission_json.hpp"
+
+#include <cmath>
+
+namespace skyroute {
+
+namespace {
+
+using nlohmann::json;
+
+Error invalid(const std::string& field, const std::string& reason) {
+  return make_error(ErrorCode::kParseError, field, field + " " + reason);
+}
+
+std::string join(const std::string& parent, const std::string& key) {
+  return parent.empty() ? key : parent + "." + key;
+}
+
+// Reads a finite number at j[key]; absent keys give fallback when one is allowed.
+Result<double> number(const json& j, const std::string& key, const std::string& parent,
+                      std::optional<double> fallback = std::nullopt) {
+  const std::string field = join(parent, key);
+  auto it = j.find(key);
+  if (it == j.end()) {
+    if (fallback) return *fallback;
+    return invalid(field, "is missing");
+  }
+  if (!it->is_number()) return invalid(field, "must be a number");
+  const double v = it->get<double>();
+  if (!std::isfinite(v)) return invalid(field, "is not a finite number");
+  return v;
+}
+
+Result<std::string> text(const json& j, const std::string& key, const std::string& parent, const std::string& fallback) {
+  auto it = j.find(key);
+  if (it == j.end()) return fallback;
+  if (!it->is_string()) return invalid(join(parent, key), "must be a string");
+  return it->get<std::string>();
+}
+
+Result<bool> boolean(const json& j, const std::string& key, const std::string& parent, bool fallback) {
+  auto it = j.find(key);
+  if (it == j.end()) return fallback;
+  if (!it->is_boolean()) return invalid(join(parent, key), "must be true or false");
+  return it->get<bool>();
+}
+
+Result<Eigen::Vector3d> vector3(const json& j, const std::string& key, const std::string& parent) {
+  const std::string field = join(parent, key);
+  auto it = j.find(key);
+  if (it == j.end()) return invalid(field, "is missing");
+  if (!it->is_array() || it->size() != 3) return invalid(field, "must be an array of 3 numbers");
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i) {
+    const json& e = (*it)[static_cast<std::size_t>(i)];
+    if (!e.is_number() || !std::isfinite(e.get<double>()))
+      return invalid(field + "[" + std::to_string(i) + "]", "must be a finite number");
+    v[i] = e.get<double>();
+  }
+  return v;
+}
+
+json array3(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+}  // namespace
+
+json missionPointToJson(const MissionPointData& point) {
+  if (point.frame == MissionPointData::Frame::kWgs84)
+    return json{{"lat_deg", point.geo.lat_deg}, {"lon_deg", point.geo.lon_deg}, {"alt_amsl_m", point.geo.alt_amsl_m}};
+  return json{{"east_m", point.enu_m.x()}, {"north_m", point.enu_m.y()}, {"up_m", point.enu_m.z()}};
+}
+
+Result<MissionPointData> missionPointFromJson(const json& j, const std::string& field) {
+  if (!j.is_object()) return invalid(field, "must be an object with lat_deg, lon_deg, alt_amsl_m or east_m, north_m, up_m");
+  if (j.contains("lat_deg") || j.contains("lon_deg") || j.contains("alt_amsl_m")) {
+    auto lat = number(j, "lat_deg", field);
+    if (!lat) return lat.error();
+    auto lon = number(j, "lon_deg", field);
+    if (!lon) return lon.error();
+    auto alt = number(j, "alt_amsl_m", field);
+    if (!alt) return alt.error();
+    return MissionPointData::wgs84(*lat, *lon, *alt);
+  }
+  if (j.contains("east_m") || j.contains("north_m") || j.contains("up_m")) {
+    auto e = number(j, "east_m", field);
+    if (!e) return e.error();
+    auto n = number(j, "north_m", field);
+    if (!n) return n.error();
+    auto u = number(j, "up_m", field);
+    if (!u) return u.error();
+    return MissionPointData::enu({*e, *n, *u});
+  }
+  return invalid(field, "has neither lat_deg/lon_deg/alt_amsl_m nor east_m/north_m/up_m");
+}
+
+json missionToJson(const MissionRequestData& m) {
+  json points = json::array();
+  for (const auto& p : m.points) points.push_back(missionPointToJson(p));
+  const VehicleLimitsData& l = m.limits;
+  return json{{"request_id", m.request_id},
+              {"vehicle_id", m.vehicle_id},
+              {"begin", missionPointToJson(m.begin)},
+              {"points", points},
+              {"end", missionPointToJson(m.end)},
+              {"limits",
+               {{"v_ref_mps", l.v_ref_mps},
+                {"max_speed_mps", l.max_speed_mps},
+                {"max_accel_mps2", l.max_accel_mps2},
+                {"max_climb_rate_mps", l.max_climb_rate_mps},
+                {"max_descent_rate_mps", l.max_descent_rate_mps},
+                {"min_turn_radius_m", l.min_turn_radius_m},
+                {"min_clearance_agl_m", l.min_clearance_agl_m},
+                {"ceiling_amsl_m", l.ceiling_amsl_m}}},
+              {"planner", m.planner},
+              {"fixed_order", m.fixed_order}};
+}
+
+Result<MissionRequestData> missionFromJson(const json& j) {
+  if (!j.is_object()) return invalid("mission", "must be a JSON object");
+  MissionRequestData m;
+  auto request_id = text(j, "request_id", "", "");
+  if (!request_id) return request_id.error();
+  m.request_id = *request_id;
+  auto vehicle_id = text(j, "vehicle_id", "", "");
+  if (!vehicle_id) return vehicle_id.error();
+  m.vehicle_id = *vehicle_id;
+  for (const char* key : {"begin", "end"})
+    if (!j.contains(key)) return invalid(key, "is missing");
+  auto begin = missionPointFromJson(j.at("begin"), "begin");
+  if (!begin) return begin.error();
+  m.begin = *begin;
+  auto end = missionPointFromJson(j.at("end"), "end");
+  if (!end) return end.error();
+  m.end = *end;
+  if (j.contains("points")) {
+    const json& points = j.at("points");
+    if (!points.is_array()) return invalid("points", "must be an array");
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      auto p = missionPointFromJson(points[i], "points[" + std::to_string(i) + "]");
+      if (!p) return p.error();
+      m.points.push_back(*p);
+    }
+  }
+  if (j.contains("limits")) {
+    const json& lj = j.at("limits");
+    if (!lj.is_object()) return invalid("limits", "must be an object");
+    VehicleLimitsData& l = m.limits;
+    const std::pair<const char*, double*> fields[] = {
+        {"v_ref_mps", &l.v_ref_mps},
+        {"max_speed_mps", &l.max_speed_mps},
+        {"max_accel_mps2", &l.max_accel_mps2},
+        {"max_climb_rate_mps", &l.max_climb_rate_mps},
+        {"max_descent_rate_mps", &l.max_descent_rate_mps},
+        {"min_turn_radius_m", &l.min_turn_radius_m},
+        {"min_clearance_agl_m", &l.min_clearance_agl_m},
+        {"ceiling_amsl_m", &l.ceiling_amsl_m},
+    };
+    for (const auto& [key, target] : fields) {
+      auto v = number(lj, key, "limits", *target);
+      if (!v) return v.error();
+      *target = *v;
+    }
+  }
+  auto planner = text(j, "planner", "", "");
+  if (!planner) return planner.error();
+  m.planner = *planner;
+  auto fixed = boolean(j, "fixed_order", "", false);
+  if (!fixed) return fixed.error();
+  m.fixed_order = *fixed;
+  return m;
+}
+
+json obstacleToJson(const ObstacleUpdateData& u) {
+  const Obstacle& o = u.obstacle;
+  if (u.remove) return json{{"id", o.id}, {"remove", true}};
+  json j{{"id", o.id},
+         {"shape", std::string(obstacleShapeName(o.shape))},
+         {"size_m", array3(o.size_m)},
+         {"position_m", array3(o.center_m)},
+         {"motion", std::string(to_string(u.motionKind()))}};
+  if (u.constant_velocity_enu_mps) j["velocity_mps"] = array3(*u.constant_velocity_enu_mps);
+  if (o.motion) {
+    j["from_m"] = array3(o.motion->from_m);
+    j["to_m"] = array3(o.motion->to_m);
+    j["speed_mps"] = o.motion->speed_mps;
+  }
+  return j;
+}
+
+Result<ObstacleUpdateData> obstacleFromJson(const json& j, const std::string& field) {
+  if (!j.is_object()) return invalid(field, "must be an object");
+  ObstacleUpdateData u;
+  auto id = j.find("id");
+  if (id == j.end()) return invalid(join(field, "id"), "is missing");
+  if (!id->is_number_unsigned()) return invalid(join(field, "id"), "must be a non-negative integer");
+  u.obstacle.id = id->get<std::uint64_t>();
+  auto remove = boolean(j, "remove", field, false);
+  if (!remove) return remove.error();
+  u.remove = *remove;
+  if (u.remove) return u;
+
+  auto shape_name = text(j, "shape", field, "");
+  if (!shape_name) return shape_name.error();
+  auto shape = parseObstacleShape(*shape_name);
+  if (!shape) return invalid(join(field, "shape"), "'" + *shape_name + "' is not one of sphere, ellipsoid, box, cylinder");
+  u.obstacle.shape = *shape;
+  auto size = vector3(j, "size_m", field);
+  if (!size) return size.error();
+  u.obstacle.size_m = *size;
+
+  auto motion_name = text(j, "motion", field, "static");
+  if (!motion_name) return motion_name.error();
+  auto motion = parseObstacleMotionKind(*motion_name);
+  if (!motion)
+    return invalid(join(field, "motion"), "'" + *motion_name + "' is not one of static, constant_velocity, back_and_forth");
+  if (*motion == ObstacleMotionKind::kBackAndForth) {
+    auto from = vector3(j, "from_m", field);
+    if (!from) return from.error();
+    auto to = vector3(j, "to_m", field);
+    if (!to) return to.error();
+    auto speed = number(j, "speed_mps", field);
+    if (!speed) return speed.error();
+    u.obstacle.motion = BackAndForth{*from, *to, *speed, 0.0};
+    u.obstacle.center_m = *from;
+    if (j.contains("position_m")) {
+      auto position = vector3(j, "position_m", field);
+      if (!position) return position.error();
+      u.obstacle.center_m = *position;
+    }
+  } else {
+    auto position = vector3(j, "position_m", field);
+    if (!position) return position.error();
+    u.obstacle.center_m = *position;
+    if (*motion == ObstacleMotionKind::kConstantVelocity) {
+      auto velocity = vector3(j, "velocity_mps", field);
+      if (!velocity) return velocity.error();
+      u.constant_velocity_enu_mps = *velocity;
+    }
+  }
+  if (auto problem = validateObstacleUpdate(u)) return invalid(join(field, problem->field), problem->message.substr(problem->field.size() + 1));
+  return u;
+}
+
+}  // namespace skyroute

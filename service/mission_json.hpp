@@ -1,0 +1,31 @@
+// JSON forms of missions and obstacle updates (mission files for `skyroute request --file`, lines
+// of the obstacle feed). Reading validates types and names the offending field with its path,
+// e.g. "points[2].lat_deg"; unknown keys are ignored. Formats: docs/obstacle_feed.md and
+// docs/dds.md.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "service/mission_types.hpp"
+#include "terrain/result.hpp"
+
+namespace skyroute {
+
+// A point is {"lat_deg", "lon_deg", "alt_amsl_m"} (WGS84) or {"east_m", "north_m", "up_m"} (ENU).
+nlohmann::json missionPointToJson(const MissionPointData& point);
+Result<MissionPointData> missionPointFromJson(const nlohmann::json& j, const std::string& field);
+
+// {"request_id", "vehicle_id", "begin", "points": [...], "end", "limits": {...}, "planner",
+//  "fixed_order"}. Missing limits keep VehicleLimitsData's defaults; request_id and vehicle_id may
+// be absent here (the CLI fills them in).
+nlohmann::json missionToJson(const MissionRequestData& mission);
+Result<MissionRequestData> missionFromJson(const nlohmann::json& j);
+
+// Obstacle geometry and motion without the validity times (the feed stores those relative to the
+// line's time): {"id", "remove", "shape", "size_m": [x,y,z], "position_m": [e,n,u],
+// "motion": "static" | "constant_velocity" | "back_and_forth", "velocity_mps", "from_m", "to_m",
+// "speed_mps"}.
+nlohmann::json obstacleToJson(const ObstacleUpdateData& update);
+Result<ObstacleUpdateData> obstacleFromJson(const nlohmann::json& j, const std::string& field);
+
+}  // namespace skyroute

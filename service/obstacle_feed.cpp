@@ -1,0 +1,167 @@
+#include "service/obstacle_feed.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <istream>
+
+#include <nlohmann/json.hpp>
+
+#include "service/mission_json.hpp"
+
+namespace skyroute {
+
+namespace {
+
+using nlohmann::json;
+
+std::int64_t secondsToNs(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
+
+// Parses one data line; an Error names the field.
+Result<FeedEntry> parseEntry(const std::string& line) {
+  const json j = json::parse(line, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return make_error(ErrorCode::kParseError, "line", "is not valid JSON");
+  if (!j.is_object()) return make_error(ErrorCode::kParseError, "line", "must be a JSON object");
+  FeedEntry entry;
+  auto t = j.find("t_s");
+  if (t == j.end()) return make_error(ErrorCode::kParseError, "t_s", "t_s is missing");
+  if (!t->is_number() || !std::isfinite(t->get<double>()) || t->get<double>() < 0.0)
+    return make_error(ErrorCode::kParseError, "t_s", "t_s must be a finite number >= 0");
+  entry.t_s = t->get<double>();
+  auto o = j.find("obstacle");
+  if (o == j.end()) return make_error(ErrorCode::kParseError, "obstacle", "obstacle is missing");
+  auto update = obstacleFromJson(*o, "obstacle");
+  if (!update) return update.error();
+  entry.update = std::move(*update);
+  if (auto f = j.find("valid_from_s"); f != j.end()) {
+    if (!f->is_number() || !std::isfinite(f->get<double>()) || f->get<double>() < 0.0)
+      return make_error(ErrorCode::kParseError, "valid_from_s", "valid_from_s must be a finite number >= 0");
+    entry.valid_from_s = f->get<double>();
+  }
+  if (auto d = j.find("valid_for_s"); d != j.end() && !d->is_null()) {
+    if (!d->is_number() || !std::isfinite(d->get<double>()) || !(d->get<double>() > 0.0))
+      return make_error(ErrorCode::kParseError, "valid_for_s", "valid_for_s must be a positive number (or null)");
+    entry.valid_for_s = d->get<double>();
+  }
+  return entry;
+}
+
+}  // namespace
+
+ObstacleUpdateData FeedEntry::stamped(std::int64_t publish_utc_ns) const {
+  ObstacleUpdateData u = update;
+  u.valid_from_utc_ns = publish_utc_ns + secondsToNs(valid_from_s);
+  u.valid_until_utc_ns = valid_for_s ? u.valid_from_utc_ns + secondsToNs(*valid_for_s) : 0;
+  if (u.obstacle.motion) u.obstacle.motion->start_time_s = static_cast<double>(u.valid_from_utc_ns) * 1e-9;
+  return u;
+}
+
+FeedEntry FeedEntry::fromUpdate(const ObstacleUpdateData& update, double t_s, std::int64_t received_utc_ns) {
+  FeedEntry entry;
+  entry.t_s = t_s;
+  entry.update = update;
+  entry.update.valid_from_utc_ns = 0;
+  entry.update.valid_until_utc_ns = 0;
+  if (entry.update.obstacle.motion) entry.update.obstacle.motion->start_time_s = 0.0;
+  // An update that took effect before it was heard is recorded as effective at once.
+  entry.valid_from_s = std::max(0.0, static_cast<double>(update.valid_from_utc_ns - received_utc_ns) * 1e-9);
+  if (update.valid_until_utc_ns != 0) {
+    const double from_abs_ns = static_cast<double>(std::max(update.valid_from_utc_ns, received_utc_ns));
+    const double duration_s = (static_cast<double>(update.valid_until_utc_ns) - from_abs_ns) * 1e-9;
+    entry.valid_for_s = std::max(duration_s, 1e-3);
+  }
+  return entry;
+}
+
+Result<ObstacleFeed> parseObstacleFeed(std::istream& in, const std::string& source_name) {
+  std::string line;
+  std::size_t line_number = 0;
+  // Header: the first non-blank line.
+  bool have_header = false;
+  ObstacleFeed feed;
+  while (!have_header && std::getline(in, line)) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const json header = json::parse(line, nullptr, false);
+    if (header.is_discarded() || !header.is_object() || header.value("format", std::string()) != kObstacleFeedFormat)
+      return make_error(ErrorCode::kParseError, source_name,
+                        source_name + ":" + std::to_string(line_number) + ": not an obstacle feed (the first line must be " +
+                            obstacleFeedHeaderLine() + ")");
+    auto version = header.find("version");
+    if (version == header.end() || !version->is_number_integer())
+      return make_error(ErrorCode::kParseError, source_name,
+                        source_name + ":" + std::to_string(line_number) + ": header has no integer version");
+    feed.version = version->get<int>();
+    if (feed.version != kObstacleFeedVersion)
+      return make_error(ErrorCode::kParseError, source_name,
+                        source_name + ":" + std::to_string(line_number) + ": feed version " + std::to_string(feed.version) +
+                            " is not supported (this build reads version " + std::to_string(kObstacleFeedVersion) + ")");
+    have_header = true;
+  }
+  if (!have_header)
+    return make_error(ErrorCode::kParseError, source_name, source_name + ": empty file, no obstacle feed header");
+
+  double last_t_s = 0.0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    auto entry = parseEntry(line);
+    if (!entry) {
+      feed.skipped.push_back(FeedIssue{line_number, source_name + ":" + std::to_string(line_number) + ": " +
+                                                        entry.error().message + " (line skipped)"});
+      continue;
+    }
+    if (entry->t_s < last_t_s) {
+      feed.skipped.push_back(FeedIssue{line_number, source_name + ":" + std::to_string(line_number) +
+                                                        ": t_s goes back in time (" + std::to_string(entry->t_s) +
+                                                        " after " + std::to_string(last_t_s) + ") (line skipped)"});
+      continue;
+    }
+    last_t_s = entry->t_s;
+    feed.entries.push_back(std::move(*entry));
+  }
+  return feed;
+}
+
+Result<ObstacleFeed> readObstacleFeed(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return make_error(ErrorCode::kFileNotFound, path, path + ": cannot open the obstacle feed");
+  return parseObstacleFeed(in, path);
+}
+
+std::string obstacleFeedHeaderLine() {
+  return json{{"format", kObstacleFeedFormat}, {"version", kObstacleFeedVersion}}.dump();
+}
+
+std::string obstacleFeedEntryLine(const FeedEntry& entry) {
+  json j{{"t_s", entry.t_s}, {"obstacle", obstacleToJson(entry.update)}};
+  if (entry.valid_from_s != 0.0) j["valid_from_s"] = entry.valid_from_s;
+  if (entry.valid_for_s) j["valid_for_s"] = *entry.valid_for_s;
+  return j.dump();
+}
+
+Result<ObstacleFeedWriter> ObstacleFeedWriter::open(const std::string& path) {
+  std::ofstream out(path, std::ios::trunc);
+  if (!out) return make_error(ErrorCode::kFileNotFound, path, path + ": cannot create the obstacle feed file");
+  out << obstacleFeedHeaderLine() << '\n' << std::flush;
+  if (!out) return make_error(ErrorCode::kInternal, path, path + ": write failed");
+  return ObstacleFeedWriter(std::move(out), path);
+}
+
+Status ObstacleFeedWriter::append(const FeedEntry& entry) {
+  out_ << obstacleFeedEntryLine(entry) << '\n' << std::flush;
+  if (!out_) return make_error(ErrorCode::kInternal, path_, path_ + ": write failed");
+  ++entries_;
+  return Status::success();
+}
+
+Status writeObstacleFeed(const std::string& path, const std::vector<FeedEntry>& entries) {
+  auto writer = ObstacleFeedWriter::open(path);
+  if (!writer) return writer.error();
+  for (const auto& e : entries) {
+    Status s = writer->append(e);
+    if (!s) return s;
+  }
+  return Status::success();
+}
+
+}  // namespace skyroute

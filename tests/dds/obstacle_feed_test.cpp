@@ -1,0 +1,165 @@
+// The obstacle feed: written then read back unchanged; malformed lines are reported with their
+// line numbers and skipped; a bad header is fatal; stamping and recording are inverse.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "service/obstacle_feed.hpp"
+
+namespace skyroute {
+namespace {
+
+std::string tempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".jsonl")).string();
+}
+
+std::vector<FeedEntry> tableOneFeed() {
+  // Obstacles A, B, C of seed 003 Table 1 (ellipsoids moving back and forth), then a removal.
+  std::vector<FeedEntry> entries;
+  const struct {
+    std::uint64_t id;
+    double major_m, minor_m;
+    Eigen::Vector3d from, to;
+    double speed;
+  } table[] = {{1, 1200, 1200, {4900, 5400, 300}, {10400, 5400, 300}, 60},
+               {2, 1500, 1500, {9800, 6900, 300}, {2200, 6900, 300}, 70},
+               {3, 1500, 1050, {6000, 6600, 300}, {11600, 11600, 300}, 80}};
+  double t = 0.0;
+  for (const auto& row : table) {
+    FeedEntry e;
+    e.t_s = t;
+    t += 0.25;
+    e.update.obstacle.id = row.id;
+    e.update.obstacle.shape = ObstacleShape::kEllipsoid;
+    e.update.obstacle.size_m = {row.major_m / 2, row.minor_m / 2, 200};
+    e.update.obstacle.center_m = row.from;
+    e.update.obstacle.motion = BackAndForth{row.from, row.to, row.speed, 0.0};
+    e.valid_for_s = 600.0;
+    entries.push_back(e);
+  }
+  FeedEntry still;
+  still.t_s = 1.0;
+  still.update.obstacle.id = 9;
+  still.update.obstacle.shape = ObstacleShape::kCylinder;
+  still.update.obstacle.size_m = {80, 0, 400};
+  still.update.obstacle.center_m = {3000, 3000, 200};
+  still.update.constant_velocity_enu_mps = Eigen::Vector3d(1.5, -2.0, 0.0);
+  still.valid_from_s = 0.5;
+  entries.push_back(still);
+  FeedEntry removal;
+  removal.t_s = 2.0;
+  removal.update.obstacle.id = 2;
+  removal.update.remove = true;
+  entries.push_back(removal);
+  return entries;
+}
+
+TEST(ObstacleFeed, WriteThenReadGivesTheSameEntries) {
+  const std::string path = tempPath("feed_roundtrip");
+  const auto entries = tableOneFeed();
+  ASSERT_TRUE(writeObstacleFeed(path, entries).ok());
+  auto feed = readObstacleFeed(path);
+  std::remove(path.c_str());
+  ASSERT_TRUE(feed.ok()) << feed.error().describe();
+  EXPECT_TRUE(feed->skipped.empty());
+  ASSERT_EQ(feed->entries.size(), entries.size());
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const FeedEntry& a = feed->entries[i];
+    const FeedEntry& b = entries[i];
+    EXPECT_EQ(a.t_s, b.t_s);
+    EXPECT_EQ(a.valid_from_s, b.valid_from_s);
+    EXPECT_EQ(a.valid_for_s, b.valid_for_s);
+    EXPECT_EQ(a.update.remove, b.update.remove);
+    EXPECT_EQ(a.update.obstacle.id, b.update.obstacle.id);
+    EXPECT_EQ(a.update.motionKind(), b.update.motionKind());
+    if (b.update.remove) continue;
+    EXPECT_EQ(a.update.obstacle.shape, b.update.obstacle.shape);
+    EXPECT_EQ(a.update.obstacle.size_m, b.update.obstacle.size_m);
+    EXPECT_EQ(a.update.obstacle.center_m, b.update.obstacle.center_m);
+    if (b.update.obstacle.motion) {
+      EXPECT_EQ(a.update.obstacle.motion->from_m, b.update.obstacle.motion->from_m);
+      EXPECT_EQ(a.update.obstacle.motion->to_m, b.update.obstacle.motion->to_m);
+      EXPECT_EQ(a.update.obstacle.motion->speed_mps, b.update.obstacle.motion->speed_mps);
+    }
+    EXPECT_EQ(a.update.constant_velocity_enu_mps, b.update.constant_velocity_enu_mps);
+  }
+}
+
+TEST(ObstacleFeed, MalformedLinesAreSkippedWithTheirLineNumbers) {
+  const auto good = tableOneFeed();
+  std::ostringstream text;
+  text << obstacleFeedHeaderLine() << "\n";                                               // line 1
+  text << obstacleFeedEntryLine(good[0]) << "\n";                                         // line 2
+  text << "{\"t_s\": 0.5, \"obstacle\": {\"id\": 4, \"shape\": \"sph\n";                  // line 3: broken JSON
+  text << "{\"t_s\": 0.6, \"obstacle\": {\"id\": 5, \"shape\": \"cone\", \"size_m\": [1,1,1], \"position_m\": [0,0,0]}}\n";  // 4
+  text << "\n";                                                                           // line 5: blank, ignored
+  text << "{\"obstacle\": {\"id\": 6, \"remove\": true}}\n";                              // line 6: no t_s
+  text << "{\"t_s\": 0.7, \"obstacle\": {\"id\": 7, \"shape\": \"sphere\", \"size_m\": [-3,1,1], \"position_m\": [0,0,0]}}\n";  // 7
+  text << obstacleFeedEntryLine(good[3]) << "\n";                                         // line 8 (t_s 1.0)
+  text << "{\"t_s\": 0.1, \"obstacle\": {\"id\": 8, \"remove\": true}}\n";                // line 9: back in time
+  std::istringstream in(text.str());
+  auto feed = parseObstacleFeed(in, "test.jsonl");
+  ASSERT_TRUE(feed.ok()) << feed.error().describe();
+  ASSERT_EQ(feed->entries.size(), 2u);
+  EXPECT_EQ(feed->entries[0].update.obstacle.id, 1u);
+  EXPECT_EQ(feed->entries[1].update.obstacle.id, 9u);
+  ASSERT_EQ(feed->skipped.size(), 5u);
+  const std::size_t lines[] = {3, 4, 6, 7, 9};
+  const char* mentions[] = {"JSON", "obstacle.shape", "t_s", "obstacle.size_m.x", "back in time"};
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(feed->skipped[i].line, lines[i]);
+    EXPECT_NE(feed->skipped[i].message.find("test.jsonl:" + std::to_string(lines[i]) + ":"), std::string::npos)
+        << feed->skipped[i].message;
+    EXPECT_NE(feed->skipped[i].message.find(mentions[i]), std::string::npos) << feed->skipped[i].message;
+  }
+}
+
+TEST(ObstacleFeed, BadHeaderOrVersionIsFatal) {
+  std::istringstream no_header("{\"t_s\": 0, \"obstacle\": {\"id\": 1, \"remove\": true}}\n");
+  auto r = parseObstacleFeed(no_header, "x.jsonl");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("x.jsonl:1"), std::string::npos) << r.error().message;
+
+  std::istringstream future("{\"format\":\"skyroute-obstacle-feed\",\"version\":2}\n");
+  r = parseObstacleFeed(future, "y.jsonl");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("version 2"), std::string::npos) << r.error().message;
+
+  std::istringstream empty("");
+  EXPECT_FALSE(parseObstacleFeed(empty, "z.jsonl").ok());
+
+  auto missing = readObstacleFeed("/nonexistent/feed.jsonl");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().code, ErrorCode::kFileNotFound);
+  EXPECT_EQ(missing.error().field, "/nonexistent/feed.jsonl");
+}
+
+TEST(ObstacleFeed, StampingAndRecordingAreInverse) {
+  const std::int64_t publish_ns = 1'790'000'000'250'000'000LL;
+  for (const FeedEntry& e : tableOneFeed()) {
+    const ObstacleUpdateData stamped = e.stamped(publish_ns);
+    EXPECT_EQ(stamped.valid_from_utc_ns, publish_ns + static_cast<std::int64_t>(e.valid_from_s * 1e9));
+    if (e.valid_for_s) {
+      EXPECT_EQ(stamped.valid_until_utc_ns, stamped.valid_from_utc_ns + static_cast<std::int64_t>(*e.valid_for_s * 1e9));
+    } else {
+      EXPECT_EQ(stamped.valid_until_utc_ns, 0);
+    }
+    if (stamped.obstacle.motion) {  // the bounce starts from from_m when the update takes effect
+      EXPECT_DOUBLE_EQ(stamped.obstacle.motion->start_time_s, static_cast<double>(stamped.valid_from_utc_ns) * 1e-9);
+    }
+    const FeedEntry recorded = FeedEntry::fromUpdate(stamped, e.t_s, publish_ns);
+    EXPECT_EQ(recorded.t_s, e.t_s);
+    EXPECT_NEAR(recorded.valid_from_s, e.valid_from_s, 1e-9);
+    ASSERT_EQ(recorded.valid_for_s.has_value(), e.valid_for_s.has_value());
+    if (e.valid_for_s) {
+      EXPECT_NEAR(*recorded.valid_for_s, *e.valid_for_s, 1e-9);
+    }
+    EXPECT_EQ(obstacleFeedEntryLine(recorded), obstacleFeedEntryLine(e));
+  }
+}
+
+}  // namespace
+}  // namespace skyroute
