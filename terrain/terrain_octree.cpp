@@ -220,7 +220,10 @@ bool TerrainOctree::removeObstacle(std::uint64_t id) {
   if (it == obstacle_voxels_.end()) return false;
   octomap::OcTree* mutable_tree = tree_.get();
   std::unordered_set<octomap::OcTreeKey, octomap::OcTreeKey::KeyHash> removed(it->second.begin(), it->second.end());
-  for (const auto& key : it->second) mutable_tree->deleteNode(key);
+  // Mark the voxels free rather than deleting them: OctoMap 1.9's deleteNode can free a node whose
+  // (empty) children array is still allocated, which its own assertions reject.
+  const float free_log_odds = mutable_tree->getClampingThresMinLog();
+  for (const auto& key : it->second) mutable_tree->setNodeValue(key, free_log_odds, true);
   obstacle_voxels_.erase(it);
   // Voxels another obstacle also covers stay occupied.
   const float occupied = mutable_tree->getClampingThresMaxLog();
