@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "trajectory/trajectory.hpp"
 #include "trajectory/vehicle_limits.hpp"

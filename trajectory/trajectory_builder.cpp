@@ -61,6 +61,15 @@ Status validateOptions(const TrajectoryOptions& o) {
     return bad("options.min_waypoint_separation_m", "must be >= 0 and finite");
   if (!std::isfinite(o.min_split_length_m) || o.min_split_length_m <= 0.0)
     return bad("options.min_split_length_m", "must be positive and finite");
+  const std::pair<const char*, const Eigen::Vector3d*> ends[] = {
+      {"boundary.start.velocity_mps", &o.boundary.start.velocity_mps},
+      {"boundary.start.acceleration_mps2", &o.boundary.start.acceleration_mps2},
+      {"boundary.start.jerk_mps3", &o.boundary.start.jerk_mps3},
+      {"boundary.end.velocity_mps", &o.boundary.end.velocity_mps},
+      {"boundary.end.acceleration_mps2", &o.boundary.end.acceleration_mps2},
+      {"boundary.end.jerk_mps3", &o.boundary.end.jerk_mps3}};
+  for (const auto& [name, value] : ends)
+    if (!value->allFinite()) return bad(name, "is NaN or infinite");
   return Status::success();
 }
 
