@@ -1,0 +1,337 @@
+// Path length against planning time on the two real DEMs: our RRT* (+ LOSPO) against OMPL's
+// RRTstar, InformedRRTstar and BITstar (with and without PathSimplifier::simplifyMax), all asking
+// the same WorldMotionValidator. Per DEM, seeded start/goal pairs low over the terrain under a
+// ceiling, with the straight line blocked; budgets 10, 50, 100 ms plus a long reference budget.
+// Each planner's length is divided by the best length any planner found for that pair.
+//
+// Usage: rrt_star_bench [--pairs N] [--long-ms MS] [--csv FILE] [--dem hgt|tif|both] [--spacing M]
+//                       [--passes N] [--plan-share F]
+// Prints one typed row per run to the CSV and a summary table (median / p90 ratio) on stdout.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <ompl/base/MotionValidator.h>
+#include <ompl/base/StateValidityChecker.h>
+#include <ompl/base/objectives/PathLengthOptimizationObjective.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/PathSimplifier.h>
+#include <ompl/geometric/SimpleSetup.h>
+#include <ompl/geometric/planners/informedtrees/BITstar.h>
+#include <ompl/geometric/planners/rrt/InformedRRTstar.h>
+#include <ompl/geometric/planners/rrt/RRTstar.h>
+#include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include "planning/lospo.hpp"
+#include "planning/rrt_star.hpp"
+#include "planning/world_motion_validator.hpp"
+#include "terrain/terrain_world.hpp"
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+using skyroute::MotionValidator;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Our MotionValidator seen by OMPL: the same checks for every planner.
+class OmplStateChecker : public ob::StateValidityChecker {
+ public:
+  OmplStateChecker(const ob::SpaceInformationPtr& si, const MotionValidator& v) : ob::StateValidityChecker(si), v_(v) {}
+  bool isValid(const ob::State* s) const override { return v_.isStateValid(toVec(s)); }
+  static Eigen::Vector3d toVec(const ob::State* s) {
+    const auto* r = s->as<ob::RealVectorStateSpace::StateType>();
+    return {r->values[0], r->values[1], r->values[2]};
+  }
+
+ private:
+  const skyroute::MotionValidator& v_;
+};
+
+class OmplMotionChecker : public ob::MotionValidator {
+ public:
+  OmplMotionChecker(const ob::SpaceInformationPtr& si, const skyroute::MotionValidator& v) : ob::MotionValidator(si), v_(v) {}
+  bool checkMotion(const ob::State* a, const ob::State* b) const override {
+    const bool ok = v_.isMotionValid(OmplStateChecker::toVec(a), OmplStateChecker::toVec(b));
+    if (ok) ++valid_; else ++invalid_;
+    return ok;
+  }
+  // Exact checks report no partial progress: the last valid state is the start.
+  bool checkMotion(const ob::State* a, const ob::State* b, std::pair<ob::State*, double>& last_valid) const override {
+    if (checkMotion(a, b)) return true;
+    if (last_valid.first != nullptr) si_->copyState(last_valid.first, a);
+    last_valid.second = 0.0;
+    return false;
+  }
+
+ private:
+  const skyroute::MotionValidator& v_;
+};
+
+struct Run {
+  std::string dem;
+  int pair = 0;
+  std::string planner;
+  double budget_ms = 0;
+  bool solved = false;
+  double plan_s = 0;
+  double length_m = NAN;             // planner's own path
+  double simplified_m = NAN;         // after LOSPO (ours) or simplifyMax (OMPL)
+  double simplify_s = 0;
+  std::size_t tree_size = 0;
+};
+
+struct Pair {
+  Eigen::Vector3d start, goal;
+};
+
+// Our budget covers both steps: RRT* gets plan_share of it, LOSPO the rest (it stops at the
+// deadline with the valid path it has so far).
+Run runOurs(const MotionValidator& v, const Pair& p, double budget_ms, std::uint64_t seed, double step_m,
+            double spacing_m, int passes, double plan_share) {
+  Run run;
+  run.planner = "skyroute RRT*";
+  run.budget_ms = budget_ms;
+  skyroute::RrtStarOptions o;
+  o.seed = seed;
+  o.max_step_m = step_m;
+  const auto t0 = Clock::now();
+  const auto lospo_stop = skyroute::TerminationCondition::afterMilliseconds(budget_ms);
+  auto r = skyroute::RrtStar(v, o).plan(p.start, p.goal,
+                                        skyroute::TerminationCondition::afterMilliseconds(plan_share * budget_ms));
+  run.plan_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (!r.ok() || !r->solved()) return run;
+  run.solved = true;
+  run.length_m = r->length_m;
+  run.tree_size = r->tree_size;
+  const auto t1 = Clock::now();
+  auto opt = skyroute::lospo(v, r->path_m, skyroute::LospoOptions{.spacing_m = spacing_m, .max_passes = passes}, lospo_stop);
+  run.simplify_s = std::chrono::duration<double>(Clock::now() - t1).count();
+  run.simplified_m = opt.ok() ? opt->length_m : r->length_m;
+  return run;
+}
+
+Run runOmpl(const std::string& name, const MotionValidator& v, const Pair& p, double budget_ms, double step_m) {
+  Run run;
+  run.planner = "OMPL " + name;
+  run.budget_ms = budget_ms;
+  auto space = std::make_shared<ob::RealVectorStateSpace>(3);
+  const Eigen::AlignedBox3d box = v.samplingBounds();
+  ob::RealVectorBounds bounds(3);
+  for (int i = 0; i < 3; ++i) {
+    bounds.setLow(i, box.min()[i]);
+    bounds.setHigh(i, box.max()[i]);
+  }
+  space->setBounds(bounds);
+  og::SimpleSetup ss(space);
+  const ob::SpaceInformationPtr si = ss.getSpaceInformation();
+  ss.setStateValidityChecker(std::make_shared<OmplStateChecker>(si, v));
+  si->setMotionValidator(std::make_shared<OmplMotionChecker>(si, v));
+  auto objective = std::make_shared<ob::PathLengthOptimizationObjective>(si);
+  objective->setCostThreshold(ob::Cost(0.0));  // never "good enough": use the whole budget
+  ss.setOptimizationObjective(objective);
+  ob::ScopedState<> s(space), g(space);
+  for (int i = 0; i < 3; ++i) {
+    s[i] = p.start[i];
+    g[i] = p.goal[i];
+  }
+  ss.setStartAndGoalStates(s, g);
+  if (name == "RRTstar") {
+    auto planner = std::make_shared<og::RRTstar>(si);
+    planner->setRange(step_m);
+    ss.setPlanner(planner);
+  } else if (name == "InformedRRTstar") {
+    auto planner = std::make_shared<og::InformedRRTstar>(si);
+    planner->setRange(step_m);
+    ss.setPlanner(planner);
+  } else {
+    ss.setPlanner(std::make_shared<og::BITstar>(si));
+  }
+  ss.setup();
+  const auto t0 = Clock::now();
+  const ob::PlannerStatus status = ss.getPlanner()->solve(ob::timedPlannerTerminationCondition(budget_ms / 1000.0));
+  run.plan_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (status != ob::PlannerStatus::EXACT_SOLUTION) return run;
+  auto path = ss.getProblemDefinition()->getSolutionPath()->as<og::PathGeometric>();
+  run.solved = true;
+  run.length_m = path->length();
+  ob::PlannerData data(si);
+  ss.getPlanner()->getPlannerData(data);
+  run.tree_size = data.numVertices();
+  og::PathGeometric simplified(*path);
+  og::PathSimplifier simplifier(si);
+  const auto t1 = Clock::now();
+  simplifier.simplifyMax(simplified);
+  run.simplify_s = std::chrono::duration<double>(Clock::now() - t1).count();
+  run.simplified_m = simplified.length();
+  return run;
+}
+
+struct DemCase {
+  std::string name;
+  std::string path;
+  double ceiling_m;
+  double min_dist_m, max_dist_m;
+};
+
+std::vector<Pair> makePairs(const skyroute::TerrainWorld& world, const DemCase& dc, int count, std::uint64_t seed,
+                            double margin_factor, std::vector<std::unique_ptr<skyroute::WorldMotionValidator>>& validators) {
+  std::mt19937_64 rng(seed);
+  auto u = [&rng](double a, double b) { return a + (b - a) * (static_cast<double>(rng() >> 11) * 0x1.0p-53); };
+  const auto& hf = *world.heightfield;
+  const Eigen::AlignedBox2d en = hf.boundsEn();
+  const double clearance = world.collision->options().min_clearance_m;
+  const skyroute::WorldMotionValidator whole(world.collision);
+  auto lowPoint = [&](double e, double n) -> std::optional<Eigen::Vector3d> {
+    const double ground = hf.heightAt(e, n);
+    if (!std::isfinite(ground)) return std::nullopt;
+    const Eigen::Vector3d p(e, n, ground + clearance + u(40.0, 150.0));
+    if (p.z() > dc.ceiling_m - 30.0 || !whole.isStateValid(p)) return std::nullopt;
+    return p;
+  };
+  std::vector<Pair> pairs;
+  int attempts = 0;
+  while (static_cast<int>(pairs.size()) < count && attempts < 100000) {
+    ++attempts;
+    const double e = u(en.min().x() + 0.05 * en.sizes().x(), en.max().x() - 0.05 * en.sizes().x());
+    const double n = u(en.min().y() + 0.05 * en.sizes().y(), en.max().y() - 0.05 * en.sizes().y());
+    const auto s = lowPoint(e, n);
+    if (!s) continue;
+    const double d = u(dc.min_dist_m, dc.max_dist_m), a = u(0, 2 * M_PI);
+    const auto g = lowPoint(e + d * std::cos(a), n + d * std::sin(a));
+    if (!g || !en.contains(g->head<2>())) continue;
+    // Not trivial: the straight line is blocked even 200 m higher (a real detour, not a hop).
+    const Eigen::Vector3d up(0, 0, 200);
+    if (whole.isMotionValid(*s, *g) || world.collision->isSegmentValid(*s + up, *g + up)) continue;
+    auto v = std::make_unique<skyroute::WorldMotionValidator>(
+        world.collision, skyroute::WorldMotionValidator::corridor(*s, *g, margin_factor * d));
+    if (!v->isStateValid(*s) || !v->isStateValid(*g)) continue;
+    // Keep pairs our planner can solve in 1 s (a pair nobody solves says nothing about quality).
+    auto probe = skyroute::RrtStar(*v).plan(*s, *g, skyroute::TerminationCondition::afterMilliseconds(1000));
+    if (!probe.ok() || !probe->solved()) continue;
+    pairs.push_back({*s, *g});
+    validators.push_back(std::move(v));
+  }
+  return pairs;
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const double idx = q * (v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(idx));
+  const auto hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (idx - lo) * (v[hi] - v[lo]);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int pairs_per_dem = 20;
+  double long_ms = 1000.0;
+  std::string csv_path = "rrt_star_bench.csv";
+  std::string which = "both";
+  double spacing_m = 100.0;
+  int passes = 2;
+  double plan_share = 0.8;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--pairs") pairs_per_dem = std::atoi(argv[i + 1]);
+    else if (a == "--long-ms") long_ms = std::atof(argv[i + 1]);
+    else if (a == "--csv") csv_path = argv[i + 1];
+    else if (a == "--dem") which = argv[i + 1];
+    else if (a == "--spacing") spacing_m = std::atof(argv[i + 1]);
+    else if (a == "--passes") passes = std::atoi(argv[i + 1]);
+    else if (a == "--plan-share") plan_share = std::atof(argv[i + 1]);
+    else {
+      std::fprintf(stderr, "unknown option %s\n", a.c_str());
+      return 2;
+    }
+  }
+  ompl::msg::setLogLevel(ompl::msg::LOG_NONE);
+  ompl::RNG::setSeed(12345);
+  const std::string dir = SKYROUTE_SHARED_DATA_DIR;
+  std::vector<DemCase> cases;
+  if (which != "tif") cases.push_back({"N44W072", dir + "/dem/N44W072.hgt", 900.0, 8000.0, 15000.0});
+  if (which != "hgt") cases.push_back({"davosdorf", dir + "/dem/davosdorf.tif", 2500.0, 4000.0, 8000.0});
+  const std::vector<double> budgets{10.0, 50.0, 100.0, long_ms};
+  const std::vector<std::string> ompl_planners{"RRTstar", "InformedRRTstar", "BITstar"};
+
+  std::ofstream csv(csv_path);
+  csv << "dem,pair,planner,budget_ms,solved,plan_s,length_m,simplified_m,simplify_s,tree_size,best_m\n";
+  // (planner, budget, simplified?) -> ratios
+  std::map<std::tuple<std::string, double, bool>, std::vector<double>> ratios;
+  std::map<std::tuple<std::string, double>, std::vector<double>> simplify_times;
+  std::map<std::tuple<std::string, double>, int> solved_count;
+  int total_pairs = 0;
+  for (const DemCase& dc : cases) {
+    skyroute::CollisionWorldOptions wo;
+    wo.ceiling_m = dc.ceiling_m;
+    wo.build_octree = false;
+    auto world = skyroute::loadTerrainWorld(dc.path, wo);
+    if (!world.ok()) {
+      std::fprintf(stderr, "%s: %s\n", dc.path.c_str(), world.error().describe().c_str());
+      return 1;
+    }
+    std::vector<std::unique_ptr<skyroute::WorldMotionValidator>> validators;
+    const std::vector<Pair> pairs = makePairs(*world, dc, pairs_per_dem, 2026, 0.5, validators);
+    std::printf("%s: %zu pairs, ceiling %.0f m, %.0f-%.0f km apart\n", dc.name.c_str(), pairs.size(), dc.ceiling_m,
+                dc.min_dist_m / 1000, dc.max_dist_m / 1000);
+    std::fflush(stdout);
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const MotionValidator& v = *validators[k];
+      const double step_m = 0.2 * v.samplingBounds().diagonal().norm();
+      std::vector<Run> runs;
+      for (double b : budgets) {
+        runs.push_back(runOurs(v, pairs[k], b, 1000 + k, step_m, spacing_m, passes, plan_share));
+        for (const auto& name : ompl_planners) runs.push_back(runOmpl(name, v, pairs[k], b, step_m));
+      }
+      double best = INFINITY;
+      for (const Run& r : runs) {
+        if (r.solved) best = std::min({best, r.length_m, r.simplified_m});
+      }
+      for (Run& r : runs) {
+        r.dem = dc.name;
+        r.pair = static_cast<int>(k);
+        csv << r.dem << ',' << r.pair << ',' << r.planner << ',' << r.budget_ms << ',' << r.solved << ',' << r.plan_s
+            << ',' << r.length_m << ',' << r.simplified_m << ',' << r.simplify_s << ',' << r.tree_size << ','
+            << best << '\n';
+        // Unsolved runs count as infinitely long (they push medians up, as they should).
+        ratios[{r.planner, r.budget_ms, false}].push_back(r.solved ? r.length_m / best : INFINITY);
+        ratios[{r.planner, r.budget_ms, true}].push_back(r.solved ? r.simplified_m / best : INFINITY);
+        simplify_times[{r.planner, r.budget_ms}].push_back(r.simplify_s * 1000);
+        solved_count[{r.planner, r.budget_ms}] += r.solved ? 1 : 0;
+      }
+      ++total_pairs;
+      std::printf("  pair %2zu: %.0f m straight, best %.0f m\n", k, (pairs[k].goal - pairs[k].start).norm(), best);
+      std::fflush(stdout);
+    }
+  }
+  std::printf("\n%d pairs. Ratio = length / best length any planner found for the pair (all budgets).\n", total_pairs);
+  std::printf("post = LOSPO (skyroute, %.0f m spacing, up to %d passes, RRT* gets %.0f%% of the budget and LOSPO the "
+              "rest) or simplifyMax (OMPL, after its full budget, untimed)\n\n", spacing_m, passes, 100 * plan_share);
+  std::printf("| planner | budget ms | solved | median raw | p90 raw | median post | p90 post | median post ms |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  std::vector<std::string> names{"skyroute RRT*"};
+  for (const auto& n : ompl_planners) names.push_back("OMPL " + n);
+  for (double b : budgets) {
+    for (const auto& n : names) {
+      std::printf("| %s | %.0f | %d/%d | %.3f | %.3f | %.3f | %.3f | %.1f |\n", n.c_str(), b, solved_count[{n, b}],
+                  total_pairs, quantile(ratios[{n, b, false}], 0.5), quantile(ratios[{n, b, false}], 0.9),
+                  quantile(ratios[{n, b, true}], 0.5), quantile(ratios[{n, b, true}], 0.9),
+                  quantile(simplify_times[{n, b}], 0.5));
+    }
+  }
+  return 0;
+}
