@@ -85,7 +85,7 @@ Result<FleetAllocation> allocateExact(const FleetProblem& problem, const TravelT
   const int nt = problem.taskCount();
   if (nt > options.max_tasks || nt > 20) {
     return make_error(ErrorCode::kInvalidArgument, "tasks",
-                      "tasks: the exact solver handles at most " + std::to_string(std::min(options.max_tasks, 20)) +
+                      "the exact solver handles at most " + std::to_string(std::min(options.max_tasks, 20)) +
                           " tasks, got " + std::to_string(nt));
   }
   FleetAllocation out;
@@ -144,7 +144,7 @@ Result<FleetAllocation> allocateExact(const FleetProblem& problem, const TravelT
   }
   if (best[nu - 1][full] == kNone) {
     return make_error(ErrorCode::kUnreachable, "tasks",
-                      "tasks: no split of the tasks lets every vehicle reach its tasks within its capacity");
+                      "no split of the tasks lets every vehicle reach its tasks within its capacity");
   }
   out.sequences.assign(static_cast<std::size_t>(nu), {});
   std::size_t mask = full;

@@ -37,7 +37,7 @@ class GeneticAllocator {
     const auto seq = decode(g);
     for (std::size_t i = 0; i < seq.size(); ++i) {
       const int t = routeSteps(table_, static_cast<int>(i), seq[i]);
-      if (t == kUnreachableSteps) {
+      if (t == kUnreachableSteps || static_cast<int>(seq[i].size()) > problem_.capacity(static_cast<int>(i))) {
         g.fitness = kInfeasible;
         return;
       }
@@ -157,7 +157,7 @@ class GeneticAllocator {
     const Genome& best = *std::min_element(pop.begin(), pop.end(), better);
     if (best.fitness == kInfeasible) {
       return make_error(ErrorCode::kUnreachable, "tasks",
-                        "tasks: the genetic algorithm found no allocation in which every vehicle reaches its tasks");
+                        "the genetic algorithm found no allocation in which every vehicle reaches its tasks");
     }
     FleetAllocation out;
     out.algorithm = "ga";

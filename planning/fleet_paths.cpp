@@ -93,23 +93,26 @@ class PathResolver {
     const int budget = options_.max_resolutions > 0 ? options_.max_resolutions
                                                      : 100 + 50 * nu + 10 * problem_.taskCount();
     out.status = FleetPathStatus::kSolved;
-    for (int s = 0; s < endStep(); ++s) {
-      while (auto c = firstConflict(s)) {
-        if (stop_.shouldStop()) {
-          out.status = FleetPathStatus::kStopped;
-          out.detail = "stopped while resolving conflicts at step " + std::to_string(s);
-          break;
-        }
-        if (out.conflicts_resolved >= budget) {
-          out.status = FleetPathStatus::kUnresolved;
-          out.detail = "gave up after " + std::to_string(budget) + " conflicts; the last at step " +
-                       std::to_string(c->step + 1) + " between " + name(c->a) + " and " + name(c->b);
-          break;
-        }
-        ++out.conflicts_resolved;
-        resolve(*c, out);
+    int s = 0;
+    while (s < endStep()) {
+      const std::optional<Conflict> c = firstConflict(s);
+      if (!c) {
+        ++s;
+        continue;
       }
-      if (out.status != FleetPathStatus::kSolved) break;
+      if (stop_.shouldStop()) {
+        out.status = FleetPathStatus::kStopped;
+        out.detail = "stopped while resolving conflicts at step " + std::to_string(s);
+        break;
+      }
+      if (out.conflicts_resolved >= budget) {
+        out.status = FleetPathStatus::kUnresolved;
+        out.detail = "gave up after " + std::to_string(budget) + " conflicts; the last at step " +
+                     std::to_string(c->step + 1) + " between " + name(c->a) + " and " + name(c->b);
+        break;
+      }
+      ++out.conflicts_resolved;
+      s = resolve(*c, out);  // paths changed from this step on: look again from there
     }
 
     for (int i = 0; i < nu; ++i) {
@@ -204,7 +207,7 @@ class PathResolver {
     const SpaceTimePath found = planSpaceTime(grid_, reservations_, q, stop_);
     expansions_ += found.expansions;
     if (!found.found()) return false;
-    r.cells.resize(static_cast<std::size_t>(s) + 1);
+    r.cells.resize(static_cast<std::size_t>(s) + 1, r.cells.back());  // home until s when parked
     r.cells.insert(r.cells.end(), found.cells.begin() + 1, found.cells.end());
     r.reached[static_cast<std::size_t>(k)] = r.finish();
     r.appendStaticLegs(grid_, k);
@@ -228,31 +231,39 @@ class PathResolver {
     reservations_.reservePath(v, 0, routes_[static_cast<std::size_t>(v)].cells, true);
   }
 
-  void resolve(const Conflict& c, FleetPaths& out) {
+  // Returns the first step at which a path changed (the conflict's step when none did).
+  int resolve(const Conflict& c, FleetPaths& out) {
     const std::vector<int> order = yieldOrder(c);
     const auto pair = std::make_pair(c.a, c.b);
     const int seen = ++pair_conflicts_[pair];
-    if (seen <= options_.max_detours_per_pair) {
-      for (int v : order) {
-        if (detour(v, c.step)) {
-          ++out.detours;
-          return;
+    // A detour from the conflict's step first; when the vehicle is already cornered there, from a
+    // few steps earlier (e.g. a parked vehicle must reach a niche before the other arrives).
+    auto try_detours = [&]() -> std::optional<int> {
+      for (int back = 0; back <= options_.max_backtrack_steps && c.step - back >= 0; ++back) {
+        for (int v : order) {
+          if (detour(v, c.step - back)) return c.step - back;
         }
+      }
+      return std::nullopt;
+    };
+    if (seen <= options_.max_detours_per_pair) {
+      if (auto from = try_detours()) {
+        ++out.detours;
+        return *from;
       }
     }
     for (int v : order) {
       if (wait(v, c.step)) {
         ++out.waits;
-        return;
+        return c.step;
       }
     }
-    // Nobody can wait (all involved are home for good): try the detours regardless of the count.
-    for (int v : order) {
-      if (detour(v, c.step)) {
-        ++out.detours;
-        return;
-      }
+    // Nobody can wait (all involved are home for good): detour regardless of the count.
+    if (auto from = try_detours()) {
+      ++out.detours;
+      return *from;
     }
+    return c.step;
   }
 
   const GridLayer& grid_;

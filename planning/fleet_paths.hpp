@@ -7,7 +7,8 @@
 // obstacles hold, as obstacles. (Blocking only the one conflicting cell-time, as the paper words
 // it, sends both vehicles into the same wait and the same conflict one step later.) When a pair
 // keeps conflicting, or no detour exists, the vehicle with more slack - the one least likely to
-// raise the makespan - waits one step where it is, as the paper prescribes.
+// raise the makespan - waits one step where it is, as the paper prescribes. A vehicle cornered at
+// the conflict (a parked vehicle in a corridor) may start its detour a few steps earlier.
 //
 // The result keeps, per vehicle, its time-stamped cell path (cells[t] at step t), the step at
 // which each task is done and its return step, which is what a service needs to build one
@@ -39,6 +40,7 @@ struct VehiclePlan {
 
 struct FleetPathOptions {
   int max_detours_per_pair = 3;                 // then the vehicle with more slack waits
+  int max_backtrack_steps = 8;                  // a detour may start this many steps before the conflict
   int max_resolutions = 0;                      // 0: 100 + 50 * vehicles + 10 * tasks
   std::uint64_t max_expansions_per_search = 1'000'000;
 };

@@ -58,15 +58,15 @@ Result<FleetPlan> planFleet(const GridLayer& grid, const FleetProblem& problem, 
   if (plan.paths.status == FleetPathStatus::kStopped) {
     const bool cancelled = stop.reason() == TerminationCondition::Reason::kCancelled;
     return make_error(cancelled ? ErrorCode::kCancelled : ErrorCode::kTimeout, "fleet paths",
-                      "fleet paths: " + plan.paths.detail);
+                      plan.paths.detail);
   }
   if (plan.paths.status != FleetPathStatus::kSolved) {
-    return make_error(ErrorCode::kUnreachable, "fleet paths", "fleet paths: " + plan.paths.detail);
+    return make_error(ErrorCode::kUnreachable, "fleet paths", plan.paths.detail);
   }
   plan.check = checkFleetPlan(grid, problem, pathsOf(plan.paths), sequencesOf(plan.paths));
   if (!plan.check.ok()) {
     return make_error(ErrorCode::kInternal, "fleet paths",
-                      "fleet paths: the checker rejects the plan: " + plan.check.summary());
+                      "the checker rejects the plan: " + plan.check.summary());
   }
   plan.total_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return plan;

@@ -34,36 +34,36 @@ namespace {
 Status checkCell(const GridLayer& grid, GridCell c, const std::string& field) {
   if (!grid.inside(c)) {
     return make_error(ErrorCode::kOutsideMap, field,
-                      field + " " + describeCell(c) + " lies outside the " + std::to_string(grid.width()) + " x " +
+                      describeCell(c) + " lies outside the " + std::to_string(grid.width()) + " x " +
                           std::to_string(grid.height()) + " grid");
   }
-  if (grid.blocked(c)) return make_error(ErrorCode::kOccupied, field, field + " " + describeCell(c) + " is blocked");
+  if (grid.blocked(c)) return make_error(ErrorCode::kOccupied, field, describeCell(c) + " is blocked");
   return Status::success();
 }
 
 }  // namespace
 
 Status validateFleetProblem(const GridLayer& grid, const FleetProblem& problem) {
-  if (problem.vehicles.empty()) return make_error(ErrorCode::kInvalidArgument, "vehicles", "vehicles: none given");
+  if (problem.vehicles.empty()) return make_error(ErrorCode::kInvalidArgument, "vehicles", "none given");
 
   std::set<std::string> vehicle_ids;
   std::map<std::pair<int, int>, std::string> depot_owner;
   for (std::size_t i = 0; i < problem.vehicles.size(); ++i) {
     const FleetVehicle& v = problem.vehicles[i];
     const std::string field = "vehicle " + (v.id.empty() ? "#" + std::to_string(i) : v.id);
-    if (v.id.empty()) return make_error(ErrorCode::kInvalidArgument, field, field + ": empty id");
+    if (v.id.empty()) return make_error(ErrorCode::kInvalidArgument, field, "empty id");
     if (!vehicle_ids.insert(v.id).second) {
-      return make_error(ErrorCode::kInvalidArgument, field, field + ": duplicate vehicle id '" + v.id + "'");
+      return make_error(ErrorCode::kInvalidArgument, field, "duplicate vehicle id '" + v.id + "'");
     }
     if (v.max_tasks < 0) {
       return make_error(ErrorCode::kInvalidArgument, field + " max_tasks",
-                        field + ": max_tasks " + std::to_string(v.max_tasks) + " is negative");
+                        "max_tasks " + std::to_string(v.max_tasks) + " is negative");
     }
     if (Status s = checkCell(grid, v.depot, field + " depot"); !s) return s;
     auto [it, fresh] = depot_owner.emplace(std::pair{v.depot.x, v.depot.y}, v.id);
     if (!fresh) {
       return make_error(ErrorCode::kInvalidArgument, field + " depot",
-                        field + " depot " + describeCell(v.depot) + " is also the depot of vehicle " + it->second);
+                        describeCell(v.depot) + " is also the depot of vehicle " + it->second);
     }
   }
 
@@ -71,16 +71,16 @@ Status validateFleetProblem(const GridLayer& grid, const FleetProblem& problem) 
   for (std::size_t j = 0; j < problem.tasks.size(); ++j) {
     const FleetTask& t = problem.tasks[j];
     const std::string field = "task " + (t.id.empty() ? "#" + std::to_string(j) : t.id);
-    if (t.id.empty()) return make_error(ErrorCode::kInvalidArgument, field, field + ": empty id");
+    if (t.id.empty()) return make_error(ErrorCode::kInvalidArgument, field, "empty id");
     if (!task_ids.insert(t.id).second) {
-      return make_error(ErrorCode::kInvalidArgument, field, field + ": duplicate task id '" + t.id + "'");
+      return make_error(ErrorCode::kInvalidArgument, field, "duplicate task id '" + t.id + "'");
     }
     if (Status s = checkCell(grid, t.cell, field); !s) return s;
     // A vehicle parks on its depot before and after its tour (eq. 7), so a task there could only
     // be served while the owner is away; the paper places tasks off the vehicles' cells.
     if (auto it = depot_owner.find({t.cell.x, t.cell.y}); it != depot_owner.end()) {
       return make_error(ErrorCode::kOccupied, field,
-                        field + " " + describeCell(t.cell) + " lies on the depot of vehicle " + it->second);
+                        describeCell(t.cell) + " lies on the depot of vehicle " + it->second);
     }
   }
 
@@ -92,7 +92,7 @@ Status validateFleetProblem(const GridLayer& grid, const FleetProblem& problem) 
   }
   if (!unlimited && total_capacity < static_cast<long long>(problem.tasks.size())) {
     return make_error(ErrorCode::kInvalidArgument, "tasks",
-                      "tasks: " + std::to_string(problem.tasks.size()) + " tasks exceed the vehicles' total capacity of " +
+                      std::to_string(problem.tasks.size()) + " tasks exceed the vehicles' total capacity of " +
                           std::to_string(total_capacity) + " (sum of max_tasks)");
   }
 
@@ -101,24 +101,24 @@ Status validateFleetProblem(const GridLayer& grid, const FleetProblem& problem) 
     const MovingObstacle& o = problem.moving_obstacles[k];
     const std::string field = "moving obstacle " + (o.id.empty() ? "#" + std::to_string(k) : o.id);
     if (!o.id.empty() && !obstacle_ids.insert(o.id).second) {
-      return make_error(ErrorCode::kInvalidArgument, field, field + ": duplicate obstacle id '" + o.id + "'");
+      return make_error(ErrorCode::kInvalidArgument, field, "duplicate obstacle id '" + o.id + "'");
     }
     if (o.start_step < 0) {
       return make_error(ErrorCode::kInvalidArgument, field + " start_step",
-                        field + ": start_step " + std::to_string(o.start_step) + " is negative");
+                        "start_step " + std::to_string(o.start_step) + " is negative");
     }
     for (std::size_t s = 1; s < o.cells.size(); ++s) {
       const int manhattan = std::abs(o.cells[s].x - o.cells[s - 1].x) + std::abs(o.cells[s].y - o.cells[s - 1].y);
       if (manhattan > 1) {
         return make_error(ErrorCode::kInvalidArgument, field,
-                          field + ": jumps " + std::to_string(manhattan) + " cells at step " +
+                          "jumps " + std::to_string(manhattan) + " cells at step " +
                               std::to_string(o.start_step + static_cast<int>(s)) + " (at most one per step)");
       }
     }
     if (auto c = o.cellAt(0)) {
       if (auto it = depot_owner.find({c->x, c->y}); it != depot_owner.end()) {
         return make_error(ErrorCode::kOccupied, field,
-                          field + " covers the depot of vehicle " + it->second + " " + describeCell(*c) + " at step 0");
+                          "covers the depot of vehicle " + it->second + " " + describeCell(*c) + " at step 0");
       }
     }
   }
@@ -131,7 +131,7 @@ Status validateFleetProblem(const GridLayer& grid, const FleetProblem& problem) 
     for (const auto& map : depot_maps) reachable = reachable || map[grid.index(t.cell)] != kUnreachableSteps;
     if (!reachable) {
       return make_error(ErrorCode::kUnreachable, "task " + t.id,
-                        "task " + t.id + " " + describeCell(t.cell) + " cannot be reached from any depot");
+                        describeCell(t.cell) + " cannot be reached from any depot");
     }
   }
   return Status::success();

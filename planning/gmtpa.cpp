@@ -28,7 +28,8 @@ Result<FleetAllocation> allocateGreedy(const FleetProblem& problem, const Travel
   };
 
   for (int round = 0; round < nt; ++round) {
-    // (c_ijk, own rise, j, i, k) compared lexicographically.
+    // (c_ijk, own rise, j, i, -k) compared lexicographically: on a full tie the later position,
+    // so a task passed on the way is done when passed, not on a second visit.
     std::tuple<long long, long long, int, int, int> best{-1, -1, -1, -1, -1};
     bool found = false;
     for (int j = 0; j < nt; ++j) {
@@ -47,7 +48,7 @@ Result<FleetAllocation> allocateGreedy(const FleetProblem& problem, const Travel
           if (in < 0 || outl < 0 || skip < 0) continue;
           const long long rise = in + outl - skip;
           const long long cost = std::max(route[i] + rise, t_max) - t_max;
-          const auto key = std::make_tuple(cost, rise, j, i, k);
+          const auto key = std::make_tuple(cost, rise, j, i, -k);
           if (!found || key < best) {
             best = key;
             found = true;
@@ -59,9 +60,10 @@ Result<FleetAllocation> allocateGreedy(const FleetProblem& problem, const Travel
       int j = 0;
       while (assigned[j]) ++j;
       return make_error(ErrorCode::kUnreachable, "task " + problem.tasks[j].id,
-                        "task " + problem.tasks[j].id + " cannot be given to any vehicle that reaches it and has room left");
+                        "cannot be given to any vehicle that reaches it and has room left");
     }
-    const auto [cost, rise, j, i, k] = best;
+    const auto [cost, rise, j, i, minus_k] = best;
+    const int k = -minus_k;
     out.sequences[i].insert(out.sequences[i].begin() + k, j);
     route[i] += rise;
     t_max = std::max(t_max, route[i]);

@@ -4,7 +4,8 @@
 // rounds of at most (N_t - n)(N_u + n) insertions: O(N_t^2 (N_u + N_t)).
 //
 // Ties (frequent: every insertion that keeps a vehicle under T_max costs 0) are broken by the
-// rise of the vehicle's own route time T'_i - T_i, then by task, vehicle and position index. The
+// rise of the vehicle's own route time T'_i - T_i, then by task and vehicle index, then
+// the later position. The
 // second key is our choice, not the paper's: among insertions that leave T_max alone it prefers
 // the one that wastes least travel, which keeps room for later rounds. The order is total, so the
 // result is deterministic.
