@@ -1,0 +1,88 @@
+#include "service/cli/dds_cli_common.hpp"
+
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+
+namespace skyroute::cli {
+
+namespace {
+std::atomic<dds_entity_t> g_stop_waitset{0};
+
+extern "C" void onStopSignal(int) {
+  const dds_entity_t ws = g_stop_waitset.load();
+  if (ws > 0) (void)dds_waitset_set_trigger(ws, true);
+}
+}  // namespace
+
+void fail(const std::string& tool, int code, const std::string& message) {
+  std::cerr << "skyroute " << tool << ": " << message << std::endl;
+  throw CLI::RuntimeError(code);
+}
+
+dds::Entity openParticipant(const std::string& tool, int domain) {
+  if (domain < 0 || domain > 232) fail(tool, kExitBadInput, "--domain " + std::to_string(domain) + " is outside [0, 232]");
+  auto participant = dds::createParticipant(static_cast<dds_domainid_t>(domain));
+  if (!participant) fail(tool, kExitDdsError, "domain " + std::to_string(domain) + ": " + participant.error().describe());
+  return std::move(*participant);
+}
+
+void stopOnSignals(dds_entity_t waitset) {
+  g_stop_waitset.store(waitset);
+  std::signal(SIGINT, onStopSignal);
+  std::signal(SIGTERM, onStopSignal);
+}
+
+Result<MissionPointData> parseGeoTriple(const std::string& text, const std::string& field) {
+  double v[3];
+  std::istringstream in(text);
+  std::string part;
+  int n = 0;
+  while (std::getline(in, part, ',')) {
+    if (n == 3) return make_error(ErrorCode::kParseError, field, field + " '" + text + "' has more than 3 numbers (LAT,LON,ALT)");
+    try {
+      std::size_t used = 0;
+      v[n] = std::stod(part, &used);
+      if (part.find_first_not_of(" \t", used) != std::string::npos) throw std::invalid_argument(part);
+    } catch (const std::exception&) {
+      return make_error(ErrorCode::kParseError, field, field + " '" + text + "': '" + part + "' is not a number");
+    }
+    if (!std::isfinite(v[n])) return make_error(ErrorCode::kParseError, field, field + " '" + text + "': not finite");
+    ++n;
+  }
+  if (n != 3) return make_error(ErrorCode::kParseError, field, field + " '" + text + "' must be LAT,LON,ALT (3 numbers)");
+  return MissionPointData::wgs84(v[0], v[1], v[2]);
+}
+
+std::string describe(const TrajectoryData& t) {
+  std::ostringstream out;
+  out << "trajectory vehicle=" << t.vehicle_id << " plan=" << t.plan_id << " revision=" << t.revision
+      << " request=" << t.request_id << " samples=" << t.samples.size();
+  if (!t.samples.empty()) {
+    char buf[256];
+    const auto& a = t.samples.front();
+    const auto& b = t.samples.back();
+    std::snprintf(buf, sizeof buf, " duration_s=%.2f start=%.6f,%.6f,%.1f end=%.6f,%.6f,%.1f", b.t_rel_s - a.t_rel_s,
+                  a.geo.lat_deg, a.geo.lon_deg, a.geo.alt_amsl_m, b.geo.lat_deg, b.geo.lon_deg, b.geo.alt_amsl_m);
+    out << buf;
+  }
+  out << " legs=" << t.legs.size() << " order=";
+  for (std::size_t i = 0; i < t.visiting_order.size(); ++i) out << (i ? "," : "") << t.visiting_order[i];
+  return out.str();
+}
+
+std::string describe(const PlanStatusData& s) {
+  std::ostringstream out;
+  out << "status request=" << s.request_id << " vehicle=" << s.vehicle_id << " state=" << to_string(s.state)
+      << " error=" << to_string(s.error_code) << " planning_time_s=" << s.planning_time_s;
+  if (!s.field.empty()) out << " field=" << s.field;
+  if (!s.message.empty()) out << " message=\"" << s.message << "\"";
+  return out.str();
+}
+
+}  // namespace skyroute::cli

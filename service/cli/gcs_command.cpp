@@ -1,0 +1,98 @@
+// skyroute gcs: subscribes as a ground station would (late joiners get every vehicle's current
+// trajectory), prints trajectories and statuses as they arrive, and exports the latest trajectory
+// of each vehicle to CSV, GeoJSON and KML when it stops (--count reached, --timeout, or Ctrl-C).
+#include <iostream>
+#include <map>
+#include <optional>
+
+#include <CLI/CLI.hpp>
+
+#include "service/cli/dds_cli_common.hpp"
+#include "service/cli/dds_commands.hpp"
+#include "service/dds/wait_loop.hpp"
+#include "service/trajectory_export.hpp"
+
+namespace skyroute::cli {
+
+namespace {
+
+struct GcsOptions {
+  int domain = 0;
+  std::string vehicle;
+  int count = 0;         // stop after this many trajectories (0 = no limit)
+  double timeout_s = 0;  // stop after this long (0 = until Ctrl-C)
+  std::string csv, geojson, kml;
+};
+
+void runGcs(const GcsOptions& o) {
+  const std::string tool = "gcs";
+  dds::Entity participant = openParticipant(tool, o.domain);
+  auto trajectories = dds::Reader<TrajectoryData>::create(participant.get());
+  if (!trajectories) fail(tool, kExitDdsError, trajectories.error().describe());
+  auto statuses = dds::Reader<PlanStatusData>::create(participant.get());
+  if (!statuses) fail(tool, kExitDdsError, statuses.error().describe());
+  auto loop = dds::WaitLoop::create(participant.get());
+  if (!loop) fail(tool, kExitDdsError, loop.error().describe());
+  stopOnSignals(loop->waitsetHandle());
+
+  std::map<std::string, TrajectoryData> latest;  // per vehicle
+  int received = 0;
+  auto on_bad = [](const Error& e) { std::cerr << "skyroute gcs: skipped a bad sample: " << e.describe() << std::endl; };
+  Status added = loop->add<TrajectoryData>(
+      *trajectories,
+      [&](TrajectoryData&& t) {
+        if (!o.vehicle.empty() && t.vehicle_id != o.vehicle) return;
+        std::cout << describe(t) << std::endl;
+        latest[t.vehicle_id] = std::move(t);
+        if (o.count > 0 && ++received >= o.count) loop->stop();
+      },
+      on_bad);
+  if (!added) fail(tool, kExitDdsError, added.error().describe());
+  added = loop->add<PlanStatusData>(
+      *statuses,
+      [&](PlanStatusData&& s) {
+        if (!o.vehicle.empty() && s.vehicle_id != o.vehicle) return;
+        std::cout << describe(s) << std::endl;
+      },
+      on_bad);
+  if (!added) fail(tool, kExitDdsError, added.error().describe());
+
+  auto outcome = loop->run(o.timeout_s > 0 ? std::optional<double>(o.timeout_s) : std::nullopt);
+  if (!outcome) fail(tool, kExitDdsError, outcome.error().describe());
+
+  std::vector<TrajectoryData> current;
+  for (auto& [vehicle, t] : latest) current.push_back(t);
+  const std::pair<const std::string*, const char*> exports[] = {{&o.geojson, "GeoJSON"}, {&o.kml, "KML"}};
+  if (!o.csv.empty()) {
+    Status s = writeTrajectoriesCsv(o.csv, current);
+    if (!s) fail(tool, kExitBadInput, "--csv: " + s.error().describe());
+    std::cout << "wrote " << current.size() << " trajectories to " << o.csv << std::endl;
+  }
+  for (const auto& [path, driver] : exports) {
+    if (path->empty()) continue;
+    Status s = writeTrajectoriesOgr(*path, driver, current);
+    if (!s) fail(tool, kExitBadInput, std::string("--") + (driver[0] == 'K' ? "kml" : "geojson") + ": " + s.error().describe());
+    std::cout << "wrote " << current.size() << " trajectories to " << *path << std::endl;
+  }
+  if (o.count > 0 && received < o.count)
+    fail(tool, kExitFailure,
+         "received " + std::to_string(received) + " of " + std::to_string(o.count) + " trajectories on domain " +
+             std::to_string(o.domain) + (o.timeout_s > 0 ? " within " + std::to_string(o.timeout_s) + " s" : ""));
+}
+
+}  // namespace
+
+void addGcsCommand(CLI::App& app) {
+  auto options = std::make_shared<GcsOptions>();
+  CLI::App* cmd = app.add_subcommand("gcs", "Ground-station view: print trajectories and statuses, export them");
+  cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
+  cmd->add_option("--vehicle", options->vehicle, "Only this vehicle");
+  cmd->add_option("--count", options->count, "Stop after K trajectories (0 = no limit)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--timeout", options->timeout_s, "Stop after S seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--csv", options->csv, "Write the latest trajectory of each vehicle as CSV");
+  cmd->add_option("--geojson", options->geojson, "Write them as GeoJSON (3D lines, WGS84)");
+  cmd->add_option("--kml", options->kml, "Write them as KML");
+  cmd->callback([options] { runGcs(*options); });
+}
+
+}  // namespace skyroute::cli
