@@ -47,9 +47,15 @@ FeasibilityReport checkFeasibility(const Trajectory& trajectory, const VehicleLi
     for (int k = 0; k <= steps; ++k) {
       const double local = segment.duration_s * k / steps;
       const double t = knot_times[s] + local;
-      const Eigen::Vector3d p = segment.evaluate(local, Derivative::kPosition);
-      const Eigen::Vector3d v = segment.evaluate(local, Derivative::kVelocity);
-      const Eigen::Vector3d a = segment.evaluate(local, Derivative::kAcceleration);
+      Eigen::Vector3d p, v, a;
+      const double tau = static_cast<double>(k) / steps;
+      for (int axis = 0; axis < 3; ++axis) {
+        double d[3];
+        segment.axes[static_cast<std::size_t>(axis)].evaluateTimeUpTo(tau, 2, segment.duration_s, d);
+        p(axis) = d[0];
+        v(axis) = d[1];
+        a(axis) = d[2];
+      }
       ++report.samples;
       const double speed = v.norm();
       const double accel = a.norm();

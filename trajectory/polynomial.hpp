@@ -26,6 +26,9 @@ class Polynomial7 {
     return evaluateTime(tau, order(d), duration_s);
   }
 
+  // Time derivatives 0..max_order (<= 7) at tau in one pass, into out[0..max_order].
+  void evaluateTimeUpTo(double tau, int max_order, double duration_s, double* out) const;
+
   const Coefficients& coefficients() const { return coefficients_; }
 
   // Falling factorial k (k-1) ... (k-n+1): the factor of tau^(k-n) in the n-th derivative of tau^k.

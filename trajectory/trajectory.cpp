@@ -46,14 +46,20 @@ TrajectoryState Trajectory::stateAt(double t_s) const {
   const std::size_t i = segmentIndexAt(t);
   const Segment& segment = segments_[i];
   const double local = t - knot_times_s_[i];
-  state.position_m = segment.evaluate(local, Derivative::kPosition);
-  state.velocity_mps = segment.evaluate(local, Derivative::kVelocity);
-  state.acceleration_mps2 = segment.evaluate(local, Derivative::kAcceleration);
-  state.jerk_mps3 = segment.evaluate(local, Derivative::kJerk);
+  const double tau = segment.duration_s > 0.0 ? std::clamp(local / segment.duration_s, 0.0, 1.0) : 0.0;
+  Eigen::Vector3d derivative[5];
+  for (int axis = 0; axis < 3; ++axis) {
+    double d[5];
+    segment.axes[static_cast<std::size_t>(axis)].evaluateTimeUpTo(tau, 4, segment.duration_s, d);
+    for (int n = 0; n < 5; ++n) derivative[n](axis) = d[n];
+  }
+  state.position_m = derivative[0];
+  state.velocity_mps = derivative[1];
+  state.acceleration_mps2 = derivative[2];
+  state.jerk_mps3 = derivative[3];
   // Heading: first derivative with a horizontal part that is not negligible. The thresholds are
   // relative to the trajectory's scale so that round-off at a rest point does not set the heading.
-  const Eigen::Vector3d candidates[] = {state.velocity_mps, state.acceleration_mps2, state.jerk_mps3,
-                                        segment.evaluate(local, Derivative::kSnap)};
+  const Eigen::Vector3d candidates[] = {derivative[1], derivative[2], derivative[3], derivative[4]};
   for (const Eigen::Vector3d& c : candidates) {
     if (std::hypot(c.x(), c.y()) > 1e-9 * (1.0 + c.norm()) && std::hypot(c.x(), c.y()) > 1e-12) {
       state.heading_deg = compassHeadingDeg(c.x(), c.y());
