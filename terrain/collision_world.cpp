@@ -204,30 +204,34 @@ bool CollisionWorld::isTerrainValid(const Eigen::Vector3d& p_m) const {
   return p_m.z() - ground >= options_.min_clearance_m;  // false for NaN (outside or unknown)
 }
 
-bool CollisionWorld::isPointValid(const Eigen::Vector3d& p_m, std::optional<double> t_s) const {
+bool CollisionWorld::isPointValid(const Eigen::Vector3d& p_m, std::optional<double> t_s,
+                                  double obstacle_margin_m) const {
   if (!isTerrainValid(p_m)) return false;
-  const double r = options_.vehicle_radius_m;
+  const double r = options_.vehicle_radius_m + std::max(0.0, obstacle_margin_m);
+  const fcl::Sphered grown(r);
+  const fcl::Sphered& vehicle = obstacle_margin_m > 0.0 ? grown : *fcl_->vehicle;
   const fcl::Transform3d vehicle_pose = translation(p_m);
   std::shared_lock lock(mutex_);
   for (const auto& e : fcl_->entries) {
     const Obstacle& o = e.obstacle;
     if (o.moving() && !t_s) {
       if (pointSegmentDistance(p_m, o.motion->from_m, o.motion->to_m) > o.boundingRadius() + r) continue;
-      if (collide(*fcl_->vehicle, vehicle_pose, *e.sweep, e.sweep_pose)) return false;
+      if (collide(vehicle, vehicle_pose, *e.sweep, e.sweep_pose)) return false;
       continue;
     }
     const Eigen::Vector3d c = o.centerAt(t_s.value_or(0.0));
     if ((p_m - c).norm() > o.boundingRadius() + r) continue;
-    if (collide(*fcl_->vehicle, vehicle_pose, *e.geometry, translation(c))) return false;
+    if (collide(vehicle, vehicle_pose, *e.geometry, translation(c))) return false;
   }
   return true;
 }
 
-bool CollisionWorld::isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const {
+bool CollisionWorld::isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m,
+                                    std::optional<double> t_s, double obstacle_margin_m) const {
   if (!(std::max(a_m.z(), b_m.z()) <= options_.ceiling_m)) return false;
   const double lowest = dilated_terrain_->minHeightAboveGround(a_m, b_m);
   if (!(lowest >= options_.min_clearance_m)) return false;
-  const double r = options_.vehicle_radius_m;
+  const double r = options_.vehicle_radius_m + std::max(0.0, obstacle_margin_m);
   const double length = (b_m - a_m).norm();
   std::shared_lock lock(mutex_);
   if (fcl_->entries.empty()) return true;
@@ -235,6 +239,12 @@ bool CollisionWorld::isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vec
   const fcl::Transform3d swept_pose = capsulePose(a_m, b_m);
   for (const auto& e : fcl_->entries) {
     const Obstacle& o = e.obstacle;
+    if (o.moving() && t_s) {  // frozen at its place at t_s
+      const Eigen::Vector3d c = o.centerAt(*t_s);
+      if (pointSegmentDistance(c, a_m, b_m) > o.boundingRadius() + r) continue;
+      if (collide(swept, swept_pose, *e.geometry, translation(c))) return false;
+      continue;
+    }
     if (o.moving()) {
       if (segmentSegmentDistance(a_m, b_m, o.motion->from_m, o.motion->to_m) > o.boundingRadius() + r) continue;
       if (collide(swept, swept_pose, *e.sweep, e.sweep_pose)) return false;

@@ -48,10 +48,16 @@ class CollisionWorld {
   // ceiling, and the vehicle sphere clear of every obstacle. Without a time, a moving obstacle
   // blocks every place it can reach (its whole back-and-forth sweep); with a time, only where it
   // is at that time.
-  bool isPointValid(const Eigen::Vector3d& p_m, std::optional<double> t_s = std::nullopt) const;
+  // obstacle_margin_m grows the vehicle's sphere against obstacles only (not the terrain): a
+  // replanner that freezes obstacles at time t_s keeps this much more room from them.
+  bool isPointValid(const Eigen::Vector3d& p_m, std::optional<double> t_s = std::nullopt,
+                    double obstacle_margin_m = 0.0) const;
   bool isTerrainValid(const Eigen::Vector3d& p_m) const;  // terrain, bounds and ceiling only
   // The sphere swept along a -> b, exactly against the terrain surface and obstacles (no samples).
-  bool isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const;
+  // Without a time, moving obstacles block their whole sweep; with one, they are frozen where they
+  // are at t_s (a snapshot, for replanning), and obstacle_margin_m grows the sphere against them.
+  bool isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m, std::optional<double> t_s = std::nullopt,
+                      double obstacle_margin_m = 0.0) const;
   // Vehicle moving at constant velocity from a at t0 to b at t1, against moving obstacles at their
   // positions over that interval (conservative advancement on FCL distances: no tunnelling).
   bool isSegmentValidDuring(const Eigen::Vector3d& a_m, double t0_s, const Eigen::Vector3d& b_m,

@@ -314,6 +314,15 @@ TEST(CollisionWorld, MovingObstacleAtKnownTimes) {
     }
   }
   EXPECT_NEAR(world->obstacleDistance(Eigen::Vector3d(0, 300, z), 10.0), 300.0 - 105.0, 0.5);
+  // Snapshots for replanning: the obstacle frozen where it is at a time, optionally with a margin.
+  const Eigen::Vector3d north(0, 500, z);
+  const Eigen::Vector3d south(0, -500, z);
+  EXPECT_FALSE(world->isSegmentValid(north, south));                 // timeless: the sweep blocks
+  EXPECT_FALSE(world->isSegmentValid(north, south, 10.0));           // at the origin at t = 10 s
+  EXPECT_TRUE(world->isSegmentValid(north, south, 0.0));             // 600 m west at t = 0
+  EXPECT_FALSE(world->isSegmentValid(north, south, 0.0, 500.0));     // ... unless 500 m more room is kept
+  EXPECT_TRUE(world->isPointValid(Eigen::Vector3d(-400, 0, z), 0.0, 90.0));
+  EXPECT_FALSE(world->isPointValid(Eigen::Vector3d(-400, 0, z), 0.0, 100.0));
   EXPECT_TRUE(world->removeObstacle(7));
   EXPECT_TRUE(world->isPointValid(origin, 10.0));
 }
@@ -348,7 +357,8 @@ TEST(CollisionWorld, ConcurrentReadersWhileObstaclesChange) {
       }
     });
   }
-  for (int i = 0; i < 300; ++i) {
+  // Keep writing until the readers have run a while (they may start late on a busy machine).
+  for (int i = 0; (i < 300 || checks.load() < 300) && i < 10000000; ++i) {
     world->upsertObstacle(makeObstacle(static_cast<std::uint64_t>(i % 5), ObstacleShape::kSphere,
                                        Eigen::Vector3d(200, 0, 0), Eigen::Vector3d(0.0, (i % 7) * 100.0, 1500.0)));
     if (i % 3 == 0) world->removeObstacle(i % 5);
