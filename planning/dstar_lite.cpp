@@ -16,7 +16,7 @@ struct EntryGreater {
 void updateVertex(const DStarGoalField& field, std::uint32_t u, double old_min, bool was_inconsistent,
                   std::span<DStarQueue* const> queues, SearchStats& stats) {
   if (field.consistent(u)) return;
-  if (was_inconsistent && field.minCost(u) == old_min) return;
+  if (was_inconsistent && costEqual(field.minCost(u), old_min)) return;
   for (DStarQueue* q : queues) q->push(u, q->calcKey(field, u), stats);
 }
 
@@ -83,7 +83,7 @@ void DStarQueue::push(std::uint32_t cell, DStarKey key, SearchStats& stats) {
 const DStarQueue::Entry* DStarQueue::top(const DStarGoalField& field, SearchStats& stats) {
   while (!heap_.empty()) {
     const Entry& e = heap_.front();
-    if (!field.consistent(e.cell) && e.key.k2 == field.minCost(e.cell)) return &heap_.front();
+    if (!field.consistent(e.cell) && costEqual(e.key.k2, field.minCost(e.cell))) return &heap_.front();
     std::pop_heap(heap_.begin(), heap_.end(), EntryGreater{});
     heap_.pop_back();
     ++stats.queue_pops;
@@ -103,7 +103,7 @@ void DStarQueue::adapt(const DStarGoalField& field, SearchStats& stats) {
   std::vector<Entry> live;
   live.reserve(heap_.size());
   for (const Entry& e : heap_) {
-    if (!field.consistent(e.cell) && e.key.k2 == field.minCost(e.cell)) live.push_back(Entry{calcKey(field, e.cell), e.cell});
+    if (!field.consistent(e.cell) && costEqual(e.key.k2, field.minCost(e.cell))) live.push_back(Entry{calcKey(field, e.cell), e.cell});
   }
   std::sort(live.begin(), live.end(), [](const Entry& a, const Entry& b) { return a.cell < b.cell; });
   live.erase(std::unique(live.begin(), live.end(), [](const Entry& a, const Entry& b) { return a.cell == b.cell; }),
@@ -151,12 +151,12 @@ SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, 
     }
     ++stats.expansions;
     const GridCell uc = grid.cellOf(u);
-    if (field.g_[u] > field.rhs_[u]) {  // overconsistent: settle and relax the predecessors
+    if (costLess(field.rhs_[u], field.g_[u])) {  // overconsistent: settle and relax the predecessors
       field.g_[u] = field.rhs_[u];
       const double gu = field.g_[u];
       forEachMove(grid, uc, moves, [&](GridCell p, double c) {
         const auto pi = static_cast<std::uint32_t>(grid.index(p));
-        if (pi == goal || !(c + gu < field.rhs_[pi])) return;
+        if (pi == goal || !costLess(c + gu, field.rhs_[pi])) return;
         const double old_min = field.minCost(pi);
         const bool was_inconsistent = !field.consistent(pi);
         field.rhs_[pi] = c + gu;
@@ -168,7 +168,7 @@ SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, 
       updateVertex(field, u, g_old, true, all, stats);
       forEachMove(grid, uc, moves, [&](GridCell p, double c) {
         const auto pi = static_cast<std::uint32_t>(grid.index(p));
-        if (pi == goal || field.rhs_[pi] != c + g_old) return;
+        if (pi == goal || !costEqual(field.rhs_[pi], c + g_old)) return;
         const double old_min = field.minCost(pi);
         const bool was_inconsistent = !field.consistent(pi);
         field.rhs_[pi] = field.bestRhs(pi);
@@ -213,13 +213,22 @@ DStarLite::DStarLite(const GridLayer& grid, GridCell start, GridCell goal, const
 SearchStatus DStarLite::computeShortestPath(const TerminationCondition& stop) {
   if (field_.grid().blocked(queue_.start())) return SearchStatus::kInvalidStart;
   if (field_.grid().blocked(field_.goal())) return SearchStatus::kInvalidGoal;
+  // k_m grows by the start's move since the keys were last computed (seed line 52). Doing it here
+  // rather than only on edge changes keeps every stored key a lower bound however the caller
+  // interleaves moves, changes and searches.
+  if (!(last_start_ == queue_.start())) {
+    queue_.setKm(queue_.km() + field_.moves().estimate(last_start_, queue_.start()));
+    last_start_ = queue_.start();
+  }
   return dstarComputeShortestPath(field_, queue_, {}, stats_, stop);
 }
 
 void DStarLite::updateCells(std::span<const GridCell> changed) {
   if (changed.empty()) return;
-  queue_.setKm(queue_.km() + field_.moves().estimate(last_start_, queue_.start()));
-  last_start_ = queue_.start();
+  if (!(last_start_ == queue_.start())) {
+    queue_.setKm(queue_.km() + field_.moves().estimate(last_start_, queue_.start()));
+    last_start_ = queue_.start();
+  }
   DStarQueue* const q = &queue_;
   dstarUpdateChangedCells(field_, changed, std::span<DStarQueue* const>(&q, 1), stats_);
 }

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -25,11 +26,20 @@
 
 namespace skyroute {
 
+// Costs are sums of 1 and sqrt(2) (or 1.4) reached in different orders, so mathematically equal
+// values can differ in the last bits; D* Lite's tie-break on k2 and its consistency test must see
+// them as equal or it may stop one expansion too early. Distinct costs on grids up to 10^4 cells a
+// side differ by far more than this tolerance.
+inline constexpr double kCostTolerance = 1e-9;
+inline bool costLess(double a, double b) { return a < b - kCostTolerance; }
+inline bool costEqual(double a, double b) { return a == b || std::abs(a - b) <= kCostTolerance; }
+
 struct DStarKey {
   double k1 = kInfiniteCost;
   double k2 = kInfiniteCost;
-  friend bool operator<(const DStarKey& a, const DStarKey& b) { return a.k1 < b.k1 || (a.k1 == b.k1 && a.k2 < b.k2); }
-  friend bool operator==(const DStarKey&, const DStarKey&) = default;
+  friend bool operator<(const DStarKey& a, const DStarKey& b) {
+    return costLess(a.k1, b.k1) || (costEqual(a.k1, b.k1) && costLess(a.k2, b.k2));
+  }
 };
 
 class DStarQueue;
@@ -47,7 +57,7 @@ class DStarGoalField {
   double g(std::uint32_t i) const { return g_[i]; }
   double rhs(std::uint32_t i) const { return rhs_[i]; }
   double minCost(std::uint32_t i) const { return std::min(g_[i], rhs_[i]); }
-  bool consistent(std::uint32_t i) const { return g_[i] == rhs_[i]; }
+  bool consistent(std::uint32_t i) const { return costEqual(g_[i], rhs_[i]); }
   // Cost to the goal of a cell whose search is complete (g); infinity when not reached.
   double costFrom(GridCell c) const { return grid_->inside(c) ? g_[grid_->index(c)] : kInfiniteCost; }
 
@@ -131,7 +141,7 @@ class DStarLite {
 
   // kInvalidStart / kInvalidGoal when outside or blocked (checked before any search).
   SearchStatus computeShortestPath(const TerminationCondition& stop = {});
-  // The vehicle moved; k_m grows by h(last, new) at the next edge-cost change (seed line 52).
+  // The vehicle moved; k_m grows by h(last, new) before the next vertex update or search (line 52).
   void moveStart(GridCell start) { queue_.setStart(start); }
   // The grid's blocked state of these cells changed; call computeShortestPath afterwards.
   void updateCells(std::span<const GridCell> changed);

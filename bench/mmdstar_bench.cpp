@@ -1,0 +1,351 @@
+// MMD*L vs per-pair D* Lite: the experiment of section IV of the seed (Fig. 12), and a scale run
+// with 20 mission points on a 1000 x 1000 grid derived from a real DEM.
+//
+//   build-mmd/bench/mmdstar_bench [--runs 100] [--max-n 5] [--seed 1] [--moves paper|sqrt2]
+//                                 [--scale-only | --no-scale] [--dem PATH] [--threads-note]
+//
+// Paper experiment: 110 x 110 grid, 20 % random obstacles, B (40,40), E (70,70), n random mission
+// points, obstacles unknown to the planner in 10 % of the free cells, 8-neighbour sensing while the
+// vehicle flies; both planners see exactly the same moves and changes (the vehicle follows MMD*L),
+// and every cost-matrix entry of the two is compared at every planning step.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "planning/grid_search.hpp"
+#include "planning/mission_planner.hpp"
+#include "terrain/dem.hpp"
+#include "terrain/grid_from_terrain.hpp"
+#include "terrain/heightfield.hpp"
+
+using namespace skyroute;
+
+namespace {
+
+struct Sample {
+  std::vector<double> v;
+  void add(double x) { v.push_back(x); }
+  double mean() const {
+    double s = 0;
+    for (double x : v) s += x;
+    return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+  }
+  double stddev() const {
+    if (v.size() < 2) return 0.0;
+    const double m = mean();
+    double s = 0;
+    for (double x : v) s += (x - m) * (x - m);
+    return std::sqrt(s / static_cast<double>(v.size() - 1));
+  }
+};
+
+struct Cell {
+  Sample pre_exp, pre_ms, re_exp, re_ms;
+};
+
+struct Run {
+  bool ok = false;
+  std::size_t mismatches = 0;
+  double pre_exp[2] = {0, 0}, pre_ms[2] = {0, 0}, re_exp[2] = {0, 0}, re_ms[2] = {0, 0};
+  int replans = 0;
+  int steps = 0;
+};
+
+// Paper's table (Fig. 12): averages and standard deviations, n = 1..5.
+const double kPaperPreExp[2][2][5] = {
+    {{1298.09, 4856.10, 9984.77, 18000.81, 28626.27}, {685.99, 2399.49, 3822.47, 6250.84, 9046.04}},
+    {{1298.09, 4072.71, 7224.94, 11516.92, 16431.76}, {685.99, 1969.04, 2752.91, 3996.83, 5058.18}}};
+const double kPaperPreS[2][2][5] = {{{0.59, 2.20, 4.53, 8.16, 13.00}, {0.31, 1.07, 1.74, 2.86, 4.11}},
+                                    {{0.60, 1.89, 3.38, 5.41, 7.78}, {0.31, 0.91, 1.28, 1.86, 2.35}}};
+const double kPaperReExp[2][2][5] = {
+    {{85.80, 1144.99, 2881.27, 5194.99, 8579.75}, {122.27, 1075.43, 2263.49, 3629.23, 5342.69}},
+    {{85.80, 610.63, 1273.06, 2016.82, 3020.38}, {122.27, 679.39, 1272.68, 1889.99, 2301.28}}};
+const double kPaperReS[2][2][5] = {{{0.06, 0.60, 1.50, 2.70, 4.45}, {0.06, 0.54, 1.15, 1.85, 2.74}},
+                                   {{0.06, 0.40, 0.91, 1.54, 2.49}, {0.07, 0.41, 0.85, 1.33, 1.83}}};
+
+bool sameMatrix(const MissionPlan& a, const MissionPlan& b) {
+  for (std::size_t i = 0; i < a.cost_matrix.size(); ++i)
+    for (std::size_t j = 0; j < a.cost_matrix.size(); ++j) {
+      const double x = a.cost_matrix[i][j], y = b.cost_matrix[i][j];
+      if (!(x == y || std::abs(x - y) <= 1e-9)) return false;
+    }
+  return std::abs(a.cost - b.cost) <= 1e-9;
+}
+
+Run runPaperOnce(int n, std::uint32_t seed, const GridMoves& moves) {
+  std::mt19937 rng(seed);
+  const int size = 110;
+  const GridCell begin{40, 40}, end{70, 70};
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    GridLayer known(size, size);
+    std::vector<GridCell> walls;
+    std::bernoulli_distribution wall(0.2);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x)
+        if (wall(rng)) walls.push_back({x, y});
+    known.setStaticBlocked(walls, true);
+    known.setStaticBlocked(std::vector<GridCell>{begin, end}, false);
+    const auto reach = reachableCells(known, begin, moves);
+    if (!reach[known.index(end)]) continue;
+    std::vector<GridCell> missions;
+    std::uniform_int_distribution<int> u(0, size - 1);
+    while (static_cast<int>(missions.size()) < n) {
+      const GridCell c{u(rng), u(rng)};
+      if (!reach[known.index(c)] || c == begin || c == end ||
+          std::find(missions.begin(), missions.end(), c) != missions.end())
+        continue;
+      missions.push_back(c);
+    }
+    GridLayer truth = known;
+    std::vector<GridCell> extra;
+    std::bernoulli_distribution add(0.1);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const GridCell c{x, y};
+        if (truth.passable(c) && add(rng) && !(c == begin) && !(c == end) &&
+            std::find(missions.begin(), missions.end(), c) == missions.end())
+          extra.push_back(c);
+      }
+    truth.setStaticBlocked(extra, true);
+    const auto true_reach = reachableCells(truth, begin, moves);
+    bool feasible = true_reach[truth.index(end)];
+    for (const GridCell& m : missions) feasible = feasible && true_reach[truth.index(m)];
+    if (!feasible) continue;
+
+    Run run;
+    MissionOptions opt[2];
+    opt[0].algorithm = MissionAlgorithm::kDStarLite;
+    opt[1].algorithm = MissionAlgorithm::kMmdStarLite;
+    opt[0].moves = opt[1].moves = moves;
+    auto dsl = MissionPlanner::create(known, begin, missions, end, opt[0]);
+    auto mmd = MissionPlanner::create(known, begin, missions, end, opt[1]);
+    if (!dsl.ok() || !mmd.ok()) continue;
+    auto p0 = dsl->preplan();
+    auto p1 = mmd->preplan();
+    if (!p0.ok() || !p1.ok()) continue;
+    run.pre_exp[0] = static_cast<double>(p0->search.expansions);
+    run.pre_exp[1] = static_cast<double>(p1->search.expansions);
+    run.pre_ms[0] = p0->total_time_ms;
+    run.pre_ms[1] = p1->total_time_ms;
+    if (!sameMatrix(*p0, *p1)) ++run.mismatches;
+    for (int step = 0; step < 20000 && !mmd->finished(); ++step) {
+      const GridCell next = mmd->nextCell();
+      if (!truth.passable(next) || next == mmd->vehicleCell()) break;
+      mmd->moveVehicle(next);
+      dsl->moveVehicle(next);
+      ++run.steps;
+      if (mmd->finished()) break;
+      std::vector<GridCell> sensed;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const GridCell c{next.x + dx, next.y + dy};
+          if (known.inside(c) && truth.blocked(c) && known.passable(c)) sensed.push_back(c);
+        }
+      if (sensed.empty()) continue;
+      const auto changed = known.setStaticBlocked(sensed, true);
+      auto r0 = dsl->replan(changed);
+      auto r1 = mmd->replan(changed);
+      if (!r0.ok() || !r1.ok()) break;
+      ++run.replans;
+      run.re_exp[0] += static_cast<double>(r0->search.expansions);
+      run.re_exp[1] += static_cast<double>(r1->search.expansions);
+      run.re_ms[0] += r0->total_time_ms;
+      run.re_ms[1] += r1->total_time_ms;
+      if (!sameMatrix(*r0, *r1)) ++run.mismatches;
+    }
+    run.ok = mmd->finished();
+    return run;
+  }
+  return Run{};
+}
+
+void paperExperiment(int runs, int max_n, std::uint32_t seed, const GridMoves& moves, const char* moves_name) {
+  std::printf("## Paper experiment (seed section IV): 110x110, 20%% obstacles, +10%% unknown, %d runs per n, moves %s\n\n",
+              runs, moves_name);
+  Cell cells[2][5];
+  std::size_t mismatches = 0, failed = 0;
+  double replans = 0, steps = 0;
+  for (int n = 1; n <= max_n; ++n) {
+    for (int r = 0; r < runs; ++r) {
+      const Run run = runPaperOnce(n, seed * 1000003u + static_cast<std::uint32_t>(n * 10007 + r), moves);
+      if (!run.ok) {
+        ++failed;
+        continue;
+      }
+      mismatches += run.mismatches;
+      replans += run.replans;
+      steps += run.steps;
+      for (int a = 0; a < 2; ++a) {
+        cells[a][n - 1].pre_exp.add(run.pre_exp[a]);
+        cells[a][n - 1].pre_ms.add(run.pre_ms[a]);
+        cells[a][n - 1].re_exp.add(run.re_exp[a]);
+        cells[a][n - 1].re_ms.add(run.re_ms[a]);
+      }
+    }
+  }
+  const char* names[2] = {"D* Lite", "MMD*L"};
+  auto table = [&](const char* title, bool pre) {
+    std::printf("### %s\n\n| algorithm | stat | n | expansions (ours) | expansions (paper) | time ms (ours) | time s (paper, MATLAB) |\n",
+                title);
+    std::printf("|---|---|---|---:|---:|---:|---:|\n");
+    for (int a = 0; a < 2; ++a)
+      for (int n = 1; n <= max_n; ++n) {
+        const Cell& c = cells[a][n - 1];
+        const Sample& e = pre ? c.pre_exp : c.re_exp;
+        const Sample& t = pre ? c.pre_ms : c.re_ms;
+        const auto& pe = pre ? kPaperPreExp : kPaperReExp;
+        const auto& ps = pre ? kPaperPreS : kPaperReS;
+        std::printf("| %s | mean | %d | %.2f | %.2f | %.3f | %.2f |\n", names[a], n, e.mean(), pe[a][0][n - 1], t.mean(),
+                    ps[a][0][n - 1]);
+        std::printf("| %s | std | %d | %.2f | %.2f | %.3f | %.2f |\n", names[a], n, e.stddev(), pe[a][1][n - 1],
+                    t.stddev(), ps[a][1][n - 1]);
+      }
+    std::printf("\n| n | MMD*L / D* Lite expansions (ours) | (paper) | time ratio (ours) | (paper) |\n|---|---:|---:|---:|---:|\n");
+    for (int n = 1; n <= max_n; ++n) {
+      const Cell& d = cells[0][n - 1];
+      const Cell& m = cells[1][n - 1];
+      const double oe = pre ? m.pre_exp.mean() / d.pre_exp.mean() : m.re_exp.mean() / d.re_exp.mean();
+      const double ot = pre ? m.pre_ms.mean() / d.pre_ms.mean() : m.re_ms.mean() / d.re_ms.mean();
+      const auto& pe = pre ? kPaperPreExp : kPaperReExp;
+      const auto& ps = pre ? kPaperPreS : kPaperReS;
+      std::printf("| %d | %.3f | %.3f | %.3f | %.3f |\n", n, oe, pe[1][0][n - 1] / pe[0][0][n - 1], ot,
+                  ps[1][0][n - 1] / ps[0][0][n - 1]);
+    }
+    std::printf("\n");
+  };
+  table("Preplanning", true);
+  table("Replanning (sum over the flight)", false);
+  std::printf("cost-matrix mismatches between MMD*L and D* Lite over all planning steps: %zu; runs without a finished "
+              "flight: %zu; mean replanning steps per run %.1f, mean flight length %.1f cells\n\n",
+              mismatches, failed, replans / std::max<double>(1.0, runs * max_n - failed),
+              steps / std::max<double>(1.0, runs * max_n - failed));
+}
+
+void scaleRun(const std::string& dem_path, std::uint32_t seed) {
+  std::printf("## Scale: n = 20 mission points on a 1000 x 1000 grid from %s\n\n", dem_path.c_str());
+  auto dem = Dem::load(dem_path);
+  if (!dem.ok()) {
+    std::printf("skipped: %s\n", dem.error().describe().c_str());
+    return;
+  }
+  auto hf = Heightfield::build(*dem);
+  if (!hf.ok()) {
+    std::printf("skipped: %s\n", hf.error().describe().c_str());
+    return;
+  }
+  const auto& box = (*hf)->boundsEn();
+  TerrainGridOptions gopt;
+  gopt.cell_size_m = std::min(box.sizes().x(), box.sizes().y()) / 1000.0;
+  gopt.min_clearance_m = 30.0;
+  gopt.flight_ceiling_m = (*hf)->minHeightM() + 0.45 * ((*hf)->maxHeightM() - (*hf)->minHeightM());
+  auto built = buildTerrainGrid(**hf, gopt);
+  if (!built.ok()) {
+    std::printf("skipped: %s\n", built.error().describe().c_str());
+    return;
+  }
+  GridLayer grid = std::move(*built);
+  std::printf("grid %d x %d, cell %.1f m, ceiling %.0f m AMSL, clearance %.0f m, blocked %.1f %%\n", grid.width(),
+              grid.height(), gopt.cell_size_m, gopt.flight_ceiling_m, gopt.min_clearance_m,
+              100.0 * static_cast<double>(grid.blockedCount()) / static_cast<double>(grid.cellCount()));
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> ux(0, grid.width() - 1), uy(0, grid.height() - 1);
+  GridCell begin;
+  std::vector<std::uint8_t> reach;
+  for (;;) {
+    begin = {ux(rng), uy(rng)};
+    if (grid.blocked(begin)) continue;
+    reach = reachableCells(grid, begin);
+    std::size_t count = std::count(reach.begin(), reach.end(), std::uint8_t{1});
+    if (count > grid.cellCount() / 3) break;
+  }
+  std::vector<GridCell> pts;
+  while (pts.size() < 21) {
+    const GridCell c{ux(rng), uy(rng)};
+    if (reach[grid.index(c)] && !(c == begin) && std::find(pts.begin(), pts.end(), c) == pts.end()) pts.push_back(c);
+  }
+  const GridCell end = pts.back();
+  pts.pop_back();
+  auto planner = MissionPlanner::create(grid, begin, pts, end);
+  if (!planner.ok()) {
+    std::printf("error: %s\n", planner.error().describe().c_str());
+    return;
+  }
+  auto plan = planner->preplan();
+  if (!plan.ok()) {
+    std::printf("error: %s\n", plan.error().describe().c_str());
+    return;
+  }
+  std::printf("\n| step | time ms | search ms | TSP ms | expansions | queue ops | g/rhs maps | order cost (cells) |\n"
+              "|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("| preplanning | %.1f | %.1f | %.2f | %llu | %llu | %zu | %.2f |\n", plan->total_time_ms,
+              plan->search.time_ms, plan->tsp_time_ms, static_cast<unsigned long long>(plan->search.expansions),
+              static_cast<unsigned long long>(plan->search.queue_pushes + plan->search.queue_pops),
+              planner->search().costMapCount(), plan->cost);
+  // Fly 30 cells, then block a 3x3 patch on the path 5 cells ahead (a local change), replan; repeat.
+  Sample re_ms;
+  for (int round = 0; round < 5; ++round) {
+    for (int k = 0; k < 30 && !planner->finished(); ++k) planner->moveVehicle(planner->nextCell());
+    const auto& leg = planner->plan().legs.front().cells;
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < leg.size(); ++i)
+      if (leg[i] == planner->vehicleCell()) at = i;
+    if (at + 6 >= leg.size()) continue;
+    const GridCell centre = leg[at + 5];
+    std::vector<GridCell> patch;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const GridCell c{centre.x + dx, centre.y + dy};
+        bool is_point = c == planner->vehicleCell();
+        for (const GridCell& p : planner->search().points()) is_point = is_point || c == p;
+        if (!is_point) patch.push_back(c);
+      }
+    const auto changed = grid.setStaticBlocked(patch, true);
+    auto re = planner->replan(changed);
+    if (!re.ok()) {
+      std::printf("replan error: %s\n", re.error().describe().c_str());
+      break;
+    }
+    re_ms.add(re->total_time_ms);
+    std::printf("| replanning %d (%zu cells changed) | %.1f | %.1f | %.2f | %llu | %llu | %zu | %.2f |\n", round + 1,
+                changed.size(), re->total_time_ms, re->search.time_ms, re->tsp_time_ms,
+                static_cast<unsigned long long>(re->search.expansions),
+                static_cast<unsigned long long>(re->search.queue_pushes + re->search.queue_pops),
+                planner->search().costMapCount(), re->cost);
+  }
+  std::printf("\nTSP: %s; replanning mean %.1f ms over %zu local changes\n\n",
+              plan->tsp.exact ? "exact" : "heuristic (2-opt + Or-opt)", re_ms.mean(), re_ms.v.size());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 100, max_n = 5;
+  std::uint32_t seed = 1;
+  bool scale = true, paper = true;
+  std::string moves_name = "paper";
+  std::string dem = std::string(SKYROUTE_SHARED_DATA_DIR) + "/dem/N44W072.hgt";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
+    if (a == "--runs") runs = std::stoi(next());
+    else if (a == "--max-n") max_n = std::clamp(std::stoi(next()), 1, 5);
+    else if (a == "--seed") seed = static_cast<std::uint32_t>(std::stoul(next()));
+    else if (a == "--moves") moves_name = next();
+    else if (a == "--scale-only") paper = false;
+    else if (a == "--no-scale") scale = false;
+    else if (a == "--dem") dem = next();
+    else {
+      std::fprintf(stderr, "unknown argument %s\n", a.c_str());
+      return 2;
+    }
+  }
+  const GridMoves moves = moves_name == "sqrt2" ? GridMoves{} : GridMoves::paper();
+  if (paper) paperExperiment(runs, max_n, seed, moves, moves_name == "sqrt2" ? "sqrt2 + octile" : "1.4 + Chebyshev (paper)");
+  if (scale) scaleRun(dem, seed);
+  return 0;
+}

@@ -1,0 +1,154 @@
+// D* Lite against the Moving AI optimal lengths and, while the start moves and cells change,
+// against a fresh Dijkstra on the changed grid.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "planning/dstar_lite.hpp"
+#include "planning/grid_search.hpp"
+#include "terrain/movingai.hpp"
+#include "tests/test_data.hpp"
+
+namespace skyroute {
+namespace {
+
+void checkScenario(const std::string& map_path, const std::string& scen_path) {
+  auto grid = loadMovingAiMap(map_path);
+  ASSERT_TRUE(grid.ok()) << grid.error().describe();
+  auto problems = loadMovingAiScenario(scen_path);
+  ASSERT_TRUE(problems.ok()) << problems.error().describe();
+  ASSERT_FALSE(problems->empty());
+  for (std::size_t i = 0; i < problems->size(); ++i) {
+    const MovingAiProblem& pr = (*problems)[i];
+    DStarLite search(*grid, pr.start, pr.goal);
+    ASSERT_EQ(search.computeShortestPath(), SearchStatus::kFound) << "problem " << i;
+    EXPECT_NEAR(search.cost(), pr.optimal_length, 1e-3) << "problem " << i;
+    const auto path = search.path();
+    ASSERT_FALSE(path.empty()) << "problem " << i;
+    EXPECT_EQ(path.front(), pr.start);
+    EXPECT_EQ(path.back(), pr.goal);
+    EXPECT_GT(search.stats().expansions, 0u);
+  }
+}
+
+TEST(DStarLite, MatchesMovingAiRoom) {
+  SKYROUTE_REQUIRE_SHARED(map, "movingai/room-32-32-4.map");
+  SKYROUTE_REQUIRE_SHARED(scen, "movingai/room-32-32-4-random-1.scen");
+  checkScenario(map, scen);
+}
+
+TEST(DStarLite, MatchesMovingAiRandom64) {
+  SKYROUTE_REQUIRE_SHARED(map, "movingai/random-64-64-20.map");
+  SKYROUTE_REQUIRE_SHARED(scen, "movingai/random-64-64-20-random-1.scen");
+  checkScenario(map, scen);
+}
+
+TEST(DStarLite, MatchesMovingAiBoston) {
+  SKYROUTE_REQUIRE_SHARED(map, "movingai/Boston_0_256.map");
+  SKYROUTE_REQUIRE_SHARED(scen, "movingai/Boston_0_256.map.scen");
+  checkScenario(map, scen);
+}
+
+GridLayer randomGrid(int w, int h, double density, std::mt19937& rng) {
+  GridLayer grid(w, h);
+  std::vector<GridCell> blocked;
+  std::bernoulli_distribution wall(density);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (wall(rng)) blocked.push_back({x, y});
+  grid.setStaticBlocked(blocked, true);
+  return grid;
+}
+
+GridCell randomFree(const GridLayer& grid, std::mt19937& rng) {
+  std::uniform_int_distribution<int> ux(0, grid.width() - 1), uy(0, grid.height() - 1);
+  for (;;) {
+    const GridCell c{ux(rng), uy(rng)};
+    if (grid.passable(c)) return c;
+  }
+}
+
+// The vehicle walks towards the goal; every few steps random cells flip (obstacles added and
+// removed, never at the vehicle or the goal). After each repair the cost equals Dijkstra's.
+TEST(DStarLite, ReplanningMatchesDijkstraWhileStartMovesAndCellsChange) {
+  for (const GridMoves moves : {GridMoves{}, GridMoves::paper()}) {
+    std::mt19937 rng(42);
+    for (int trial = 0; trial < 8; ++trial) {
+      GridLayer grid = randomGrid(50, 40, 0.2, rng);
+      const GridCell start = randomFree(grid, rng);
+      const GridCell goal = randomFree(grid, rng);
+      DStarLite search(grid, start, goal, moves);
+      search.computeShortestPath();
+      GridCell at = start;
+      int moved = 0;
+      for (int step = 0; step < 60 && !(at == goal); ++step) {
+        std::vector<GridCell> flip;
+        for (int k = 0; k < 6; ++k) {
+          const GridCell c{std::uniform_int_distribution<int>(0, grid.width() - 1)(rng),
+                           std::uniform_int_distribution<int>(0, grid.height() - 1)(rng)};
+          if (!(c == at) && !(c == goal)) flip.push_back(c);
+        }
+        std::vector<GridCell> changed;
+        for (const GridCell& c : flip) {
+          const bool now_blocked = grid.staticBlocked(c);
+          const std::vector<GridCell> one{c};
+          for (const GridCell& d : grid.setStaticBlocked(one, !now_blocked)) changed.push_back(d);
+        }
+        search.updateCells(changed);
+        const SearchStatus status = search.computeShortestPath();
+        const auto field = dijkstraCostField(grid, goal, moves);
+        const double expected = field[grid.index(at)];
+        if (expected < kInfiniteCost) {
+          ASSERT_EQ(status, SearchStatus::kFound);
+          ASSERT_NEAR(search.cost(), expected, 1e-9) << "trial " << trial << " step " << step;
+          at = search.nextCell();
+          search.moveStart(at);
+          ++moved;
+        } else {
+          ASSERT_EQ(status, SearchStatus::kNoPath);
+          EXPECT_EQ(search.cost(), kInfiniteCost);
+        }
+      }
+      if (moved > 1) {
+        EXPECT_GT(search.km(), 0.0) << "k_m should have grown as the start moved";
+      }
+    }
+  }
+}
+
+TEST(DStarLite, ReplanningExpandsFarFewerCellsThanPlanningAgain) {
+  std::mt19937 rng(5);
+  GridLayer grid = randomGrid(120, 120, 0.2, rng);
+  const GridCell start{5, 5}, goal{110, 110};
+  grid.setStaticBlocked(std::vector<GridCell>{start, goal}, false);
+  DStarLite search(grid, start, goal);
+  ASSERT_EQ(search.computeShortestPath(), SearchStatus::kFound);
+  const auto first = search.stats().expansions;
+  // Block one cell on the current path, near the start.
+  const auto path = search.path();
+  ASSERT_GT(path.size(), 4u);
+  const auto changed = grid.setStaticBlocked(std::vector<GridCell>{path[3]}, true);
+  search.updateCells(changed);
+  ASSERT_EQ(search.computeShortestPath(), SearchStatus::kFound);
+  const auto repair = search.stats().expansions - first;
+  EXPECT_NEAR(search.cost(), dijkstraCostField(grid, goal)[grid.index(start)], 1e-9);
+  EXPECT_LT(repair, first / 2) << "repair " << repair << " first " << first;
+}
+
+TEST(DStarLite, InvalidEndpointsAndUnreachableGoal) {
+  GridLayer grid(10, 10);
+  grid.setStaticBlocked(std::vector<GridCell>{{3, 3}}, true);
+  EXPECT_EQ(DStarLite(grid, {3, 3}, {0, 0}).computeShortestPath(), SearchStatus::kInvalidStart);
+  EXPECT_EQ(DStarLite(grid, {0, 0}, {3, 3}).computeShortestPath(), SearchStatus::kInvalidGoal);
+  EXPECT_EQ(DStarLite(grid, {0, 0}, {20, 3}).computeShortestPath(), SearchStatus::kInvalidGoal);
+  // Wall off column 5 completely.
+  std::vector<GridCell> wall;
+  for (int y = 0; y < 10; ++y) wall.push_back({5, y});
+  grid.setStaticBlocked(wall, true);
+  DStarLite cut(grid, {0, 0}, {9, 9});
+  EXPECT_EQ(cut.computeShortestPath(), SearchStatus::kNoPath);
+  EXPECT_TRUE(cut.path().empty());
+}
+
+}  // namespace
+}  // namespace skyroute

@@ -1,0 +1,172 @@
+// The `skyroute grid solve` and `skyroute mission` commands, run as a user would: JSON lines checked
+// against the scenario's optimal lengths and against Dijkstra, and bad input giving a message that
+// names the point and a non-zero exit.
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "planning/grid_search.hpp"
+#include "terrain/movingai.hpp"
+#include "tests/test_data.hpp"
+
+namespace skyroute {
+namespace {
+
+struct Output {
+  int exit_code = -1;
+  std::string text;
+};
+
+Output run(const std::string& args) {
+  Output out;
+  const std::string cmd = std::string(SKYROUTE_CLI) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return out;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), pipe)) out.text += buf.data();
+  const int status = pclose(pipe);
+  out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
+}
+
+std::vector<nlohmann::json> jsonLines(const std::string& text) {
+  std::vector<nlohmann::json> lines;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+    if (!line.empty() && line.front() == '{') lines.push_back(nlohmann::json::parse(line));
+  return lines;
+}
+
+TEST(GridCli, SolveMatchesScenarioForEveryAlgorithm) {
+  SKYROUTE_REQUIRE_SHARED(map, "movingai/room-32-32-4.map");
+  SKYROUTE_REQUIRE_SHARED(scen, "movingai/room-32-32-4-random-1.scen");
+  auto problems = loadMovingAiScenario(scen);
+  ASSERT_TRUE(problems.ok());
+  for (const std::string algo : {"astar", "dijkstra", "dstar-lite", "mmdstar"}) {
+    const Output out = run("grid solve --map " + map + " --scen " + scen + " --algo " + algo + " --limit 60");
+    ASSERT_EQ(out.exit_code, 0) << algo << "\n" << out.text;
+    const auto lines = jsonLines(out.text);
+    ASSERT_EQ(lines.size(), 61u) << algo;
+    for (std::size_t i = 0; i < 60; ++i) {
+      const auto& j = lines[i];
+      const MovingAiProblem& pr = (*problems)[i];
+      EXPECT_EQ(j["start"], nlohmann::json({pr.start.x, pr.start.y})) << algo << " " << i;
+      EXPECT_EQ(j["goal"], nlohmann::json({pr.goal.x, pr.goal.y}));
+      EXPECT_NEAR(j["cost"].get<double>(), pr.optimal_length, 1e-3) << algo << " " << i;
+      EXPECT_NEAR(j["optimal"].get<double>(), pr.optimal_length, 1e-9);
+      EXPECT_GE(j["time_ms"].get<double>(), 0.0);
+      EXPECT_TRUE(j.contains("expansions"));
+    }
+    EXPECT_EQ(lines.back()["problems"], 60);
+    EXPECT_EQ(lines.back()["mismatches"], 0);
+  }
+}
+
+TEST(GridCli, SolveRejectsMissingFiles) {
+  const Output out = run("grid solve --map /nonexistent.map --scen /nonexistent.scen");
+  EXPECT_NE(out.exit_code, 0);
+  EXPECT_NE(out.text.find("--map"), std::string::npos) << out.text;
+  EXPECT_NE(out.text.find("/nonexistent.map"), std::string::npos) << out.text;
+}
+
+TEST(GridCli, MissionPrintsOrderMatrixAndLegs) {
+  SKYROUTE_REQUIRE_SHARED(map, "movingai/random-64-64-20.map");
+  auto grid = loadMovingAiMap(map);
+  ASSERT_TRUE(grid.ok());
+  // Begin and four points in begin's component, found deterministically.
+  const GridCell begin{0, 0};
+  GridCell b = begin;
+  for (int i = 0; grid->blocked(b); ++i) b = {i % 64, i / 64};
+  const auto reach = reachableCells(*grid, b);
+  std::vector<GridCell> pts;
+  for (int i = 64 * 64 - 1; i >= 0 && pts.size() < 5; i -= 397) {
+    const GridCell c{i % 64, i / 64};
+    if (reach[grid->index(c)] && !(c == b)) pts.push_back(c);
+  }
+  ASSERT_EQ(pts.size(), 5u);
+  auto cell = [](GridCell c) { return std::to_string(c.x) + "," + std::to_string(c.y); };
+  std::string args = "mission --map " + map + " --begin " + cell(b) + " --end " + cell(pts[4]) + " --points";
+  for (int i = 0; i < 4; ++i) args += " " + cell(pts[i]);
+  for (const std::string algo : {"mmdstar", "dstar-lite"}) {
+    const Output out = run(args + " --algo " + algo + " --json");
+    ASSERT_EQ(out.exit_code, 0) << out.text;
+    const auto lines = jsonLines(out.text);
+    ASSERT_EQ(lines.size(), 1u);
+    const auto& j = lines[0];
+    ASSERT_EQ(j["order"].size(), 6u);
+    EXPECT_EQ(j["order"].front(), "B");
+    EXPECT_EQ(j["order"].back(), "E");
+    EXPECT_EQ(j["cost_maps"], algo == "mmdstar" ? 5 : 20);
+    // Every leg's cost is Dijkstra's, and they add up to the cost.
+    double sum = 0.0;
+    const std::vector<GridCell> all{b, pts[0], pts[1], pts[2], pts[3], pts[4]};
+    auto index = [](const std::string& label) { return label == "B" ? 0 : label == "E" ? 5 : std::stoi(label.substr(1)); };
+    for (const auto& leg : j["legs"]) {
+      const int from = index(leg["from"].get<std::string>());
+      const int to = index(leg["to"].get<std::string>());
+      const GridPath ref = dijkstraSearch(*grid, all[from], all[to]);
+      EXPECT_NEAR(leg["cost"].get<double>(), ref.cost, 1e-9);
+      sum += leg["cost"].get<double>();
+    }
+    EXPECT_NEAR(sum, j["cost"].get<double>(), 1e-9);
+    EXPECT_GT(j["expansions"].get<long>(), 0);
+  }
+  const Output text = run(args);
+  EXPECT_EQ(text.exit_code, 0);
+  EXPECT_NE(text.text.find("order"), std::string::npos);
+  EXPECT_NE(text.text.find("cost matrix"), std::string::npos);
+}
+
+TEST(GridCli, MissionNamesABadPoint) {
+  SKYROUTE_REQUIRE_SHARED(map, "movingai/random-64-64-20.map");
+  auto grid = loadMovingAiMap(map);
+  ASSERT_TRUE(grid.ok());
+  GridCell wall{0, 0}, free_a{0, 0}, free_b{0, 0};
+  for (int i = 0; i < 64 * 64; ++i) {
+    const GridCell c{i % 64, i / 64};
+    if (grid->blocked(c)) wall = c;
+  }
+  const auto reach_from = [&](GridCell s) { return reachableCells(*grid, s); };
+  for (int i = 0; i < 64 * 64; ++i) {
+    const GridCell c{i % 64, i / 64};
+    if (grid->passable(c)) {
+      free_a = c;
+      break;
+    }
+  }
+  const auto reach = reach_from(free_a);
+  for (int i = 64 * 64 - 1; i >= 0; --i) {
+    const GridCell c{i % 64, i / 64};
+    if (reach[grid->index(c)]) {
+      free_b = c;
+      break;
+    }
+  }
+  auto cell = [](GridCell c) { return std::to_string(c.x) + "," + std::to_string(c.y); };
+  const std::string base = "mission --map " + map + " --begin " + cell(free_a) + " --end " + cell(free_b);
+  Output out = run(base + " --points " + cell(wall));
+  EXPECT_NE(out.exit_code, 0);
+  EXPECT_NE(out.text.find("points[0]"), std::string::npos) << out.text;
+  EXPECT_NE(out.text.find("obstacle"), std::string::npos) << out.text;
+  out = run(base + " --points 900,3");
+  EXPECT_NE(out.exit_code, 0);
+  EXPECT_NE(out.text.find("points[0]"), std::string::npos) << out.text;
+  EXPECT_NE(out.text.find("outside"), std::string::npos) << out.text;
+  out = run(base + " --points " + cell(free_b));
+  EXPECT_NE(out.exit_code, 0);
+  EXPECT_NE(out.text.find("duplicates"), std::string::npos) << out.text;
+  out = run(base + " --points banana");
+  EXPECT_NE(out.exit_code, 0);
+  EXPECT_NE(out.text.find("--points[0]"), std::string::npos) << out.text;
+}
+
+}  // namespace
+}  // namespace skyroute
