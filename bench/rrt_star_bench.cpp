@@ -5,7 +5,7 @@
 // Each planner's length is divided by the best length any planner found for that pair.
 //
 // Usage: rrt_star_bench [--pairs N] [--long-ms MS] [--csv FILE] [--dem hgt|tif|both] [--spacing M]
-//                       [--passes N] [--plan-share F]
+//                       [--max-vertices N] [--passes N] [--plan-share F]
 // Prints one typed row per run to the CSV and a summary table (median / p90 ratio) on stdout.
 #include <algorithm>
 #include <chrono>
@@ -99,7 +99,7 @@ struct Pair {
 // Our budget covers both steps: RRT* gets plan_share of it, LOSPO the rest (it stops at the
 // deadline with the valid path it has so far).
 Run runOurs(const MotionValidator& v, const Pair& p, double budget_ms, std::uint64_t seed, double step_m,
-            double spacing_m, int passes, double plan_share) {
+            double spacing_m, int max_vertices, int passes, double plan_share) {
   Run run;
   run.planner = "skyroute RRT*";
   run.budget_ms = budget_ms;
@@ -116,7 +116,7 @@ Run runOurs(const MotionValidator& v, const Pair& p, double budget_ms, std::uint
   run.length_m = r->length_m;
   run.tree_size = r->tree_size;
   const auto t1 = Clock::now();
-  auto opt = skyroute::lospo(v, r->path_m, skyroute::LospoOptions{.spacing_m = spacing_m, .max_passes = passes}, lospo_stop);
+  auto opt = skyroute::lospo(v, r->path_m, skyroute::LospoOptions{.spacing_m = spacing_m, .max_vertices = max_vertices, .max_passes = passes}, lospo_stop);
   run.simplify_s = std::chrono::duration<double>(Clock::now() - t1).count();
   run.simplified_m = opt.ok() ? opt->length_m : r->length_m;
   return run;
@@ -232,6 +232,7 @@ double quantile(std::vector<double> v, double q) {
   const double idx = q * (v.size() - 1);
   const auto lo = static_cast<std::size_t>(std::floor(idx));
   const auto hi = std::min(lo + 1, v.size() - 1);
+  if (std::isinf(v[hi])) return idx - lo < 1e-12 ? v[lo] : v[hi];
   return v[lo] + (idx - lo) * (v[hi] - v[lo]);
 }
 
@@ -244,6 +245,7 @@ int main(int argc, char** argv) {
   std::string which = "both";
   double spacing_m = 100.0;
   int passes = 2;
+  int max_vertices = 60;
   double plan_share = 0.8;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
@@ -253,6 +255,7 @@ int main(int argc, char** argv) {
     else if (a == "--dem") which = argv[i + 1];
     else if (a == "--spacing") spacing_m = std::atof(argv[i + 1]);
     else if (a == "--passes") passes = std::atoi(argv[i + 1]);
+    else if (a == "--max-vertices") max_vertices = std::atoi(argv[i + 1]);
     else if (a == "--plan-share") plan_share = std::atof(argv[i + 1]);
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
@@ -294,7 +297,7 @@ int main(int argc, char** argv) {
       const double step_m = 0.2 * v.samplingBounds().diagonal().norm();
       std::vector<Run> runs;
       for (double b : budgets) {
-        runs.push_back(runOurs(v, pairs[k], b, 1000 + k, step_m, spacing_m, passes, plan_share));
+        runs.push_back(runOurs(v, pairs[k], b, 1000 + k, step_m, spacing_m, max_vertices, passes, plan_share));
         for (const auto& name : ompl_planners) runs.push_back(runOmpl(name, v, pairs[k], b, step_m));
       }
       double best = INFINITY;
@@ -319,8 +322,8 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("\n%d pairs. Ratio = length / best length any planner found for the pair (all budgets).\n", total_pairs);
-  std::printf("post = LOSPO (skyroute, %.0f m spacing, up to %d passes, RRT* gets %.0f%% of the budget and LOSPO the "
-              "rest) or simplifyMax (OMPL, after its full budget, untimed)\n\n", spacing_m, passes, 100 * plan_share);
+  std::printf("post = LOSPO (skyroute, %.0f m spacing, at most %d vertices, up to %d passes, RRT* gets %.0f%% of the budget and LOSPO the "
+              "rest) or simplifyMax (OMPL, after its full budget, untimed)\n\n", spacing_m, max_vertices, passes, 100 * plan_share);
   std::printf("| planner | budget ms | solved | median raw | p90 raw | median post | p90 post | median post ms |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   std::vector<std::string> names{"skyroute RRT*"};

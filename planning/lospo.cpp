@@ -133,10 +133,13 @@ Result<LospoResult> lospo(const MotionValidator& validator, const std::vector<Ei
   if (!std::isfinite(options.spacing_m) || !(options.spacing_m > 0.0)) {
     return make_error(ErrorCode::kInvalidArgument, "spacing_m", "spacing_m must be finite and > 0");
   }
+  if (options.max_vertices < 0) {
+    return make_error(ErrorCode::kInvalidArgument, "max_vertices", "max_vertices must be >= 0 (0 = no limit)");
+  }
   if (options.max_passes < 1) return make_error(ErrorCode::kInvalidArgument, "max_passes", "max_passes must be >= 1");
   LospoResult result;
   result.input_length_m = polylineLength(path_m);
-  if (result.input_length_m / options.spacing_m > 1e6) {
+  if (options.max_vertices == 0 && result.input_length_m / options.spacing_m > 1e6) {
     return make_error(ErrorCode::kInvalidArgument, "spacing_m",
                       "spacing_m is too small for a path of " + std::to_string(result.input_length_m) +
                           " m (more than 10^6 vertices)");
@@ -152,7 +155,9 @@ Result<LospoResult> lospo(const MotionValidator& validator, const std::vector<Ei
   std::vector<Eigen::Vector3d> best = path_m;
   double best_length = result.input_length_m;
   for (int pass = 0; pass < options.max_passes; ++pass) {
-    PassResult next = lospoPass(validator, best, options.spacing_m, stop, result.motion_checks);
+    double spacing = options.spacing_m;
+    if (options.max_vertices > 0) spacing = std::max(spacing, best_length / options.max_vertices);
+    PassResult next = lospoPass(validator, best, spacing, stop, result.motion_checks);
     ++result.passes;
     if (options.merge_collinear) next.path = mergeCollinear(validator, next.path, result.motion_checks);
     const double length = polylineLength(next.path);

@@ -24,6 +24,10 @@ namespace skyroute {
 
 struct LospoOptions {
   double spacing_m = 50.0;   // distance between inserted vertices
+  // Each step tests up to every vertex ahead, so a pass costs O(n^2) motion checks for n vertices.
+  // For real-time use the spacing is raised to length / max_vertices when the path is longer than
+  // max_vertices * spacing_m (0 = never).
+  int max_vertices = 0;
   int max_passes = 1;        // the seed's algorithm is one pass; further passes restart on the result
   double min_pass_gain_m = 1e-3;  // stop repeating when a pass shortens the path by less
   bool merge_collinear = true;    // drop vertices where the path goes straight on (checked again)

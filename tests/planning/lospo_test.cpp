@@ -61,7 +61,9 @@ TEST(Lospo, NeverLengthensNorInvalidatesRrtStarPaths) {
     ASSERT_TRUE(plan.ok());
     ASSERT_TRUE(plan->solved()) << "field " << field;
     for (double spacing : {0.5, 3.0, 20.0}) {
-      auto r = lospo(world, plan->path_m, LospoOptions{.spacing_m = spacing});
+      // With a vertex cap the spacing grows to length / 20 for the small spacings.
+      const int max_vertices = spacing < 1.0 ? 20 : 0;
+      auto r = lospo(world, plan->path_m, LospoOptions{.spacing_m = spacing, .max_vertices = max_vertices});
       ASSERT_TRUE(r.ok());
       EXPECT_LE(r->length_m, plan->length_m) << "field " << field << " spacing " << spacing;
       EXPECT_NEAR(r->length_m, polylineLength(r->path_m), 1e-9);
@@ -142,6 +144,9 @@ TEST(Lospo, BadInputIsAnErrorNamingTheField) {
   r = lospo(world, ok, LospoOptions{.spacing_m = 1e-9});
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().field, "spacing_m");
+  r = lospo(world, ok, LospoOptions{.max_vertices = -1});
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().field, "max_vertices");
   r = lospo(world, ok, LospoOptions{.max_passes = 0});
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().field, "max_passes");
