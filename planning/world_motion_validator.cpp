@@ -5,18 +5,22 @@
 namespace skyroute {
 
 WorldMotionValidator::WorldMotionValidator(std::shared_ptr<const CollisionWorld> world,
-                                           std::optional<Eigen::AlignedBox3d> region)
-    : world_(std::move(world)), bounds_(world_->flyableBounds()) {
+                                           std::optional<Eigen::AlignedBox3d> region,
+                                           std::optional<ObstacleSnapshot> snapshot)
+    : world_(std::move(world)), bounds_(world_->flyableBounds()), snapshot_(snapshot) {
   if (region) bounds_ = bounds_.intersection(*region);
 }
 
 bool WorldMotionValidator::isStateValid(const Eigen::Vector3d& p_m) const {
+  if (snapshot_) return bounds_.contains(p_m) && world_->isPointValid(p_m, snapshot_->time_s, snapshot_->margin_m);
   return bounds_.contains(p_m) && world_->isPointValid(p_m);
 }
 
 bool WorldMotionValidator::isMotionValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const {
   // The box is convex: a motion between two points inside it stays inside.
-  return bounds_.contains(a_m) && bounds_.contains(b_m) && world_->isSegmentValid(a_m, b_m);
+  if (!bounds_.contains(a_m) || !bounds_.contains(b_m)) return false;
+  if (snapshot_) return world_->isSegmentValid(a_m, b_m, snapshot_->time_s, snapshot_->margin_m);
+  return world_->isSegmentValid(a_m, b_m);
 }
 
 Eigen::AlignedBox3d WorldMotionValidator::corridor(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m,

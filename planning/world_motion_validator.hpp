@@ -13,11 +13,19 @@
 
 namespace skyroute {
 
+// Moving obstacles frozen where they are at a world time, with extra room kept from them: how a
+// replanner sees a moving obstacle (seed 003 section 3-2) instead of blocking its whole sweep.
+struct ObstacleSnapshot {
+  double time_s = 0.0;
+  double margin_m = 0.0;
+};
+
 class WorldMotionValidator : public MotionValidator {
  public:
   // region: when given, samples and valid states are kept inside flyableBounds() ∩ region.
   explicit WorldMotionValidator(std::shared_ptr<const CollisionWorld> world,
-                                std::optional<Eigen::AlignedBox3d> region = std::nullopt);
+                                std::optional<Eigen::AlignedBox3d> region = std::nullopt,
+                                std::optional<ObstacleSnapshot> snapshot = std::nullopt);
 
   bool isStateValid(const Eigen::Vector3d& p_m) const override;
   bool isMotionValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const override;
@@ -31,6 +39,7 @@ class WorldMotionValidator : public MotionValidator {
  private:
   std::shared_ptr<const CollisionWorld> world_;
   Eigen::AlignedBox3d bounds_;
+  std::optional<ObstacleSnapshot> snapshot_;
 };
 
 }  // namespace skyroute
