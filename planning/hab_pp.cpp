@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -553,12 +554,15 @@ bool connected(const GridLayer& grid, GridCell start, GridCell goal) {
 HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, const HabPpParameters& params,
                       std::uint64_t seed, const TerminationCondition& stop) {
   const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t c0 = std::clock();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  auto cpu_seconds = [&] { return static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC; };
   HabPpResult result;
   auto fail = [&](HabPpStatus status, std::string message) {
     result.status = status;
     result.message = std::move(message);
     result.total_time_s = seconds();
+    result.total_cpu_s = cpu_seconds();
     return result;
   };
   if (const Status valid = params.validate(); !valid) return fail(HabPpStatus::kInvalidParameters, valid.error().describe());
@@ -581,6 +585,7 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
   habpp::Rng rng(seed);
   habpp::Colony colony(grid, start, goal, params);
   int unchanged = 0;
+  int unchanged_with_arrivals = 0;
   for (;;) {
     const auto reason = stop.reason(result.iterations);
     if (reason != TerminationCondition::Reason::kNone) {
@@ -589,13 +594,23 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
       break;
     }
     ++result.iterations;
+    const std::uint64_t arrivals_before = result.ant_arrivals + result.rrt_arrivals;
     const bool changed = colony.iterate(rng, result);
     if (result.first_path_time_s < 0.0 && !colony.ranked().empty()) {
       result.first_path_time_s = seconds();
+      result.first_path_cpu_s = cpu_seconds();
       result.first_path_iteration = result.iterations;
     }
+    // Table 2's termination: the ranked list stops changing. Choice: unchanged for
+    // stable_iterations iterations once it holds N_R paths; while it holds fewer (a small map may
+    // not have N_R distinct paths), unchanged for stable_iterations iterations in which some path
+    // arrived, so a long search for the first few paths does not end the plan.
+    const bool arrived = result.ant_arrivals + result.rrt_arrivals > arrivals_before;
     unchanged = changed ? 0 : unchanged + 1;
-    if (!colony.ranked().empty() && unchanged >= params.stable_iterations) {  // Table 2's termination
+    unchanged_with_arrivals = changed ? 0 : unchanged_with_arrivals + (arrived ? 1 : 0);
+    const bool full = colony.ranked().size() >= static_cast<std::size_t>(params.ranked_paths);
+    if (!colony.ranked().empty() &&
+        (full ? unchanged >= params.stable_iterations : unchanged_with_arrivals >= params.stable_iterations)) {
       result.status = HabPpStatus::kConverged;
       break;
     }
@@ -609,6 +624,7 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
                      std::string(to_string(result.stop_reason)) + ")";
   }
   result.total_time_s = seconds();
+  result.total_cpu_s = cpu_seconds();
   return result;
 }
 

@@ -61,7 +61,7 @@ struct HabPpParameters {
   double pheromone_max = 1.0;        // upper limit (Table 1, "normalized pheromone trail value")
   double angle_factor_floor = 0.05;  // xi never drops below this, so a U-turn stays possible
   double angle_eval_epsilon_rad = 0.1;  // added to f_A in eq. (2) so a straight path does not divide by 0
-  int stable_iterations = 60;        // the ranked list must stay unchanged this many iterations to stop
+  int stable_iterations = 60;        // L_R unchanged this many iterations stops the plan (see planHabPp)
   int max_ant_steps = 0;             // an ant that walked this many steps restarts; 0: 2 * (width + height)
   int crossover_points = 2;          // crossings used per pair of paths in the path crossover
   int rrt_nodes_after_solution = 150;  // an RRT* tree restarts after this many nodes past its first path
@@ -100,6 +100,10 @@ struct HabPpResult {
   double angle_change_rad = 0.0;     // sum of turning angles of path
   double first_path_time_s = -1.0;   // time until the first path entered the ranked list; -1 if none
   double total_time_s = 0.0;
+  // The same two times in processor time of this process (std::clock), which other processes on a
+  // shared machine do not inflate; the benchmark reports these.
+  double first_path_cpu_s = -1.0;
+  double total_cpu_s = 0.0;
   std::uint64_t iterations = 0;      // n_I
   std::uint64_t first_path_iteration = 0;
   std::uint64_t ant_arrivals = 0;    // paths brought by the ants
