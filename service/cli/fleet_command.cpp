@@ -174,19 +174,19 @@ void writePng(const std::string& path, const GridLayer& grid, const FleetProblem
 }
 
 void writeJson(const std::string& path, const FleetProblem& problem, const FleetPlan& plan) {
-  nlohmann::json doc;
+  nlohmann::ordered_json doc;  // keys in the documented order
   doc["makespan"] = plan.makespan();
-  doc["vehicles"] = nlohmann::json::array();
+  doc["vehicles"] = nlohmann::ordered_json::array();
   for (const VehiclePlan& v : plan.paths.vehicles) {
-    nlohmann::json one;
+    nlohmann::ordered_json one;
     const GridCell depot = problem.vehicles[static_cast<std::size_t>(v.vehicle)].depot;
     one["depot"] = {depot.x, depot.y};
-    one["tasks"] = nlohmann::json::array();
+    one["tasks"] = nlohmann::ordered_json::array();
     for (int j : v.tasks) {
       const GridCell c = problem.tasks[static_cast<std::size_t>(j)].cell;
       one["tasks"].push_back({c.x, c.y});
     }
-    one["path"] = nlohmann::json::array();
+    one["path"] = nlohmann::ordered_json::array();
     for (int t = 0; t <= plan.makespan(); ++t) {
       const GridCell c = v.cellAt(t);
       one["path"].push_back({t, c.x, c.y});
@@ -195,7 +195,7 @@ void writeJson(const std::string& path, const FleetProblem& problem, const Fleet
   }
   std::ofstream file(path);
   if (!file) fail(4, "--out: cannot write " + path);
-  file << doc.dump(1) << "\n";
+  file << doc.dump() << "\n";
   if (!file) fail(4, "--out: writing " + path + " failed");
 }
 
