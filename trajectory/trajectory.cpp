@@ -69,6 +69,17 @@ TrajectoryState Trajectory::stateAt(double t_s) const {
   return state;
 }
 
+std::vector<TrajectoryState> Trajectory::knotStates() const {
+  std::vector<TrajectoryState> knots;
+  for (double t : knot_times_s_) knots.push_back(stateAt(t));
+  for (std::size_t j = 0; j + 1 < knots.size(); ++j) {
+    const Eigen::Vector3d step = knots[j + 1].position_m - knots[j].position_m;
+    if (std::hypot(step.x(), step.y()) > 1e-9) knots[j].heading_deg = compassHeadingDeg(step.x(), step.y());
+  }
+  if (knots.size() >= 2) knots.back().heading_deg = knots[knots.size() - 2].heading_deg;
+  return knots;
+}
+
 std::vector<TrajectoryState> Trajectory::sample(double dt_s) const {
   std::vector<TrajectoryState> samples;
   if (segments_.empty() || !(dt_s > 0.0) || !std::isfinite(dt_s)) return samples;

@@ -46,6 +46,10 @@ class Trajectory {
   // a sample with no horizontal displacement keeps its neighbour's heading. dt_s must be > 0.
   std::vector<TrajectoryState> sample(double dt_s) const;
 
+  // Seed 003 eq. 9: the state at every joint time t_j, with psi_j from eq. 8 on the joint
+  // positions (psi_M = psi_{M-1}).
+  std::vector<TrajectoryState> knotStates() const;
+
  private:
   std::vector<Segment> segments_;
   std::vector<double> knot_times_s_;

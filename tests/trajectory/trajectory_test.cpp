@@ -77,6 +77,20 @@ TEST(Trajectory, HeadingFollowsEquation8AndTheVelocity) {
     EXPECT_LT(angleDiffDeg(samples[i].heading_deg, from_velocity), 0.1) << "t=" << samples[i].time_s;
   }
   EXPECT_EQ(samples.back().heading_deg, samples[samples.size() - 2].heading_deg);  // psi_M = psi_{M-1}
+  // Eq. 9 at the joints: times and positions of the knots, heading from the next knot.
+  const auto w = std::vector<Eigen::Vector3d>{{0, 0, 100}, {500, 0, 120}, {500, 700, 140}, {-100, 700, 100}};
+  TrajectoryOptions no_extra;
+  no_extra.waypoint_spacing_m = 0.0;
+  auto b = buildTrajectory(w, VehicleLimits{}, no_extra);
+  ASSERT_TRUE(b.ok());
+  const auto knots = b->trajectory.knotStates();
+  ASSERT_EQ(knots.size(), w.size());
+  const double expected[] = {90.0, 0.0, 270.0, 270.0};
+  for (std::size_t j = 0; j < knots.size(); ++j) {
+    EXPECT_LT((knots[j].position_m - w[j]).norm(), 1e-6);
+    EXPECT_NEAR(knots[j].time_s, b->trajectory.knotTimes()[j], 1e-12);
+    EXPECT_LT(angleDiffDeg(knots[j].heading_deg, expected[j]), 1e-6) << j;
+  }
 }
 
 TEST(Trajectory, GeoSamplesRoundTripAndCsv) {
