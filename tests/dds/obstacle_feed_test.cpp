@@ -161,5 +161,21 @@ TEST(ObstacleFeed, StampingAndRecordingAreInverse) {
   }
 }
 
+TEST(ObstacleFeed, ShippedSeed003FeedIsCleanAndMatchesTableOne) {
+  auto feed = readObstacleFeed(std::string(SKYROUTE_DATA_DIR) + "/feeds/seed003_table1.jsonl");
+  ASSERT_TRUE(feed.ok()) << feed.error().describe();
+  EXPECT_TRUE(feed->skipped.empty());
+  ASSERT_EQ(feed->entries.size(), 3u);
+  // Table 1: initial and final points and speeds of obstacles A, B, C.
+  const double speeds[] = {60, 70, 80};
+  const Eigen::Vector2d finals[] = {{10400, 5400}, {2200, 6900}, {11600, 11600}};
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto& motion = feed->entries[i].update.obstacle.motion;
+    ASSERT_TRUE(motion.has_value());
+    EXPECT_EQ(motion->speed_mps, speeds[i]);
+    EXPECT_EQ(motion->to_m.head<2>(), finals[i]);
+  }
+}
+
 }  // namespace
 }  // namespace skyroute
