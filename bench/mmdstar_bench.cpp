@@ -133,31 +133,42 @@ Run runPaperOnce(int n, std::uint32_t seed, const GridMoves& moves) {
     run.pre_ms[0] = p0->total_time_ms;
     run.pre_ms[1] = p1->total_time_ms;
     if (!sameMatrix(*p0, *p1)) ++run.mismatches;
+    // Each step: sense the 8 neighbours of the current cell, replan both if anything new was seen,
+    // then move one cell along MMD*L's plan (both planners see the same moves and changes).
+    bool failed = false;
     for (int step = 0; step < 20000 && !mmd->finished(); ++step) {
-      const GridCell next = mmd->nextCell();
-      if (!truth.passable(next) || next == mmd->vehicleCell()) break;
-      mmd->moveVehicle(next);
-      dsl->moveVehicle(next);
-      ++run.steps;
-      if (mmd->finished()) break;
+      const GridCell here = mmd->vehicleCell();
       std::vector<GridCell> sensed;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-          const GridCell c{next.x + dx, next.y + dy};
+          const GridCell c{here.x + dx, here.y + dy};
           if (known.inside(c) && truth.blocked(c) && known.passable(c)) sensed.push_back(c);
         }
-      if (sensed.empty()) continue;
-      const auto changed = known.setStaticBlocked(sensed, true);
-      auto r0 = dsl->replan(changed);
-      auto r1 = mmd->replan(changed);
-      if (!r0.ok() || !r1.ok()) break;
-      ++run.replans;
-      run.re_exp[0] += static_cast<double>(r0->search.expansions);
-      run.re_exp[1] += static_cast<double>(r1->search.expansions);
-      run.re_ms[0] += r0->total_time_ms;
-      run.re_ms[1] += r1->total_time_ms;
-      if (!sameMatrix(*r0, *r1)) ++run.mismatches;
+      if (!sensed.empty()) {
+        const auto changed = known.setStaticBlocked(sensed, true);
+        auto r0 = dsl->replan(changed);
+        auto r1 = mmd->replan(changed);
+        if (!r0.ok() || !r1.ok()) {
+          failed = true;
+          break;
+        }
+        ++run.replans;
+        run.re_exp[0] += static_cast<double>(r0->search.expansions);
+        run.re_exp[1] += static_cast<double>(r1->search.expansions);
+        run.re_ms[0] += r0->total_time_ms;
+        run.re_ms[1] += r1->total_time_ms;
+        if (!sameMatrix(*r0, *r1)) ++run.mismatches;
+      }
+      const GridCell next = mmd->nextCell();
+      if (!truth.passable(next) || next == here) {
+        failed = true;
+        break;
+      }
+      mmd->moveVehicle(next);
+      dsl->moveVehicle(next);
+      ++run.steps;
     }
+    (void)failed;
     run.ok = mmd->finished();
     return run;
   }
@@ -248,7 +259,15 @@ void scaleRun(const std::string& dem_path, std::uint32_t seed) {
     std::printf("skipped: %s\n", built.error().describe().c_str());
     return;
   }
-  GridLayer grid = std::move(*built);
+  // The DEM's ENU footprint is not square: keep the south-west 1000 x 1000 cells.
+  GridLayer grid(std::min(1000, built->width()), std::min(1000, built->height()), built->cellSize(), built->origin());
+  {
+    std::vector<GridCell> blocked_cells;
+    for (int y = 0; y < grid.height(); ++y)
+      for (int x = 0; x < grid.width(); ++x)
+        if (built->blocked({x, y})) blocked_cells.push_back({x, y});
+    grid.setStaticBlocked(blocked_cells, true);
+  }
   std::printf("grid %d x %d, cell %.1f m, ceiling %.0f m AMSL, clearance %.0f m, blocked %.1f %%\n", grid.width(),
               grid.height(), gopt.cell_size_m, gopt.flight_ceiling_m, gopt.min_clearance_m,
               100.0 * static_cast<double>(grid.blockedCount()) / static_cast<double>(grid.cellCount()));
