@@ -37,7 +37,7 @@ struct SrsReleaser {
 }  // namespace
 
 void writeTrajectoryCsv(std::ostream& out, const TrajectoryData& trajectory, bool header) {
-  if (header) out << kTrajectoryCsvHeader << '\n';
+  if (header) out << kTrajectoryDataCsvHeader << '\n';
   for (const auto& s : trajectory.samples) {
     writeRow(out, s);
     out << '\n';
@@ -47,7 +47,7 @@ void writeTrajectoryCsv(std::ostream& out, const TrajectoryData& trajectory, boo
 Status writeTrajectoriesCsv(const std::string& path, const std::vector<TrajectoryData>& trajectories) {
   std::ofstream out(path);
   if (!out) return make_error(ErrorCode::kFileNotFound, path, path + ": cannot create the CSV file");
-  out << "vehicle_id," << kTrajectoryCsvHeader << '\n';
+  out << "vehicle_id," << kTrajectoryDataCsvHeader << '\n';
   for (const auto& t : trajectories)
     for (const auto& s : t.samples) {
       out << t.vehicle_id << ',';

@@ -13,7 +13,7 @@
 namespace skyroute {
 
 // Header: time_s,lat_deg,lon_deg,alt_amsl_m,east_m,north_m,up_m,v_east_mps,v_north_mps,v_up_mps,heading_deg
-inline constexpr const char* kTrajectoryCsvHeader =
+inline constexpr const char* kTrajectoryDataCsvHeader =
     "time_s,lat_deg,lon_deg,alt_amsl_m,east_m,north_m,up_m,v_east_mps,v_north_mps,v_up_mps,heading_deg";
 
 void writeTrajectoryCsv(std::ostream& out, const TrajectoryData& trajectory, bool header = true);

@@ -1,0 +1,123 @@
+#include "service/route_planner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "trajectory/collision_recheck.hpp"
+
+namespace skyroute {
+namespace {
+
+std::string formatPoint(const Eigen::Vector3d& p) {
+  std::ostringstream out;
+  out.precision(1);
+  out << std::fixed << "(" << p.x() << ", " << p.y() << ", " << p.z() << ") m ENU";
+  return out.str();
+}
+
+}  // namespace
+
+Status checkRoutePoint(const CollisionWorld& world, const Eigen::Vector3d& p_m, const std::string& name,
+                       std::optional<ObstacleSnapshot> snapshot) {
+  if (!p_m.allFinite()) return make_error(ErrorCode::kInvalidArgument, name, "is not a finite position");
+  const Heightfield& terrain = world.terrain();
+  if (!terrain.inside(p_m.x(), p_m.y()) || !terrain.boundsEn().contains(p_m.head<2>())) {
+    return make_error(ErrorCode::kOutsideMap, name, formatPoint(p_m) + " is outside the terrain");
+  }
+  const double ground = terrain.heightAt(p_m.x(), p_m.y());
+  if (std::isnan(ground)) {
+    return make_error(ErrorCode::kOutsideMap, name, formatPoint(p_m) + " is over unknown terrain (a DEM void)");
+  }
+  const auto& o = world.options();
+  if (p_m.z() > o.ceiling_m) {
+    std::ostringstream m;
+    m << "altitude " << p_m.z() << " m is above the ceiling " << o.ceiling_m << " m";
+    return make_error(ErrorCode::kInvalidArgument, name, m.str());
+  }
+  if (!world.isTerrainValid(p_m)) {
+    std::ostringstream m;
+    m.precision(1);
+    m << std::fixed << "altitude " << p_m.z() << " m is under the ground plus clearance (ground " << ground
+      << " m + " << o.min_clearance_m << " m)";
+    return make_error(ErrorCode::kOccupied, name, m.str());
+  }
+  const bool clear = snapshot ? world.isPointValid(p_m, snapshot->time_s, snapshot->margin_m) : world.isPointValid(p_m);
+  if (!clear) return make_error(ErrorCode::kOccupied, name, formatPoint(p_m) + " is inside an obstacle");
+  return Status::success();
+}
+
+Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, const std::vector<Eigen::Vector3d>& points_m,
+                               const VehicleLimits& limits, const RouteOptions& options,
+                               const TerminationCondition& stop) {
+  const auto started = std::chrono::steady_clock::now();
+  if (!world) return make_error(ErrorCode::kInvalidArgument, "world", "is null");
+  if (points_m.size() < 2) return make_error(ErrorCode::kInvalidArgument, "points", "needs at least two points");
+  for (std::size_t i = 0; i < points_m.size(); ++i) {
+    Status s = checkRoutePoint(*world, points_m[i], "points[" + std::to_string(i) + "]", options.snapshot);
+    if (!s.ok()) return s.error();
+    if (i > 0 && (points_m[i] - points_m[i - 1]).norm() < 1.0) {
+      return make_error(ErrorCode::kInvalidArgument, "points[" + std::to_string(i) + "]",
+                        "is within 1 m of the point before it");
+    }
+  }
+  PlannedRoute route;
+  for (std::size_t i = 0; i + 1 < points_m.size(); ++i) {
+    const std::string leg_name = "legs[" + std::to_string(i) + "]";
+    if (auto reason = stop.reason(); reason != TerminationCondition::Reason::kNone) {
+      return make_error(reason == TerminationCondition::Reason::kCancelled ? ErrorCode::kCancelled : ErrorCode::kTimeout,
+                        leg_name, "stopped before planning this leg");
+    }
+    WorldMotionValidator validator(
+        world, WorldMotionValidator::corridor(points_m[i], points_m[i + 1], options.corridor_margin_m), options.snapshot);
+    RrtStarOptions rrt_options = options.rrt;
+    rrt_options.seed = options.seed + i;
+    RrtStar planner(validator, rrt_options);
+    TerminationCondition leg_stop = options.leg_budget_ms > 0.0 ? TerminationCondition::afterMilliseconds(options.leg_budget_ms)
+                                                                : TerminationCondition();
+    if (options.leg_max_iterations > 0) leg_stop.withIterationBudget(options.leg_max_iterations);
+    auto rrt = planner.plan(points_m[i], points_m[i + 1], leg_stop);
+    if (!rrt.ok()) return rrt.error();
+    if (!rrt->solved()) {
+      return make_error(ErrorCode::kUnreachable, leg_name,
+                        "no path from points[" + std::to_string(i) + "] to points[" + std::to_string(i + 1) +
+                            "] (RRT* " + std::string(to_string(rrt->status)) + " after " +
+                            std::to_string(rrt->iterations) + " iterations)");
+    }
+    auto shortened = lospo(validator, rrt->path_m, options.lospo, stop);
+    if (!shortened.ok()) return shortened.error();
+    RouteLeg leg;
+    leg.from_point = i;
+    leg.to_point = i + 1;
+    leg.rrt = std::move(rrt.value());
+    leg.lospo_length_m = shortened->length_m;
+    leg.path_m = std::move(shortened->path_m);
+    for (std::size_t k = (i == 0 ? 0 : 1); k < leg.path_m.size(); ++k) route.waypoints_m.push_back(leg.path_m[k]);
+    route.legs.push_back(std::move(leg));
+  }
+
+  const MotionCheck check = collisionWorldMotionCheck(world, options.trajectory_start_world_s);
+  auto built = buildTrajectory(route.waypoints_m, limits, options.trajectory, &check);
+  if (!built.ok()) return built.error();
+  if (built->report.status == TrajectoryStatus::kInfeasible) {
+    return make_error(ErrorCode::kUnreachable, "trajectory",
+                      "no feasible trajectory along the path: " + built->report.failure_reason);
+  }
+  route.built = std::move(built.value());
+  // Times at the route points: each is a knot of the spline, in order.
+  const auto& knots = route.built.knots;
+  const auto& times = route.built.trajectory.knotTimes();
+  std::size_t k = 0;
+  for (RouteLeg& leg : route.legs) {
+    while (k < knots.size() && (knots[k] - points_m[leg.from_point]).norm() > 1e-6) ++k;
+    leg.start_s = k < times.size() ? times[k] : 0.0;
+    std::size_t e = k + 1;
+    while (e < knots.size() && (knots[e] - points_m[leg.to_point]).norm() > 1e-6) ++e;
+    leg.end_s = e < times.size() ? times[e] : route.built.trajectory.duration_s();
+    k = e;
+  }
+  route.planning_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  return route;
+}
+
+}  // namespace skyroute

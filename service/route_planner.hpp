@@ -1,0 +1,67 @@
+// The leg pipeline of seed 003: for each pair of consecutive route points, RRT* in a corridor
+// around the leg, then LOSPO; the legs' waypoints joined into one minimum-snap degree-7 trajectory
+// that is checked (limits, terrain, obstacles) and repaired. Used by `skyroute plan` and the engine.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "planning/lospo.hpp"
+#include "planning/rrt_star.hpp"
+#include "planning/termination.hpp"
+#include "planning/world_motion_validator.hpp"
+#include "terrain/collision_world.hpp"
+#include "trajectory/trajectory_builder.hpp"
+
+namespace skyroute {
+
+struct RouteOptions {
+  std::uint64_t seed = 1;                // leg i plans with seed + i
+  double leg_budget_ms = 200.0;          // RRT* time per leg; 0 = no deadline (then set iterations)
+  std::uint64_t leg_max_iterations = 0;  // RRT* iteration budget per leg; 0 = none. With a budget
+                                         // and no deadline the route is bit-identical per seed.
+  double corridor_margin_m = 3000.0;     // RRT* samples within this distance of the leg's box
+  RrtStarOptions rrt;                    // seed and budget fields are set per leg
+  LospoOptions lospo;
+  TrajectoryOptions trajectory;
+  // Replanning: moving obstacles frozen at this world time with a margin for planning, and the
+  // trajectory re-checked against their motion with the trajectory starting at this world time.
+  std::optional<ObstacleSnapshot> snapshot;
+  std::optional<double> trajectory_start_world_s;
+};
+
+struct RouteLeg {
+  std::size_t from_point = 0;
+  std::size_t to_point = 0;
+  RrtStarResult rrt;
+  double lospo_length_m = 0.0;
+  std::vector<Eigen::Vector3d> path_m;  // after LOSPO
+  double start_s = 0.0;                 // trajectory time at from_point
+  double end_s = 0.0;                   // trajectory time at to_point
+};
+
+struct PlannedRoute {
+  std::vector<RouteLeg> legs;
+  std::vector<Eigen::Vector3d> waypoints_m;  // the legs' LOSPO paths joined
+  BuiltTrajectory built;
+  double planning_ms = 0.0;
+};
+
+// points_m: the route's points in visiting order (at least two), ENU metres.
+// Errors name the offending point ("points[i]") or leg ("legs[i]"): kOutsideMap, kOccupied,
+// kUnreachable (no path within the budget), kTimeout / kCancelled from `stop`, kInvalidArgument.
+// An infeasible trajectory after repair is kUnreachable naming "trajectory" with the reason.
+Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, const std::vector<Eigen::Vector3d>& points_m,
+                               const VehicleLimits& limits, const RouteOptions& options,
+                               const TerminationCondition& stop = {});
+
+// Checks a route point cheaply before any search: inside the DEM, above the ground by the
+// clearance, under the ceiling, clear of obstacles. `name` is used in the error.
+Status checkRoutePoint(const CollisionWorld& world, const Eigen::Vector3d& p_m, const std::string& name,
+                       std::optional<ObstacleSnapshot> snapshot = std::nullopt);
+
+}  // namespace skyroute
