@@ -99,6 +99,7 @@ struct Instance {
 };
 
 Instance randomInstance(std::mt19937_64& rng, int width, int height, int vehicles, int tasks, double obstacle_share) {
+  while (true) {  // until the reachable region has room for every place
   Instance in;
   in.grid = GridLayer(width, height);
   std::bernoulli_distribution wall(obstacle_share);
@@ -120,10 +121,12 @@ Instance randomInstance(std::mt19937_64& rng, int width, int height, int vehicle
   for (const GridCell& c : free) {
     if (referenceSteps(in.grid, free.front(), c) >= 0) region.push_back(c);
   }
+  if (static_cast<int>(region.size()) < vehicles + tasks) continue;
   std::shuffle(region.begin(), region.end(), rng);
   for (int i = 0; i < vehicles; ++i) in.problem.vehicles.push_back({"v" + std::to_string(i), region[i], 0});
   for (int j = 0; j < tasks; ++j) in.problem.tasks.push_back({"t" + std::to_string(j), region[vehicles + j]});
   return in;
+  }
 }
 
 TEST(FleetAllocation, ExactEqualsBruteForceAndNobodyBeatsExact) {
