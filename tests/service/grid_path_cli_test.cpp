@@ -1,0 +1,139 @@
+// `skyroute grid path` end to end: runs the built binary (SKYROUTE_CLI) on a small Moving AI map,
+// checks the printed times and the --out JSON (length = sum of the segments, every segment in line
+// of sight by an independent geometric check, any-angle lengths near the visibility-graph optimum), and that bad
+// input names the option and exits non-zero.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "planning/any_angle_search.hpp"
+#include "terrain/movingai.hpp"
+#include "tests/planning/any_angle_reference.hpp"
+
+namespace skyroute {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+class GridPathCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("skyroute_grid_path_cli_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    map_ = (dir_ / "wall.map").string();
+    std::ofstream f(map_);
+    f << "type octile\nheight 12\nwidth 16\nmap\n";
+    for (int y = 0; y < 12; ++y) {
+      for (int x = 0; x < 16; ++x) f << ((x == 7 && y >= 2) || (x == 11 && y <= 8) ? '@' : '.');
+      f << "\n";
+    }
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  CliRun run(const std::string& args) {
+    const std::string err_file = (dir_ / "stderr.txt").string();
+    const std::string cmd = std::string(SKYROUTE_CLI) + " " + args + " 2>" + err_file;
+    CliRun r;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (pipe == nullptr) return r;
+    char buf[4096];
+    std::size_t n;
+    while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
+    const int status = pclose(pipe);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream e(err_file);
+    std::stringstream ss;
+    ss << e.rdbuf();
+    r.err = ss.str();
+    return r;
+  }
+
+  fs::path dir_;
+  std::string map_;
+};
+
+TEST_F(GridPathCli, EveryAlgorithmWritesAValidPathAndPrintsTimes) {
+  auto grid = loadMovingAiMap(map_);
+  ASSERT_TRUE(grid.ok());
+  const GridCell start{2, 10}, goal{14, 1};
+  const double optimum = testing::visibilityGraphOptimum(*grid, start, goal);
+  for (const std::string algo : {"astar", "theta", "hab-pp", "hab-pp-rrt"}) {
+    SCOPED_TRACE(algo);
+    const std::string out = (dir_ / (algo + ".json")).string();
+    const CliRun r = run("grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo " + algo + " --seed 3 --budget-s 10 --out " + out);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("length: "), std::string::npos);
+    EXPECT_NE(r.out.find("first path time: "), std::string::npos);
+    EXPECT_NE(r.out.find("total time: "), std::string::npos);
+    std::ifstream f(out);
+    const nlohmann::json j = nlohmann::json::parse(f);
+    std::vector<GridCell> path;
+    for (const auto& p : j.at("points")) path.push_back(GridCell{p.at(0).get<int>(), p.at(1).get<int>()});
+    EXPECT_EQ(testing::pathProblem(*grid, path, start, goal), "");
+    EXPECT_NEAR(j.at("length").get<double>(), polylineLength(path), 1e-9);
+    EXPECT_GE(j.at("length").get<double>(), optimum - 1e-9);
+    if (algo == "theta") {
+      EXPECT_LE(j.at("length").get<double>(), optimum * 1.015);  // Theta* is near, not at, the optimum
+    }
+    if (algo != "astar") {  // measured: HAB-PP +10% here with the paper's colony in a 10 s budget
+      EXPECT_LE(j.at("length").get<double>(), optimum * 1.15);
+    }
+  }
+}
+
+TEST_F(GridPathCli, SameSeedSamePath) {
+  const std::string a = (dir_ / "a.json").string(), b = (dir_ / "b.json").string();
+  ASSERT_EQ(run("grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo hab-pp-rrt --seed 9 --out " + a).exit_code, 0);
+  ASSERT_EQ(run("grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo hab-pp-rrt --seed 9 --out " + b).exit_code, 0);
+  std::ifstream fa(a), fb(b);
+  EXPECT_EQ(nlohmann::json::parse(fa), nlohmann::json::parse(fb));
+}
+
+TEST_F(GridPathCli, BadInputNamesTheFieldAndFails) {
+  CliRun r = run("grid path --map " + map_ + " --start 7,5 --goal 14,1 --algo theta");
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("--start"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("blocked"), std::string::npos) << r.err;
+  r = run("grid path --map " + map_ + " --start 2,10 --goal 40,1 --algo hab-pp");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--goal"), std::string::npos) << r.err;
+  r = run("grid path --map " + map_ + " --start '2;10' --goal 14,1 --algo astar");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--start"), std::string::npos) << r.err;
+  r = run("grid path --map " + (dir_ / "missing.map").string() + " --start 2,10 --goal 14,1 --algo astar");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("missing.map"), std::string::npos) << r.err;
+  r = run("grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo dijkstra");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--algo"), std::string::npos) << r.err;
+}
+
+TEST_F(GridPathCli, UnreachableGoalExitsWithNoPath) {
+  // Close the gap under the first wall: the left part is cut off.
+  const std::string closed = (dir_ / "closed.map").string();
+  std::ofstream f(closed);
+  f << "type octile\nheight 4\nwidth 6\nmap\n..@...\n..@...\n..@...\n..@...\n";
+  f.close();
+  for (const std::string algo : {"theta", "hab-pp-rrt"}) {
+    const CliRun r = run("grid path --map " + closed + " --start 0,0 --goal 5,3 --algo " + algo);
+    EXPECT_EQ(r.exit_code, 3) << algo;
+    EXPECT_NE(r.err.find("no path"), std::string::npos) << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace skyroute
