@@ -12,14 +12,14 @@ WorldMotionValidator::WorldMotionValidator(std::shared_ptr<const CollisionWorld>
 }
 
 bool WorldMotionValidator::isStateValid(const Eigen::Vector3d& p_m) const {
-  if (snapshot_) return bounds_.contains(p_m) && world_->isPointValid(p_m, snapshot_->time_s, snapshot_->margin_m);
+  if (snapshot_) return bounds_.contains(p_m) && world_->isPointValid(p_m, *snapshot_);
   return bounds_.contains(p_m) && world_->isPointValid(p_m);
 }
 
 bool WorldMotionValidator::isMotionValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const {
   // The box is convex: a motion between two points inside it stays inside.
   if (!bounds_.contains(a_m) || !bounds_.contains(b_m)) return false;
-  if (snapshot_) return world_->isSegmentValid(a_m, b_m, snapshot_->time_s, snapshot_->margin_m);
+  if (snapshot_) return world_->isSegmentValid(a_m, b_m, *snapshot_);
   return world_->isSegmentValid(a_m, b_m);
 }
 

@@ -13,13 +13,6 @@
 
 namespace skyroute {
 
-// Moving obstacles frozen where they are at a world time, with extra room kept from them: how a
-// replanner sees a moving obstacle (seed 003 section 3-2) instead of blocking its whole sweep.
-struct ObstacleSnapshot {
-  double time_s = 0.0;
-  double margin_m = 0.0;
-};
-
 class WorldMotionValidator : public MotionValidator {
  public:
   // region: when given, samples and valid states are kept inside flyableBounds() ∩ region.

@@ -42,7 +42,7 @@ Status checkRoutePoint(const CollisionWorld& world, const Eigen::Vector3d& p_m, 
       << " m + " << o.min_clearance_m << " m)";
     return make_error(ErrorCode::kOccupied, name, m.str());
   }
-  const bool clear = snapshot ? world.isPointValid(p_m, snapshot->time_s, snapshot->margin_m) : world.isPointValid(p_m);
+  const bool clear = snapshot ? world.isPointValid(p_m, *snapshot) : world.isPointValid(p_m);
   if (!clear) return make_error(ErrorCode::kOccupied, name, formatPoint(p_m) + " is inside an obstacle");
   return Status::success();
 }
@@ -96,7 +96,13 @@ Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, cons
     route.legs.push_back(std::move(leg));
   }
 
-  const MotionCheck check = collisionWorldMotionCheck(world, options.trajectory_start_world_s);
+  MotionCheck check = collisionWorldMotionCheck(world, options.trajectory_start_world_s);
+  if (options.trajectory_start_world_s) {
+    check = [world, timed = check, horizon = options.moving_check_horizon_s](const Eigen::Vector3d& a, double ta,
+                                                                            const Eigen::Vector3d& b, double tb) {
+      return ta <= horizon ? timed(a, ta, b, tb) : world->isStaticSegmentValid(a, b);
+    };
+  }
   auto built = buildTrajectory(route.waypoints_m, limits, options.trajectory, &check);
   if (!built.ok()) return built.error();
   if (built->report.status == TrajectoryStatus::kInfeasible) {

@@ -32,6 +32,9 @@ struct RouteOptions {
   // trajectory re-checked against their motion with the trajectory starting at this world time.
   std::optional<ObstacleSnapshot> snapshot;
   std::optional<double> trajectory_start_world_s;
+  // With a start time, moving obstacles are checked in time up to this far into the trajectory;
+  // beyond it only terrain and fixed obstacles (the replanning loop looks again as time goes on).
+  double moving_check_horizon_s = 60.0;
 };
 
 struct RouteLeg {

@@ -99,6 +99,13 @@ double distance(const Geometry& g1, const fcl::Transform3d& tf1, const Geometry&
   return fcl::distance(&g1, tf1, &g2, tf2, request, result);
 }
 
+// A moving obstacle that cannot reach the snapshot's focus region within its window is left out.
+bool ignoredBySnapshot(const Obstacle& o, const ObstacleSnapshot& snapshot) {
+  if (!std::isfinite(snapshot.focus_radius_m)) return false;
+  const auto [from, to] = o.trackDuring(snapshot.time_s, snapshot.time_s + snapshot.window_s);
+  return pointSegmentDistance(snapshot.focus_m, from, to) > snapshot.focus_radius_m + o.boundingRadius();
+}
+
 }  // namespace
 
 struct CollisionWorld::FclObstacles {
@@ -204,8 +211,17 @@ bool CollisionWorld::isTerrainValid(const Eigen::Vector3d& p_m) const {
   return p_m.z() - ground >= options_.min_clearance_m;  // false for NaN (outside or unknown)
 }
 
-bool CollisionWorld::isPointValid(const Eigen::Vector3d& p_m, std::optional<double> t_s,
-                                  double obstacle_margin_m) const {
+bool CollisionWorld::isPointValid(const Eigen::Vector3d& p_m, const ObstacleSnapshot& snapshot) const {
+  return isPointValidImpl(p_m, snapshot.time_s, snapshot.margin_m, snapshot.window_s, &snapshot);
+}
+
+bool CollisionWorld::isPointValid(const Eigen::Vector3d& p_m, std::optional<double> t_s, double obstacle_margin_m,
+                                  double window_s) const {
+  return isPointValidImpl(p_m, t_s, obstacle_margin_m, window_s, nullptr);
+}
+
+bool CollisionWorld::isPointValidImpl(const Eigen::Vector3d& p_m, std::optional<double> t_s, double obstacle_margin_m,
+                                      double window_s, const ObstacleSnapshot* focus) const {
   if (!isTerrainValid(p_m)) return false;
   const double r = options_.vehicle_radius_m + std::max(0.0, obstacle_margin_m);
   const fcl::Sphered grown(r);
@@ -219,6 +235,12 @@ bool CollisionWorld::isPointValid(const Eigen::Vector3d& p_m, std::optional<doub
       if (collide(vehicle, vehicle_pose, *e.sweep, e.sweep_pose)) return false;
       continue;
     }
+    if (focus && o.moving() && ignoredBySnapshot(o, *focus)) continue;
+    if (o.moving() && window_s > 0.0) {
+      const auto [from, to] = o.trackDuring(*t_s, *t_s + window_s);
+      if (pointSegmentDistance(p_m, from, to) <= o.boundingRadius() + r) return false;
+      continue;
+    }
     const Eigen::Vector3d c = o.centerAt(t_s.value_or(0.0));
     if ((p_m - c).norm() > o.boundingRadius() + r) continue;
     if (collide(vehicle, vehicle_pose, *e.geometry, translation(c))) return false;
@@ -227,7 +249,18 @@ bool CollisionWorld::isPointValid(const Eigen::Vector3d& p_m, std::optional<doub
 }
 
 bool CollisionWorld::isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m,
-                                    std::optional<double> t_s, double obstacle_margin_m) const {
+                                    const ObstacleSnapshot& snapshot) const {
+  return isSegmentValidImpl(a_m, b_m, snapshot.time_s, snapshot.margin_m, snapshot.window_s, &snapshot);
+}
+
+bool CollisionWorld::isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m,
+                                    std::optional<double> t_s, double obstacle_margin_m, double window_s) const {
+  return isSegmentValidImpl(a_m, b_m, t_s, obstacle_margin_m, window_s, nullptr);
+}
+
+bool CollisionWorld::isSegmentValidImpl(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m,
+                                        std::optional<double> t_s, double obstacle_margin_m, double window_s,
+                                        const ObstacleSnapshot* focus) const {
   if (!(std::max(a_m.z(), b_m.z()) <= options_.ceiling_m)) return false;
   const double lowest = dilated_terrain_->minHeightAboveGround(a_m, b_m);
   if (!(lowest >= options_.min_clearance_m)) return false;
@@ -239,6 +272,12 @@ bool CollisionWorld::isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vec
   const fcl::Transform3d swept_pose = capsulePose(a_m, b_m);
   for (const auto& e : fcl_->entries) {
     const Obstacle& o = e.obstacle;
+    if (focus && o.moving() && ignoredBySnapshot(o, *focus)) continue;
+    if (o.moving() && t_s && window_s > 0.0) {  // everywhere it passes during the window
+      const auto [from, to] = o.trackDuring(*t_s, *t_s + window_s);
+      if (segmentSegmentDistance(a_m, b_m, from, to) <= o.boundingRadius() + r) return false;
+      continue;
+    }
     if (o.moving() && t_s) {  // frozen at its place at t_s
       const Eigen::Vector3d c = o.centerAt(*t_s);
       if (pointSegmentDistance(c, a_m, b_m) > o.boundingRadius() + r) continue;
@@ -252,6 +291,20 @@ bool CollisionWorld::isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vec
     }
     if (pointSegmentDistance(o.center_m, a_m, b_m) > o.boundingRadius() + r) continue;
     if (collide(swept, swept_pose, *e.geometry, translation(o.center_m))) return false;
+  }
+  return true;
+}
+
+bool CollisionWorld::isStaticSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const {
+  if (!(std::max(a_m.z(), b_m.z()) <= options_.ceiling_m)) return false;
+  if (!(dilated_terrain_->minHeightAboveGround(a_m, b_m) >= options_.min_clearance_m)) return false;
+  const double r = options_.vehicle_radius_m;
+  std::shared_lock lock(mutex_);
+  for (const auto& e : fcl_->entries) {
+    const Obstacle& o = e.obstacle;
+    if (o.moving() || pointSegmentDistance(o.center_m, a_m, b_m) > o.boundingRadius() + r) continue;
+    const fcl::Capsuled swept(r, (b_m - a_m).norm());
+    if (collide(swept, capsulePose(a_m, b_m), *e.geometry, translation(o.center_m))) return false;
   }
   return true;
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <shared_mutex>
@@ -15,6 +16,18 @@
 #include "terrain/terrain_octree.hpp"
 
 namespace skyroute {
+
+// Moving obstacles as a replanner sees them (seed 003 section 3-2) instead of blocking their whole
+// sweep: where they are at a world time (or every place they pass in a window after it), with extra
+// room kept from them, and only those near a focus point (far ones will have moved before the
+// vehicle gets there; the replanning loop looks again as time goes on).
+struct ObstacleSnapshot {
+  double time_s = 0.0;
+  double margin_m = 0.0;
+  double window_s = 0.0;  // > 0: each blocks the stretch of track it covers in [time, time + window]
+  Eigen::Vector3d focus_m = Eigen::Vector3d::Zero();
+  double focus_radius_m = std::numeric_limits<double>::infinity();
+};
 
 struct CollisionWorldOptions {
   double vehicle_radius_m = 5.0;     // the vehicle's bounding sphere
@@ -50,14 +63,21 @@ class CollisionWorld {
   // is at that time.
   // obstacle_margin_m grows the vehicle's sphere against obstacles only (not the terrain): a
   // replanner that freezes obstacles at time t_s keeps this much more room from them.
+  // window_s > 0 (with a time): each moving obstacle blocks every place it passes during
+  // [t_s, t_s + window_s] (its bounding sphere swept along that stretch of track).
   bool isPointValid(const Eigen::Vector3d& p_m, std::optional<double> t_s = std::nullopt,
-                    double obstacle_margin_m = 0.0) const;
+                    double obstacle_margin_m = 0.0, double window_s = 0.0) const;
+  bool isPointValid(const Eigen::Vector3d& p_m, const ObstacleSnapshot& snapshot) const;
   bool isTerrainValid(const Eigen::Vector3d& p_m) const;  // terrain, bounds and ceiling only
   // The sphere swept along a -> b, exactly against the terrain surface and obstacles (no samples).
   // Without a time, moving obstacles block their whole sweep; with one, they are frozen where they
   // are at t_s (a snapshot, for replanning), and obstacle_margin_m grows the sphere against them.
   bool isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m, std::optional<double> t_s = std::nullopt,
-                      double obstacle_margin_m = 0.0) const;
+                      double obstacle_margin_m = 0.0, double window_s = 0.0) const;
+  bool isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m, const ObstacleSnapshot& snapshot) const;
+  // Terrain and fixed obstacles only; moving obstacles ignored (for the part of a trajectory beyond
+  // the horizon where their positions are not worth predicting: replanning will see them).
+  bool isStaticSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const;
   // Vehicle moving at constant velocity from a at t0 to b at t1, against moving obstacles at their
   // positions over that interval (conservative advancement on FCL distances: no tunnelling).
   bool isSegmentValidDuring(const Eigen::Vector3d& a_m, double t0_s, const Eigen::Vector3d& b_m,
@@ -74,6 +94,10 @@ class CollisionWorld {
  private:
   struct FclObstacles;
   CollisionWorld() = default;
+  bool isPointValidImpl(const Eigen::Vector3d& p_m, std::optional<double> t_s, double obstacle_margin_m,
+                        double window_s, const ObstacleSnapshot* focus) const;
+  bool isSegmentValidImpl(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m, std::optional<double> t_s,
+                          double obstacle_margin_m, double window_s, const ObstacleSnapshot* focus) const;
 
   std::shared_ptr<const Heightfield> terrain_;
   std::shared_ptr<const Heightfield> dilated_terrain_;

@@ -27,6 +27,33 @@ Eigen::Vector3d Obstacle::centerAt(double t_s) const {
   return motion->from_m + leg * (along / length);
 }
 
+std::pair<Eigen::Vector3d, Eigen::Vector3d> Obstacle::trackDuring(double t0_s, double t1_s) const {
+  if (!moving()) {
+    const Eigen::Vector3d c = centerAt(t0_s);
+    return {c, c};
+  }
+  const Eigen::Vector3d leg = motion->to_m - motion->from_m;
+  const double length = leg.norm();
+  if (length <= 0.0) return {motion->from_m, motion->from_m};
+  // Unfolded distance travelled; the centre turns round at every multiple of the track length.
+  const double u0 = std::max(0.0, t0_s - motion->start_time_s) * motion->speed_mps;
+  const double u1 = std::max(0.0, t1_s - motion->start_time_s) * motion->speed_mps;
+  auto along = [&](double u) {
+    const double phase = std::fmod(u, 2.0 * length);
+    return phase <= length ? phase : 2.0 * length - phase;
+  };
+  double lo = std::min(along(u0), along(u1));
+  double hi = std::max(along(u0), along(u1));
+  for (double k = std::floor(u0 / length) + 1.0; k * length < u1; k += 1.0) {  // turning points
+    const double turn = std::fmod(k, 2.0) == 1.0 ? length : 0.0;
+    lo = std::min(lo, turn);
+    hi = std::max(hi, turn);
+    if (hi - lo >= length) break;
+  }
+  const Eigen::Vector3d dir = leg / length;
+  return {motion->from_m + lo * dir, motion->from_m + hi * dir};
+}
+
 double Obstacle::boundingRadius() const {
   switch (shape) {
     case ObstacleShape::kSphere: return size_m.x();

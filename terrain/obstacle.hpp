@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string_view>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -32,6 +33,9 @@ struct Obstacle {
   bool moving() const { return motion.has_value() && motion->speed_mps > 0.0; }
   // Centre at time t_s (seconds on the world clock).
   Eigen::Vector3d centerAt(double t_s) const;
+  // The stretch of its track the centre covers during [t0_s, t1_s] (a moving obstacle goes back
+  // and forth on one line, so this is one segment: from == to for a fixed obstacle).
+  std::pair<Eigen::Vector3d, Eigen::Vector3d> trackDuring(double t0_s, double t1_s) const;
   // Radius of a sphere that contains the shape (for broad-phase tests).
   double boundingRadius() const;
   // Inside test (with the shape grown by margin_m in every direction, conservatively for boxes).

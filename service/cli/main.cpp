@@ -3,6 +3,7 @@
 #include <gdal.h>
 
 #include "service/cli/commands.hpp"
+#include "service/cli/dds_commands.hpp"
 
 int main(int argc, char** argv) {
   GDALAllRegister();
@@ -18,6 +19,10 @@ int main(int argc, char** argv) {
   skyroute::cli::addMissionCommand(app);
   skyroute::cli::addPlanCommand(app);
   skyroute::cli::addFleetCommand(app);
+  skyroute::cli::addGcsCommand(app);
+  skyroute::cli::addRequestCommand(app);
+  skyroute::cli::addRecordCommand(app);
+  skyroute::cli::addReplayCommand(app);
 
   CLI11_PARSE(app, argc, argv);
   return 0;

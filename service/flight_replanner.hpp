@@ -1,0 +1,83 @@
+// Real-time replanning around moving obstacles (seed 003 section 3-2): the vehicle flies its
+// trajectory; every period (t_ref = 0.1 s) the part ahead, up to a horizon, is checked against the
+// obstacles where they will be at each instant. When it meets one, the route is replanned from the
+// vehicle's predicted state a reaction delay later (position, velocity and acceleration kept, so
+// the flown curve stays continuous) with the obstacles frozen at that time and grown by the room
+// they can cover meanwhile, and the new trajectory (revision + 1) is re-checked in time.
+// DDS-free: the engine and the tests drive it with a world clock.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "service/route_planner.hpp"
+
+namespace skyroute {
+
+struct ReplanOptions {
+  double period_s = 0.1;            // t_ref
+  double horizon_s = 30.0;          // how far ahead conflicts are looked for
+  double check_step_s = 0.25;       // time step of the chords checked against moving obstacles
+  double reaction_delay_s = 0.1;    // the new trajectory takes over this long after the check
+  double margin_m = 60.0;           // extra room kept from every moving obstacle when planning
+  double window_s = 10.0;           // planning blocks the stretch each obstacle covers this long
+  int max_attempts = 4;             // seeds, windows and margins tried per replan; the candidate
+                                    // whose first conflict comes latest wins, and it replaces the
+                                    // current trajectory only when it is better than it
+  RouteOptions route;               // per-leg budget, LOSPO, trajectory options
+};
+
+struct ReplanStep {
+  bool conflict_ahead = false;      // the current trajectory meets an obstacle within the horizon
+  bool replanned = false;           // a new revision was made
+  double latency_ms = 0.0;          // wall time of the replan (check included)
+  std::optional<Error> failure;     // why no new revision could be made (the old one is kept)
+};
+
+class FlightReplanner {
+ public:
+  // points_m: the route in visiting order; the first is where the vehicle is at start_world_s.
+  static Result<std::unique_ptr<FlightReplanner>> start(std::shared_ptr<const CollisionWorld> world,
+                                                        std::vector<Eigen::Vector3d> points_m,
+                                                        const VehicleLimits& limits, const ReplanOptions& options,
+                                                        double start_world_s);
+
+  // One cycle at world time now_s.
+  ReplanStep step(double now_s);
+
+  TrajectoryState stateAt(double world_s) const;
+  bool finished(double world_s) const { return world_s >= start_world_s_ + route_.built.trajectory.duration_s(); }
+  double arrivalWorldS() const { return start_world_s_ + route_.built.trajectory.duration_s(); }
+  const PlannedRoute& route() const { return route_; }
+  double trajectoryStartWorldS() const { return start_world_s_; }
+  std::uint32_t revision() const { return revision_; }
+  // The route points not yet reached at world_s (the goal always stays).
+  std::vector<Eigen::Vector3d> remainingPoints(double world_s) const;
+  // Whether the trajectory from now_s to now_s + horizon_s is clear of every obstacle in time.
+  bool clearAhead(double now_s, double horizon_s) const;
+  // World time of the first conflict of `trajectory` (started at start_world_s) in
+  // [from_s, from_s + horizon_s]; infinity when there is none.
+  double firstConflictS(const Trajectory& trajectory, double start_world_s, double from_s, double horizon_s) const;
+
+ private:
+  FlightReplanner() = default;
+  Result<PlannedRoute> planFrom(const std::vector<Eigen::Vector3d>& points, double at_world_s,
+                                const TrajectoryState* state, int attempt) const;
+  // Tries every attempt and returns the candidate whose first conflict is latest (and that time).
+  Result<std::pair<PlannedRoute, double>> bestCandidate(const std::vector<Eigen::Vector3d>& points, double at_world_s,
+                                                        const TrajectoryState* state) const;
+  void adopt(PlannedRoute route, std::vector<Eigen::Vector3d> points, double start_world_s);
+
+  std::shared_ptr<const CollisionWorld> world_;
+  VehicleLimits limits_;
+  ReplanOptions options_;
+  PlannedRoute route_;
+  std::vector<Eigen::Vector3d> points_;        // points of the current trajectory, in order
+  std::vector<double> point_times_world_s_;    // when the current trajectory reaches each
+  double start_world_s_ = 0.0;
+  std::uint32_t revision_ = 0;
+};
+
+}  // namespace skyroute
