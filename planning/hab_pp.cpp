@@ -78,39 +78,7 @@ namespace habpp {
 
 // ---- geometry ------------------------------------------------------------------------------------
 
-std::vector<GridCell> segmentCells(GridCell a, GridCell b) {
-  // Same walk as GridLayer::lineOfSight: order the crossings of vertical and horizontal cell
-  // boundaries exactly in integers; through a corner the segment touches both side cells too.
-  std::vector<GridCell> cells{a};
-  const int dx = std::abs(b.x - a.x);
-  const int dy = std::abs(b.y - a.y);
-  const int sx = b.x > a.x ? 1 : -1;
-  const int sy = b.y > a.y ? 1 : -1;
-  int x = a.x;
-  int y = a.y;
-  long long k = 0;
-  long long m = 0;
-  while (k < dx || m < dy) {
-    const long long tv = (k < dx) ? (2 * k + 1) * static_cast<long long>(dy) : -1;
-    const long long th = (m < dy) ? (2 * m + 1) * static_cast<long long>(dx) : -1;
-    if (m >= dy || (k < dx && tv < th)) {
-      x += sx;
-      ++k;
-    } else if (k >= dx || th < tv) {
-      y += sy;
-      ++m;
-    } else {
-      cells.push_back(GridCell{x + sx, y});
-      cells.push_back(GridCell{x, y + sy});
-      x += sx;
-      y += sy;
-      ++k;
-      ++m;
-    }
-    cells.push_back(GridCell{x, y});
-  }
-  return cells;
-}
+std::vector<GridCell> segmentCells(GridCell a, GridCell b) { return GridLayer::segmentCells(a, b); }
 
 // ---- fields --------------------------------------------------------------------------------------
 

@@ -174,7 +174,7 @@ json obstacleToJson(const ObstacleUpdateData& u) {
   const Obstacle& o = u.obstacle;
   if (u.remove) return json{{"id", o.id}, {"remove", true}};
   json j{{"id", o.id},
-         {"shape", std::string(obstacleShapeName(o.shape))},
+         {"shape", std::string(to_string(o.shape))},
          {"size_m", array3(o.size_m)},
          {"position_m", array3(o.center_m)},
          {"motion", std::string(to_string(u.motionKind()))}};

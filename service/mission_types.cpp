@@ -200,19 +200,9 @@ ObstacleMotionKind ObstacleUpdateData::motionKind() const {
   return ObstacleMotionKind::kStatic;
 }
 
-std::string_view obstacleShapeName(ObstacleShape shape) {
-  switch (shape) {
-    case ObstacleShape::kSphere: return "sphere";
-    case ObstacleShape::kEllipsoid: return "ellipsoid";
-    case ObstacleShape::kBox: return "box";
-    case ObstacleShape::kCylinder: return "cylinder";
-  }
-  return "unknown";
-}
-
 std::optional<ObstacleShape> parseObstacleShape(std::string_view name) {
   for (ObstacleShape s : {ObstacleShape::kSphere, ObstacleShape::kEllipsoid, ObstacleShape::kBox, ObstacleShape::kCylinder})
-    if (obstacleShapeName(s) == name) return s;
+    if (to_string(s) == name) return s;
   return std::nullopt;
 }
 
@@ -232,7 +222,7 @@ std::optional<PlanError> validateObstacleUpdate(const ObstacleUpdateData& update
                         o.shape != ObstacleShape::kSphere};
   for (int i = 0; i < 3; ++i)
     if (used[i] && !(o.size_m[i] > 0.0))
-      return problem(PlanErrorCode::kInvalidArgument, kAxes[i], "must be positive for a " + std::string(obstacleShapeName(o.shape)) +
+      return problem(PlanErrorCode::kInvalidArgument, kAxes[i], "must be positive for a " + std::string(to_string(o.shape)) +
                                                                     " (got " + numberText(o.size_m[i]) + ")");
   if (auto e = checkFiniteVector(o.center_m, "position_enu_m")) return e;
   if (update.constant_velocity_enu_mps)

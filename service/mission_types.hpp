@@ -165,8 +165,8 @@ struct ObstacleUpdateData {
   ObstacleMotionKind motionKind() const;
 };
 
-// Names used in files and messages: "sphere", "ellipsoid", "box", "cylinder".
-std::string_view obstacleShapeName(ObstacleShape shape);
+// Names used in files and messages are terrain's to_string(ObstacleShape): "sphere", "ellipsoid", "box",
+// "cylinder".
 std::optional<ObstacleShape> parseObstacleShape(std::string_view name);
 std::optional<ObstacleMotionKind> parseObstacleMotionKind(std::string_view name);
 

@@ -76,8 +76,13 @@ std::optional<GridCell> GridLayer::cellAt(const Eigen::Vector2d& east_north_m) c
   return c;
 }
 
-bool GridLayer::lineOfSight(GridCell a, GridCell b) const {
-  if (blocked(a) || blocked(b)) return false;
+namespace {
+
+// Walks the cells the segment between cell centres a and b touches, calling visit(cell) for each
+// in order (corner side cells before the diagonal step); stops early when visit returns false.
+template <class Visit>
+bool walkSegmentCells(GridCell a, GridCell b, Visit&& visit) {
+  if (!visit(a)) return false;
   const int dx = std::abs(b.x - a.x);
   const int dy = std::abs(b.y - a.y);
   const int sx = b.x > a.x ? 1 : -1;
@@ -98,16 +103,31 @@ bool GridLayer::lineOfSight(GridCell a, GridCell b) const {
     } else if (k >= dx || th < tv) {
       y += sy;
       ++m;
-    } else {  // exactly through a corner: both side cells must be free
-      if (blocked(GridCell{x + sx, y}) || blocked(GridCell{x, y + sy})) return false;
+    } else {  // exactly through a corner: the segment touches both side cells
+      if (!visit(GridCell{x + sx, y}) || !visit(GridCell{x, y + sy})) return false;
       x += sx;
       y += sy;
       ++k;
       ++m;
     }
-    if (blocked(GridCell{x, y})) return false;
+    if (!visit(GridCell{x, y})) return false;
   }
   return true;
+}
+
+}  // namespace
+
+bool GridLayer::lineOfSight(GridCell a, GridCell b) const {
+  return walkSegmentCells(a, b, [this](GridCell c) { return passable(c); });
+}
+
+std::vector<GridCell> GridLayer::segmentCells(GridCell a, GridCell b) {
+  std::vector<GridCell> cells;
+  walkSegmentCells(a, b, [&cells](GridCell c) {
+    cells.push_back(c);
+    return true;
+  });
+  return cells;
 }
 
 }  // namespace skyroute

@@ -65,6 +65,9 @@ class GridLayer {
   // passable, and where it passes exactly through a cell corner both cells beside the corner must
   // be passable too (the same rule as "no corner cutting" for diagonal moves).
   bool lineOfSight(GridCell a, GridCell b) const;
+  // Every cell the segment between the centres of a and b touches, in order from a, including both
+  // side cells where it passes exactly through a corner (the cells lineOfSight requires free).
+  static std::vector<GridCell> segmentCells(GridCell a, GridCell b);
 
  private:
   void refresh(std::size_t i, std::vector<GridCell>& changed);

@@ -2,6 +2,9 @@
 
 #include <filesystem>
 
+#include <cpl_conv.h>
+#include <ogr_srs_api.h>
+
 namespace skyroute::testing {
 
 std::string sharedDataPath(const std::string& relative) {
@@ -11,6 +14,17 @@ std::string sharedDataPath(const std::string& relative) {
 
 std::string projectDataPath(const std::string& relative) {
   return std::string(SKYROUTE_DATA_DIR) + "/" + relative;
+}
+
+std::string epsgWkt(int epsg) {
+  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+  OSRImportFromEPSG(srs, epsg);
+  char* wkt = nullptr;
+  OSRExportToWkt(srs, &wkt);
+  std::string out = wkt ? wkt : "";
+  CPLFree(wkt);
+  OSRDestroySpatialReference(srs);
+  return out;
 }
 
 }  // namespace skyroute::testing

@@ -11,6 +11,8 @@ namespace skyroute::testing {
 // Absolute path of ../shared/data/<relative>, or "" when it is not there.
 std::string sharedDataPath(const std::string& relative);
 std::string projectDataPath(const std::string& relative);
+// WKT of an EPSG coordinate reference system (for synthetic DEMs in tests).
+std::string epsgWkt(int epsg);
 
 }  // namespace skyroute::testing
 

@@ -47,16 +47,7 @@ std::shared_ptr<const Heightfield> defaultTerrain() {
   return hf;
 }
 
-std::string utmWkt() {
-  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-  OSRImportFromEPSG(srs, 32633);
-  char* wkt = nullptr;
-  OSRExportToWkt(srs, &wkt);
-  std::string out = wkt;
-  CPLFree(wkt);
-  OSRDestroySpatialReference(srs);
-  return out;
-}
+std::string utmWkt() { return testing::epsgWkt(32633); }
 
 // A flat 100 m plain with a one-cell-wide ridge 400 m high along a column: the kind of feature a
 // sampler with a coarse step misses.

@@ -18,16 +18,7 @@ namespace {
 
 constexpr double kMetresPerDegree = 111320.0;
 
-std::string utmWkt() {
-  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-  OSRImportFromEPSG(srs, 32633);
-  char* wkt = nullptr;
-  OSRExportToWkt(srs, &wkt);
-  std::string out = wkt;
-  CPLFree(wkt);
-  OSRDestroySpatialReference(srs);
-  return out;
-}
+std::string utmWkt() { return testing::epsgWkt(32633); }
 
 // Writes a small GeoTIFF for the bad-input tests; `values` row-major.
 std::string writeTiff(const std::string& name, int w, int h, int bands, const std::vector<float>& values,

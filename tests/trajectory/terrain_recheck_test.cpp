@@ -13,20 +13,12 @@
 #include "terrain/terrain_generator.hpp"
 #include "trajectory/collision_recheck.hpp"
 #include "trajectory/trajectory_builder.hpp"
+#include "tests/test_data.hpp"
 
 namespace skyroute {
 namespace {
 
-std::string utmWkt() {
-  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-  OSRImportFromEPSG(srs, 32633);
-  char* wkt = nullptr;
-  OSRExportToWkt(srs, &wkt);
-  std::string out = wkt;
-  CPLFree(wkt);
-  OSRDestroySpatialReference(srs);
-  return out;
-}
+std::string utmWkt() { return testing::epsgWkt(32633); }
 
 struct World {
   std::shared_ptr<const Heightfield> heightfield;
