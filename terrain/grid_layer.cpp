@@ -16,6 +16,18 @@ GridLayer::GridLayer(int width, int height, double cell_size_m, const Eigen::Vec
       obstacle_count_(cellCount(), 0),
       blocked_(cellCount(), 0) {}
 
+GridLayer GridLayer::fromRows(const std::vector<std::string>& rows) {
+  GridLayer g(rows.empty() ? 0 : static_cast<int>(rows.front().size()), static_cast<int>(rows.size()));
+  std::vector<GridCell> blocked;
+  for (int y = 0; y < static_cast<int>(rows.size()); ++y) {
+    for (int x = 0; x < static_cast<int>(rows[y].size()) && x < g.width(); ++x) {
+      if (rows[y][x] == '#') blocked.push_back({x, y});
+    }
+  }
+  g.setStaticBlocked(blocked, true);
+  return g;
+}
+
 std::size_t GridLayer::blockedCount() const {
   return static_cast<std::size_t>(std::count(blocked_.begin(), blocked_.end(), std::uint8_t{1}));
 }

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -29,6 +30,9 @@ class GridLayer {
   // cell_size_m: edge of a cell; origin_m: ENU (east, north) of the centre of cell (0, 0).
   GridLayer(int width, int height, double cell_size_m = 1.0,
             const Eigen::Vector2d& origin_m = Eigen::Vector2d::Zero());
+  // A small grid drawn as text, row y = 0 first: '#' is blocked, anything else free (for tests,
+  // examples and benchmarks). Rows shorter than the first are padded with free cells.
+  static GridLayer fromRows(const std::vector<std::string>& rows);
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/grid_fixtures.hpp"
+
 #include "planning/dstar_lite.hpp"
 #include "planning/grid_search.hpp"
 #include "terrain/movingai.hpp"
@@ -47,17 +49,6 @@ TEST(DStarLite, MatchesMovingAiBoston) {
   SKYROUTE_REQUIRE_SHARED(map, "movingai/Boston_0_256.map");
   SKYROUTE_REQUIRE_SHARED(scen, "movingai/Boston_0_256.map.scen");
   checkScenario(map, scen);
-}
-
-GridLayer randomGrid(int w, int h, double density, std::mt19937& rng) {
-  GridLayer grid(w, h);
-  std::vector<GridCell> blocked;
-  std::bernoulli_distribution wall(density);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (wall(rng)) blocked.push_back({x, y});
-  grid.setStaticBlocked(blocked, true);
-  return grid;
 }
 
 GridCell randomFree(const GridLayer& grid, std::mt19937& rng) {

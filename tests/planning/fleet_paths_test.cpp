@@ -21,17 +21,8 @@
 namespace skyroute {
 namespace {
 
-GridLayer gridFrom(const std::vector<std::string>& rows) {
-  GridLayer g(static_cast<int>(rows.front().size()), static_cast<int>(rows.size()));
-  std::vector<GridCell> blocked;
-  for (int y = 0; y < static_cast<int>(rows.size()); ++y) {
-    for (int x = 0; x < static_cast<int>(rows[y].size()); ++x) {
-      if (rows[y][x] == '#') blocked.push_back({x, y});
-    }
-  }
-  g.setStaticBlocked(blocked, true);
-  return g;
-}
+// Rows are y = 0 (top) down, as in a .map file.
+GridLayer gridFrom(const std::vector<std::string>& rows) { return GridLayer::fromRows(rows); }
 
 using Key = std::tuple<int, int, int, int>;  // kind, a, b, step
 std::set<Key> keysOf(const std::vector<FleetConflict>& conflicts) {

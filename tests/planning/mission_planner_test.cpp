@@ -8,22 +8,13 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/grid_fixtures.hpp"
+
 #include "planning/grid_search.hpp"
 #include "planning/mission_planner.hpp"
 
 namespace skyroute {
 namespace {
-
-GridLayer randomGrid(int w, int h, double density, std::mt19937& rng) {
-  GridLayer grid(w, h);
-  std::vector<GridCell> blocked;
-  std::bernoulli_distribution wall(density);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (wall(rng)) blocked.push_back({x, y});
-  grid.setStaticBlocked(blocked, true);
-  return grid;
-}
 
 TEST(MissionPlanner, BadPointsGetClearErrors) {
   GridLayer grid(20, 20);

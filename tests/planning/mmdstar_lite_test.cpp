@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/grid_fixtures.hpp"
+
 #include "planning/grid_search.hpp"
 #include "planning/mmdstar_lite.hpp"
 #include "planning/pairwise_dstar_lite.hpp"
@@ -13,17 +15,6 @@
 
 namespace skyroute {
 namespace {
-
-GridLayer randomGrid(int w, int h, double density, std::mt19937& rng) {
-  GridLayer grid(w, h);
-  std::vector<GridCell> blocked;
-  std::bernoulli_distribution wall(density);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (wall(rng)) blocked.push_back({x, y});
-  grid.setStaticBlocked(blocked, true);
-  return grid;
-}
 
 // Distinct passable points all in the component of the first one.
 std::vector<GridCell> connectedPoints(const GridLayer& grid, int count, std::mt19937& rng) {
