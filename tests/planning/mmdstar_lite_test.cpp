@@ -155,6 +155,16 @@ TEST(MmdStarLite, PathsAreValidAndCostWhatTheMatrixSays) {
   EXPECT_FALSE(mmd.planned(1, 0)) << "B is never a goal";
 }
 
+// Every scenario problem solved by a shared-goal search with the scenario's optimal length.
+void expectScenarioOptima(const GridLayer& grid, const std::vector<MovingAiProblem>& problems) {
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    const MovingAiProblem& pr = problems[i];
+    SharedGoalSearch search(grid, pr.goal);
+    ASSERT_EQ(search.solveFrom(pr.start), SearchStatus::kFound) << i;
+    EXPECT_NEAR(search.cost(pr.start), pr.optimal_length, 1e-3) << "problem " << i;
+  }
+}
+
 // Shared-goal reuse (lines 34-38) on a real benchmark map: one map per goal, many starts, each cost
 // equal to Dijkstra; and every scenario problem solved with its optimal length.
 TEST(MmdStarLite, SharedGoalMatchesMovingAi) {
@@ -164,12 +174,7 @@ TEST(MmdStarLite, SharedGoalMatchesMovingAi) {
   ASSERT_TRUE(grid.ok());
   auto problems = loadMovingAiScenario(scen);
   ASSERT_TRUE(problems.ok());
-  for (std::size_t i = 0; i < problems->size(); ++i) {
-    const MovingAiProblem& pr = (*problems)[i];
-    SharedGoalSearch search(*grid, pr.goal);
-    ASSERT_EQ(search.solveFrom(pr.start), SearchStatus::kFound) << i;
-    EXPECT_NEAR(search.cost(pr.start), pr.optimal_length, 1e-3) << "problem " << i;
-  }
+  expectScenarioOptima(*grid, *problems);
   // Groups of 25 problems: the goal of the first, the starts of all 25.
   for (std::size_t first = 0; first + 25 <= problems->size(); first += 250) {
     const GridCell goal = (*problems)[first].goal;
@@ -190,12 +195,7 @@ TEST(MmdStarLite, SharedGoalMatchesMovingAiRoom) {
   ASSERT_TRUE(grid.ok());
   auto problems = loadMovingAiScenario(scen);
   ASSERT_TRUE(problems.ok());
-  for (std::size_t i = 0; i < problems->size(); ++i) {
-    const MovingAiProblem& pr = (*problems)[i];
-    SharedGoalSearch search(*grid, pr.goal);
-    ASSERT_EQ(search.solveFrom(pr.start), SearchStatus::kFound) << i;
-    EXPECT_NEAR(search.cost(pr.start), pr.optimal_length, 1e-3) << "problem " << i;
-  }
+  expectScenarioOptima(*grid, *problems);
 }
 
 }  // namespace
