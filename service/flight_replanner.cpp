@@ -50,7 +50,9 @@ Result<PlannedRoute> FlightReplanner::planFrom(const std::vector<Eigen::Vector3d
     route.trajectory.boundary.start.velocity_mps = state->velocity_mps;
     route.trajectory.boundary.start.acceleration_mps2 = state->acceleration_mps2;
   }
-  return planRoute(world_, points, limits_, route);
+  TerminationCondition stop;
+  if (options_.cancel) stop.withCancelFlag(options_.cancel);
+  return planRoute(world_, points, limits_, route, stop);
 }
 
 Result<std::pair<PlannedRoute, double>> FlightReplanner::bestCandidate(const std::vector<Eigen::Vector3d>& points,
@@ -62,7 +64,9 @@ Result<std::pair<PlannedRoute, double>> FlightReplanner::bestCandidate(const std
     auto candidate = planFrom(points, at_world_s, state, attempt);
     if (!candidate.ok()) {
       last_error = candidate.error();
-      if (candidate.error().code == ErrorCode::kInvalidArgument) break;
+      if (candidate.error().code == ErrorCode::kInvalidArgument ||
+          candidate.error().code == ErrorCode::kCancelled)
+        break;
       continue;
     }
     const double conflict = firstConflictS(candidate->built.trajectory, at_world_s, at_world_s, options_.horizon_s);

@@ -9,6 +9,7 @@
 // 30 s horizon with 4 attempts let obstacle B catch the vehicle; 45 s and 8 attempts avoid all three.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -29,6 +30,9 @@ struct ReplanOptions {
                                     // whose first conflict comes latest wins, and it replaces the
                                     // current trajectory only when it is better than it
   RouteOptions route;               // per-leg budget, LOSPO, trajectory options
+  // Set from any thread to stop the planning in progress (start() and step() then fail with
+  // kCancelled); the engine uses it to cancel in-flight plans.
+  std::shared_ptr<std::atomic<bool>> cancel;
 };
 
 struct ReplanStep {
