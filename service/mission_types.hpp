@@ -39,7 +39,7 @@ struct VehicleLimitsData {
   double max_accel_mps2 = 4.0;
   double max_climb_rate_mps = 5.0;
   double max_descent_rate_mps = 4.0;   // positive number
-  double min_turn_radius_m = 50.0;
+  double min_turn_radius_m = 0.0;     // 0 = no limit (a multirotor); a fixed wing sets its own
   double min_clearance_agl_m = 30.0;   // minimum height above ground
   double ceiling_amsl_m = 5000.0;      // maximum altitude AMSL
 };

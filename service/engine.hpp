@@ -1,0 +1,138 @@
+// The planning engine: owns the world model and the active missions, DDS-free (service/dds/
+// converts at the edge, tests drive it directly). A request is validated, its points ordered with
+// MMD*L (mission_order.hpp), each leg planned with RRT* and LOSPO, the whole turned into a
+// 7th-order spline trajectory (route_planner.hpp), and the mission handed to a FlightReplanner.
+// Every replanning cycle (t_ref = 0.1 s, and at once after an obstacle update) each active mission
+// checks the obstacles ahead and, when one will meet it, publishes a new revision.
+//
+// Threads: submit(), cancel() and updateObstacle() only queue or flag and return at once, so the
+// DDS edge never plans on its own threads. start() runs planning workers and the replanning loop;
+// without start(), planNext() and replanCycle() do the same work on the caller's thread (tests).
+// Results leave through an EngineSink, called from the engine's threads (a vehicle's trajectory
+// revisions in order).
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "service/flight_replanner.hpp"
+#include "service/mission_order.hpp"
+#include "service/mission_types.hpp"
+#include "service/world_model.hpp"
+
+namespace skyroute {
+
+inline constexpr const char* kDefaultPlanner = "rrtstar_lospo";
+
+// The engine's leg pipeline: RRT* on an iteration budget (3000 per leg, no deadline), so a plan
+// is reproducible from the seed on any machine; the replanning loop as seed 003 (t_ref = 0.1 s).
+inline ReplanOptions engineReplanDefaults() {
+  ReplanOptions o;
+  o.route.leg_budget_ms = 0.0;
+  o.route.leg_max_iterations = 3000;
+  return o;
+}
+
+struct EngineOptions {
+  std::string default_planner = kDefaultPlanner;  // used when a request names none
+  std::uint64_t seed = 1;               // RRT* seed of every plan: a run is reproducible from it
+  int planning_threads = 1;             // requests planned at once
+  std::size_t max_queue = 64;           // requests waiting beyond this are refused (kBusy)
+  double sample_dt_s = 0.2;             // trajectory sample spacing in the published message
+  MissionRequestBounds bounds;          // what a request may ask for
+  MissionOrderOptions order;            // the MMD*L order grid
+  ReplanOptions replan = engineReplanDefaults();  // the leg pipeline (replan.route) and the loop
+  bool replanning = true;               // run the replanning loop on active missions
+};
+
+// Where results go. Called from engine threads (never while an engine lock is held).
+class EngineSink {
+ public:
+  virtual ~EngineSink() = default;
+  virtual void publishStatus(const PlanStatusData& status) = 0;
+  virtual void publishTrajectory(const TrajectoryData& trajectory) = 0;
+  // The vehicle's trajectory no longer holds (its mission was cancelled).
+  virtual void retractTrajectory(const std::string& vehicle_id) { (void)vehicle_id; }
+};
+
+class Engine {
+ public:
+  using Clock = std::function<std::int64_t()>;  // UTC nanoseconds since the epoch
+
+  // Errors: kInvalidArgument naming the option.
+  static Result<std::unique_ptr<Engine>> create(std::shared_ptr<WorldModel> world, const EngineOptions& options,
+                                                EngineSink& sink, Clock clock = utcNowNs);
+  ~Engine();
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  // Checks the request's structure at once (a failed status names the field) and queues it.
+  // Returns the error it answered with, if any.
+  std::optional<PlanError> submit(MissionRequestData request);
+  // Stops a queued or in-flight plan, or ends an active mission; answers with a cancelled status.
+  // Returns false when nothing matched.
+  bool cancel(const CancelRequestData& request);
+  // Applies an obstacle update to the world and wakes the replanning loop. Bad updates are refused.
+  std::optional<PlanError> updateObstacle(const ObstacleUpdateData& update);
+
+  // The same work as the threads, on the caller's thread.
+  bool planNext();              // plans the oldest queued request; false when none was queued
+  std::size_t replanCycle();    // one cycle at clock(); returns the revisions published
+
+  void start();  // planning workers and the replanning loop
+  void stop();   // cancels in-flight plans, ends the threads (idempotent)
+  bool running() const { return running_.load(); }
+
+  // Tunables for the requests that follow (the daemon's SIGHUP reload).
+  void setOptions(const EngineOptions& options);
+  EngineOptions options() const;
+
+  ServiceStatusData status(const std::string& service_id) const;
+  std::size_t activeMissions() const;
+  std::size_t queueLength() const;
+  std::uint64_t replans() const { return replans_.load(); }
+  const WorldModel& world() const { return *world_; }
+
+ private:
+  struct Job;
+  struct Mission;
+  Engine(std::shared_ptr<WorldModel> world, const EngineOptions& options, EngineSink& sink, Clock clock);
+  void plan(Job& job);
+  // The mission for a job, or nullptr with `error` set (the reply's code and field).
+  std::shared_ptr<Mission> planMission(const Job& job, const EngineOptions& options, PlanError& error);
+  void status(const MissionRequestData& request, PlanState state, double planning_time_s = 0.0);
+  TrajectoryData trajectoryOf(const Mission& mission) const;
+  void workerLoop();
+  void replanLoop();
+
+  std::shared_ptr<WorldModel> world_;
+  EngineSink& sink_;
+  Clock clock_;
+
+  mutable std::mutex mutex_;  // options_, queue_, in_flight_, missions_
+  EngineOptions options_;
+  std::deque<std::unique_ptr<Job>> queue_;
+  std::vector<Job*> in_flight_;                                // jobs being planned
+  std::map<std::string, std::shared_ptr<Mission>> missions_;   // vehicle id -> active mission
+  std::condition_variable work_cv_;
+  std::condition_variable replan_cv_;
+  bool replan_wake_ = false;
+  std::atomic<bool> running_{false};
+  std::atomic<bool> stopping_{false};
+  std::atomic<std::uint64_t> replans_{0};
+  std::uint64_t plan_counter_ = 0;
+  std::vector<std::thread> workers_;
+  std::thread replanner_;
+};
+
+}  // namespace skyroute

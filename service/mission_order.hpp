@@ -1,0 +1,43 @@
+// The visiting order of a mission's points (seed 000): MMD*L path costs on the terrain's flight
+// band grid and an open TSP from the begin point to the end point. When the grid cannot carry the
+// mission (two points in one cell, a point in a blocked cell, the band cut), the order falls back
+// to straight-line distances, and says why; the 3D leg planner decides feasibility afterwards.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "planning/grid_search.hpp"
+#include "planning/termination.hpp"
+#include "terrain/heightfield.hpp"
+#include "terrain/result.hpp"
+
+namespace skyroute {
+
+struct MissionOrderOptions {
+  int max_cells_per_axis = 200;   // the order grid's cell edge is the terrain extent / this, at
+                                  // least the DEM cell: MMD*L stays well under a second
+  double band_margin_m = 300.0;   // the flight band reaches this far above the highest point
+  GridMoves moves;                // sqrt(2) diagonals, octile heuristic, no corner cutting
+};
+
+struct MissionOrder {
+  std::vector<int> order;         // indices into the points: 0 first, the last point last
+  std::string method;             // "fixed", "mmdstar" or "euclidean"
+  std::string fallback_reason;    // why MMD*L was not used ("" when it was, or fixed)
+  double cost_m = 0.0;            // the order's cost by the method's metric
+  double cell_size_m = 0.0;       // of the order grid (mmdstar)
+  std::uint64_t expansions = 0;   // MMD*L cell expansions
+  double time_ms = 0.0;
+};
+
+// points_m: begin, mission points, end (ENU metres). fixed keeps the given order.
+// Errors: kTimeout / kCancelled from `stop`; kInvalidArgument for fewer than two points.
+Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::vector<Eigen::Vector3d>& points_m,
+                                        double min_clearance_m, double ceiling_m, bool fixed,
+                                        const MissionOrderOptions& options = {},
+                                        const TerminationCondition& stop = {});
+
+}  // namespace skyroute

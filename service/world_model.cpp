@@ -1,0 +1,113 @@
+#include "service/world_model.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace skyroute {
+
+Obstacle worldObstacle(const ObstacleUpdateData& update, double constant_velocity_horizon_s) {
+  Obstacle o = update.obstacle;
+  const double from_s = static_cast<double>(update.valid_from_utc_ns) * 1e-9;
+  if (update.constant_velocity_enu_mps && update.constant_velocity_enu_mps->norm() > 0.0) {
+    const Eigen::Vector3d v = *update.constant_velocity_enu_mps;
+    const double until_s = update.valid_until_utc_ns != 0 ? static_cast<double>(update.valid_until_utc_ns) * 1e-9
+                                                          : from_s + constant_velocity_horizon_s;
+    BackAndForth track;
+    track.from_m = o.center_m;
+    track.to_m = o.center_m + v * std::max(0.0, until_s - from_s);
+    track.speed_mps = v.norm();
+    track.start_time_s = from_s;
+    o.motion = track;
+  } else if (o.motion) {
+    o.motion->start_time_s = from_s;
+  }
+  return o;
+}
+
+Result<std::shared_ptr<WorldModel>> WorldModel::create(std::shared_ptr<const Heightfield> terrain,
+                                                       const WorldModelOptions& options, std::string terrain_name) {
+  if (!terrain) return make_error(ErrorCode::kInvalidArgument, "terrain", "no terrain loaded");
+  if (!(options.vehicle_radius_m > 0.0)) {
+    return make_error(ErrorCode::kInvalidArgument, "vehicle_radius_m", "must be positive");
+  }
+  std::shared_ptr<WorldModel> model(new WorldModel());
+  model->terrain_ = std::move(terrain);
+  model->options_ = options;
+  model->terrain_name_ = std::move(terrain_name);
+  return model;
+}
+
+Result<std::shared_ptr<const CollisionWorld>> WorldModel::worldFor(double min_clearance_m, double ceiling_m) {
+  if (!(min_clearance_m >= options_.vehicle_radius_m)) {
+    return make_error(ErrorCode::kInvalidArgument, "limits.min_clearance_agl_m",
+                      "must be at least the vehicle radius (" + std::to_string(options_.vehicle_radius_m) + " m)");
+  }
+  std::lock_guard lock(mutex_);
+  const auto key = std::make_pair(min_clearance_m, ceiling_m);
+  if (auto it = worlds_.find(key); it != worlds_.end()) return std::shared_ptr<const CollisionWorld>(it->second);
+  if (worlds_.size() >= options_.max_worlds) {
+    // Drop a world nobody plans in any more (only the map holds it).
+    for (auto it = worlds_.begin(); it != worlds_.end(); ++it) {
+      if (it->second.use_count() == 1) {
+        worlds_.erase(it);
+        break;
+      }
+    }
+  }
+  CollisionWorldOptions options;
+  options.vehicle_radius_m = options_.vehicle_radius_m;
+  options.min_clearance_m = min_clearance_m;
+  options.ceiling_m = ceiling_m;
+  options.terrain_margin_m = options_.terrain_margin_m;
+  options.build_octree = false;  // every check the planners make runs on the heightfield
+  auto world = CollisionWorld::create(terrain_, options);
+  if (!world.ok()) return world.error();
+  for (const auto& [id, entry] : obstacles_) (*world)->upsertObstacle(entry.first);
+  worlds_.emplace(key, *world);
+  return std::shared_ptr<const CollisionWorld>(*world);
+}
+
+std::uint64_t WorldModel::apply(const ObstacleUpdateData& update) {
+  std::lock_guard lock(mutex_);
+  const std::uint64_t id = update.obstacle.id;
+  ++version_;
+  if (update.remove) {
+    obstacles_.erase(id);
+    for (auto& [key, world] : worlds_) world->removeObstacle(id);
+    return id;
+  }
+  const Obstacle o = worldObstacle(update, options_.constant_velocity_horizon_s);
+  const double until_s = update.valid_until_utc_ns != 0 ? static_cast<double>(update.valid_until_utc_ns) * 1e-9
+                                                        : std::numeric_limits<double>::infinity();
+  obstacles_[id] = {o, until_s};
+  for (auto& [key, world] : worlds_) world->upsertObstacle(o);
+  return id;
+}
+
+std::size_t WorldModel::expire(double now_s) {
+  std::lock_guard lock(mutex_);
+  std::size_t removed = 0;
+  for (auto it = obstacles_.begin(); it != obstacles_.end();) {
+    if (it->second.second <= now_s) {
+      for (auto& [key, world] : worlds_) world->removeObstacle(it->first);
+      it = obstacles_.erase(it);
+      ++removed;
+    } else {
+      ++it;
+    }
+  }
+  if (removed > 0) ++version_;
+  return removed;
+}
+
+std::size_t WorldModel::obstacleCount() const {
+  std::lock_guard lock(mutex_);
+  return obstacles_.size();
+}
+
+std::uint64_t WorldModel::version() const {
+  std::lock_guard lock(mutex_);
+  return version_;
+}
+
+}  // namespace skyroute

@@ -1,0 +1,68 @@
+// The engine's world: the terrain (one heightfield, shared) and the obstacles in force, seen
+// through one CollisionWorld per (minimum clearance, ceiling) pair that requests ask for, so each
+// vehicle is checked with its own limits while every world holds the same obstacles.
+// The world clock is UTC seconds since the Unix epoch, the clock of ObstacleUpdateData.
+// Thread-safe: the engine's planners read while the DDS edge's updates write.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "service/mission_types.hpp"
+#include "terrain/collision_world.hpp"
+#include "terrain/heightfield.hpp"
+
+namespace skyroute {
+
+struct WorldModelOptions {
+  double vehicle_radius_m = 5.0;          // every vehicle's bounding sphere
+  double terrain_margin_m = 0.0;          // horizontal distance kept from the ground
+  // A constant-velocity obstacle without an end of validity is predicted this far ahead (it is
+  // modelled as a track from its position to where it will be then).
+  double constant_velocity_horizon_s = 3600.0;
+  std::size_t max_worlds = 64;            // distinct (clearance, ceiling) pairs kept
+};
+
+// The obstacle an update describes, on the world clock: a back-and-forth motion starts at
+// valid_from; a constant velocity becomes a track from the position at valid_from to the position
+// at valid_until (or the prediction horizon).
+Obstacle worldObstacle(const ObstacleUpdateData& update, double constant_velocity_horizon_s);
+
+class WorldModel {
+ public:
+  static Result<std::shared_ptr<WorldModel>> create(std::shared_ptr<const Heightfield> terrain,
+                                                    const WorldModelOptions& options, std::string terrain_name);
+
+  const Heightfield& terrain() const { return *terrain_; }
+  const LocalFrame& frame() const { return terrain_->frame(); }
+  const std::string& terrainName() const { return terrain_name_; }
+
+  // The collision world for a vehicle's limits (made on first use, with the obstacles in force).
+  // Errors name the limit: kInvalidArgument "limits.min_clearance_agl_m" below the vehicle radius.
+  Result<std::shared_ptr<const CollisionWorld>> worldFor(double min_clearance_m, double ceiling_m);
+
+  // Applies an update (validated by the caller). Returns the obstacle's id.
+  std::uint64_t apply(const ObstacleUpdateData& update);
+  // Drops obstacles whose validity ended at or before now_s; returns how many.
+  std::size_t expire(double now_s);
+  std::size_t obstacleCount() const;
+  std::uint64_t version() const;  // grows with every change of the obstacles
+
+ private:
+  WorldModel() = default;
+
+  std::shared_ptr<const Heightfield> terrain_;
+  WorldModelOptions options_;
+  std::string terrain_name_;
+  mutable std::mutex mutex_;
+  std::map<std::pair<double, double>, std::shared_ptr<CollisionWorld>> worlds_;
+  std::map<std::uint64_t, std::pair<Obstacle, double>> obstacles_;  // id -> obstacle, valid until (s; inf)
+  std::uint64_t version_ = 0;
+};
+
+}  // namespace skyroute

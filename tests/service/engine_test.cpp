@@ -1,0 +1,366 @@
+// The DDS-free engine driven directly: a mission on the embedded terrain comes back as a
+// trajectory through every point (begin first, end last) that keeps its clearance; bad requests
+// get a failed status naming the field and do not stop the next request; an obstacle put on the
+// route makes the next replanning cycle publish a revision that avoids it and continues the flown
+// curve; cancels and stop() end work promptly.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <limits>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "service/engine.hpp"
+#include "terrain/terrain_world.hpp"
+#include "tests/test_data.hpp"
+
+namespace skyroute {
+namespace {
+
+class CapturingSink : public EngineSink {
+ public:
+  void publishStatus(const PlanStatusData& status) override {
+    std::lock_guard lock(mutex_);
+    statuses.push_back(status);
+    cv_.notify_all();
+  }
+  void publishTrajectory(const TrajectoryData& trajectory) override {
+    std::lock_guard lock(mutex_);
+    trajectories.push_back(trajectory);
+    cv_.notify_all();
+  }
+  void retractTrajectory(const std::string& vehicle_id) override {
+    std::lock_guard lock(mutex_);
+    retracted.push_back(vehicle_id);
+  }
+  // The last status of a request (nullopt if none yet).
+  std::optional<PlanStatusData> last(const std::string& request_id) {
+    std::lock_guard lock(mutex_);
+    for (auto it = statuses.rbegin(); it != statuses.rend(); ++it)
+      if (it->request_id == request_id) return *it;
+    return std::nullopt;
+  }
+  // Waits until every listed request has a terminal status.
+  bool waitTerminal(const std::vector<std::string>& ids, double timeout_s) {
+    std::unique_lock lock(mutex_);
+    return cv_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] {
+      return std::all_of(ids.begin(), ids.end(), [&](const std::string& id) {
+        return std::any_of(statuses.begin(), statuses.end(),
+                           [&](const PlanStatusData& s) { return s.request_id == id && isTerminal(s.state); });
+      });
+    });
+  }
+
+  std::vector<PlanStatusData> statuses;
+  std::vector<TrajectoryData> trajectories;
+  std::vector<std::string> retracted;
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+};
+
+struct ManualClock {
+  std::int64_t now_ns = 1'800'000'000'000'000'000LL;  // a fixed UTC instant (2027)
+  void advance(double seconds) { now_ns += static_cast<std::int64_t>(std::llround(seconds * 1e9)); }
+  double seconds() const { return static_cast<double>(now_ns) * 1e-9; }
+};
+
+class EngineTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    CollisionWorldOptions options;
+    options.build_octree = false;
+    auto loaded = loadTerrainWorld(testing::projectDataPath("default_terrain.tif"), options);
+    ASSERT_TRUE(loaded.ok()) << loaded.error().describe();
+    heightfield_ = loaded->heightfield;
+  }
+
+  void SetUp() override {
+    auto model = WorldModel::create(heightfield_, WorldModelOptions{}, "default_terrain");
+    ASSERT_TRUE(model.ok());
+    world_ = *model;
+    EngineOptions options;
+    options.sample_dt_s = 0.05;  // dense enough for the clearance check between samples
+    auto engine = Engine::create(world_, options, sink_, [this] { return clock_.now_ns; });
+    ASSERT_TRUE(engine.ok()) << engine.error().describe();
+    engine_ = std::move(*engine);
+  }
+
+  // A point above the ground by agl_m at east/north metres from the terrain centre.
+  MissionPointData enu(double e, double n, double agl_m) const {
+    return MissionPointData::enu(Eigen::Vector3d(e, n, heightfield_->heightAt(e, n) + agl_m));
+  }
+  MissionPointData geo(double e, double n, double agl_m) const {
+    const Eigen::Vector3d p = enu(e, n, agl_m).enu_m;
+    const GeoPoint g = heightfield_->frame().toGeo(p);
+    return MissionPointData::wgs84(g.lat_deg, g.lon_deg, g.alt_amsl_m);
+  }
+  MissionRequestData request(const std::string& id, const std::string& vehicle = "uav-1") const {
+    MissionRequestData r;
+    r.request_id = id;
+    r.vehicle_id = vehicle;
+    r.begin = geo(-4500, -4500, 150);
+    r.points = {enu(3500, 3000, 200), geo(-3000, 2500, 200), enu(3000, -3500, 200)};
+    r.end = geo(4500, 4500, 150);
+    return r;
+  }
+  Eigen::Vector3d toEnu(const MissionPointData& p) const {
+    return p.frame == MissionPointData::Frame::kEnu ? p.enu_m : heightfield_->frame().toEnu(p.geo);
+  }
+
+  static inline std::shared_ptr<const Heightfield> heightfield_;
+  std::shared_ptr<WorldModel> world_;
+  CapturingSink sink_;
+  ManualClock clock_;
+  std::unique_ptr<Engine> engine_;
+};
+
+TEST_F(EngineTest, MissionBecomesATrajectoryThroughEveryPointClearOfTheGround) {
+  const MissionRequestData r = request("m1");
+  ASSERT_FALSE(engine_->submit(r).has_value());
+  ASSERT_TRUE(engine_->planNext());
+  ASSERT_FALSE(engine_->planNext());  // nothing else queued
+
+  std::vector<PlanState> states;
+  for (const auto& s : sink_.statuses) states.push_back(s.state);
+  ASSERT_EQ(states, (std::vector<PlanState>{PlanState::kAccepted, PlanState::kPlanning, PlanState::kSucceeded}))
+      << sink_.statuses.back().message;
+  ASSERT_EQ(sink_.trajectories.size(), 1u);
+  const TrajectoryData& t = sink_.trajectories.front();
+  EXPECT_EQ(t.vehicle_id, "uav-1");
+  EXPECT_EQ(t.request_id, "m1");
+  EXPECT_EQ(t.revision, 0u);
+
+  // The order visits every point once, B first and E last; the legs follow it.
+  const std::size_t count = r.points.size() + 2;
+  ASSERT_EQ(t.visiting_order.size(), count);
+  EXPECT_EQ(t.visiting_order.front(), 0u);
+  EXPECT_EQ(t.visiting_order.back(), count - 1);
+  EXPECT_EQ(std::set<std::uint32_t>(t.visiting_order.begin(), t.visiting_order.end()).size(), count);
+  ASSERT_EQ(t.legs.size(), count - 1);
+  for (std::size_t k = 0; k < t.legs.size(); ++k) {
+    EXPECT_EQ(t.legs[k].from_point, t.visiting_order[k]);
+    EXPECT_EQ(t.legs[k].to_point, t.visiting_order[k + 1]);
+    EXPECT_LT(t.legs[k].start_s, t.legs[k].end_s);
+  }
+
+  // Samples: time from 0 at the plan's clock, every point passed, clearance kept everywhere.
+  std::vector<Eigen::Vector3d> all{toEnu(r.begin)};
+  for (const auto& p : r.points) all.push_back(toEnu(p));
+  all.push_back(toEnu(r.end));
+  ASSERT_GT(t.samples.size(), 100u);
+  EXPECT_EQ(t.samples.front().utc_ns, clock_.now_ns);
+  EXPECT_LT((t.samples.front().position_enu_m - all.front()).norm(), 0.01);
+  EXPECT_LT((t.samples.back().position_enu_m - all.back()).norm(), 0.01);
+  const double max_step_m = VehicleLimitsData{}.max_speed_mps * 0.05;
+  for (std::size_t k = 0; k < t.legs.size(); ++k) {
+    const Eigen::Vector3d& point = all[t.legs[k].to_point];
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& s : t.samples) nearest = std::min(nearest, (s.position_enu_m - point).norm());
+    EXPECT_LT(nearest, max_step_m) << "point " << t.legs[k].to_point << " is not on the trajectory";
+  }
+  const double clearance = VehicleLimitsData{}.min_clearance_agl_m;
+  for (std::size_t i = 0; i < t.samples.size(); ++i) {
+    const auto& s = t.samples[i];
+    const double ground = heightfield_->heightAt(s.position_enu_m.x(), s.position_enu_m.y());
+    ASSERT_GE(s.position_enu_m.z() - ground, clearance - 0.5) << "sample " << i << " at t=" << s.t_rel_s;
+    if (i > 0) {
+      if (i + 1 < t.samples.size()) {
+        EXPECT_NEAR(s.t_rel_s - t.samples[i - 1].t_rel_s, 0.05, 1e-9);
+      }
+      EXPECT_LE((s.position_enu_m - t.samples[i - 1].position_enu_m).norm(), max_step_m + 1e-6);
+    }
+    const Eigen::Vector3d back = heightfield_->frame().toEnu(s.geo);
+    ASSERT_LT((back - s.position_enu_m).norm(), 0.01);
+  }
+}
+
+TEST_F(EngineTest, SameSeedSameTrajectory) {
+  ASSERT_FALSE(engine_->submit(request("a")).has_value());
+  ASSERT_TRUE(engine_->planNext());
+  ASSERT_FALSE(engine_->submit(request("b", "uav-2")).has_value());
+  ASSERT_TRUE(engine_->planNext());
+  ASSERT_EQ(sink_.trajectories.size(), 2u);
+  const auto& a = sink_.trajectories[0].samples;
+  const auto& b = sink_.trajectories[1].samples;
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i].position_enu_m, b[i].position_enu_m);
+}
+
+TEST_F(EngineTest, BadRequestsGetTheirErrorAndTheNextRequestIsServed) {
+  struct Case {
+    std::string name;
+    std::function<void(MissionRequestData&)> spoil;
+    PlanErrorCode code;
+    std::string field;
+  };
+  const std::vector<Case> cases = {
+      {"planner", [](MissionRequestData& r) { r.planner = "dijkstra-3d"; }, PlanErrorCode::kUnknownPlanner, "planner"},
+      {"nan", [](MissionRequestData& r) { r.points[1].geo.lat_deg = std::nan(""); }, PlanErrorCode::kInvalidArgument,
+       "points[1]"},
+      {"empty", [](MissionRequestData& r) { r.points.clear(); }, PlanErrorCode::kEmptyMission, "points"},
+      {"oversize", [](MissionRequestData& r) { r.points.resize(65, r.points.front()); },
+       PlanErrorCode::kMissionTooLarge, "points"},
+      {"limits", [](MissionRequestData& r) { r.limits.max_accel_mps2 = -1.0; }, PlanErrorCode::kLimitsOutOfRange,
+       "limits.max_accel_mps2"},
+      {"vref", [](MissionRequestData& r) { r.limits.v_ref_mps = 99.0; }, PlanErrorCode::kLimitsOutOfRange,
+       "limits.v_ref_mps"},
+      {"outside", [](MissionRequestData& r) { r.points[2] = MissionPointData::enu({9000.0, 0.0, 1500.0}); },
+       PlanErrorCode::kOutsideMap, "points[2]"},
+      {"underground", [this](MissionRequestData& r) { r.end = enu(4500, 4500, -20); }, PlanErrorCode::kUnderGround,
+       "end"},
+      {"clearance", [](MissionRequestData& r) { r.limits.min_clearance_agl_m = 1.0; },
+       PlanErrorCode::kLimitsOutOfRange, "limits.min_clearance_agl_m"},
+      {"vehicle", [](MissionRequestData& r) { r.vehicle_id.clear(); }, PlanErrorCode::kInvalidArgument, "vehicle_id"},
+  };
+  for (const Case& c : cases) {
+    MissionRequestData r = request("bad-" + c.name);
+    c.spoil(r);
+    engine_->submit(r);
+    while (engine_->planNext()) {
+    }
+    const auto status = sink_.last(r.request_id);
+    ASSERT_TRUE(status.has_value()) << c.name;
+    EXPECT_EQ(status->state, PlanState::kFailed) << c.name;
+    EXPECT_EQ(status->error_code, c.code) << c.name << ": " << status->message;
+    EXPECT_EQ(status->field.rfind(c.field, 0), 0u) << c.name << ": field " << status->field;
+    EXPECT_NE(status->message.find(status->field), std::string::npos) << c.name << ": " << status->message;
+  }
+  EXPECT_TRUE(sink_.trajectories.empty());
+  ASSERT_FALSE(engine_->submit(request("good")).has_value());
+  ASSERT_TRUE(engine_->planNext());
+  EXPECT_EQ(sink_.last("good")->state, PlanState::kSucceeded);
+  EXPECT_EQ(sink_.trajectories.size(), 1u);
+}
+
+TEST_F(EngineTest, ObstacleOnTheRouteGivesARevisionThatAvoidsItAndContinuesTheFlight) {
+  MissionRequestData r = request("replan");
+  r.points = {enu(0, 0, 200)};
+  r.begin = enu(-4500, -4500, 200);
+  r.end = enu(4500, 4500, 200);
+  ASSERT_FALSE(engine_->submit(r).has_value());
+  ASSERT_TRUE(engine_->planNext());
+  ASSERT_EQ(sink_.trajectories.size(), 1u);
+  const TrajectoryData first = sink_.trajectories.front();
+  EXPECT_EQ(engine_->replanCycle(), 0u);  // nothing in the way
+
+  // Fly 20 s, then a fixed sphere appears where the trajectory will be 30 s later (inside the
+  // 45 s horizon).
+  clock_.advance(20.0);
+  const auto& s0 = first.samples;
+  const std::size_t ahead = static_cast<std::size_t>(50.0 / 0.05);
+  ASSERT_LT(ahead, s0.size());
+  ObstacleUpdateData update;
+  update.obstacle.id = 42;
+  update.obstacle.shape = ObstacleShape::kSphere;
+  update.obstacle.size_m = Eigen::Vector3d::Constant(250.0);
+  update.obstacle.center_m = s0[ahead].position_enu_m;
+  update.valid_from_utc_ns = clock_.now_ns;
+  ASSERT_FALSE(engine_->updateObstacle(update).has_value());
+  ASSERT_EQ(engine_->replanCycle(), 1u);
+  ASSERT_EQ(sink_.trajectories.size(), 2u);
+  const TrajectoryData& second = sink_.trajectories.back();
+  EXPECT_EQ(second.revision, 1u);
+  EXPECT_EQ(second.plan_id, first.plan_id);
+  EXPECT_EQ(sink_.last("replan")->state, PlanState::kReplanned);
+
+  // It takes over where the first one is at its start time, with the same velocity.
+  const std::int64_t takeover_ns = second.samples.front().utc_ns;
+  EXPECT_GT(takeover_ns, clock_.now_ns - 1);
+  const double takeover_rel_s = static_cast<double>(takeover_ns - s0.front().utc_ns) * 1e-9;
+  const std::size_t k = static_cast<std::size_t>(std::llround(takeover_rel_s / 0.05));
+  ASSERT_NEAR(s0[k].t_rel_s, takeover_rel_s, 1e-6);
+  EXPECT_LT((second.samples.front().position_enu_m - s0[k].position_enu_m).norm(), 1e-3);
+  EXPECT_LT((second.samples.front().velocity_enu_mps - s0[k].velocity_enu_mps).norm(), 1e-3);
+  // It avoids the sphere (with the vehicle's radius), and still ends at E and passes the point.
+  for (const auto& s : second.samples)
+    ASSERT_GT((s.position_enu_m - update.obstacle.center_m).norm(), 250.0 + WorldModelOptions{}.vehicle_radius_m);
+  EXPECT_LT((second.samples.back().position_enu_m - toEnu(r.end)).norm(), 0.01);
+  ASSERT_FALSE(second.legs.empty());
+  EXPECT_EQ(second.legs.back().to_point, 2u);
+  EXPECT_EQ(second.visiting_order, first.visiting_order);
+
+  // Clear ahead now: the next cycles publish nothing; at the end the mission completes.
+  clock_.advance(0.1);
+  EXPECT_EQ(engine_->replanCycle(), 0u);
+  EXPECT_EQ(engine_->activeMissions(), 1u);
+  clock_.advance(second.samples.back().t_rel_s + 1.0);
+  engine_->replanCycle();
+  EXPECT_EQ(engine_->activeMissions(), 0u);
+}
+
+TEST_F(EngineTest, ExpiredObstacleIsDropped) {
+  ObstacleUpdateData update;
+  update.obstacle.id = 7;
+  update.obstacle.center_m = Eigen::Vector3d(0, 0, 2000);
+  update.valid_from_utc_ns = clock_.now_ns;
+  update.valid_until_utc_ns = clock_.now_ns + 2'000'000'000;
+  ASSERT_FALSE(engine_->updateObstacle(update).has_value());
+  EXPECT_EQ(world_->obstacleCount(), 1u);
+  clock_.advance(1.0);
+  engine_->replanCycle();
+  EXPECT_EQ(world_->obstacleCount(), 1u);
+  clock_.advance(1.5);
+  engine_->replanCycle();
+  EXPECT_EQ(world_->obstacleCount(), 0u);
+  update.obstacle.size_m.x() = -1.0;
+  const auto refused = engine_->updateObstacle(update);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->field.rfind("size_m", 0), 0u);
+  EXPECT_EQ(world_->obstacleCount(), 0u);
+}
+
+TEST_F(EngineTest, CancelQueuedAndActive) {
+  ASSERT_FALSE(engine_->submit(request("q1")).has_value());
+  EXPECT_TRUE(engine_->cancel(CancelRequestData{"q1", "uav-1"}));
+  EXPECT_EQ(sink_.last("q1")->state, PlanState::kCancelled);
+  EXPECT_FALSE(engine_->planNext());
+  EXPECT_FALSE(engine_->cancel(CancelRequestData{"nothing", "uav-1"}));
+
+  ASSERT_FALSE(engine_->submit(request("q2")).has_value());
+  ASSERT_TRUE(engine_->planNext());
+  EXPECT_EQ(engine_->activeMissions(), 1u);
+  EXPECT_TRUE(engine_->cancel(CancelRequestData{"", "uav-1"}));
+  EXPECT_EQ(sink_.last("q2")->state, PlanState::kCancelled);
+  EXPECT_EQ(engine_->activeMissions(), 0u);
+  EXPECT_EQ(sink_.retracted, std::vector<std::string>{"uav-1"});
+}
+
+TEST_F(EngineTest, ThreadsServeSeveralVehiclesAndStopPromptly) {
+  engine_->start();
+  std::vector<std::string> ids;
+  for (int v = 0; v < 4; ++v) {
+    MissionRequestData r = request("t" + std::to_string(v), "uav-" + std::to_string(v));
+    r.begin = enu(-4500 + 300 * v, -4500, 150);
+    ids.push_back(r.request_id);
+    ASSERT_FALSE(engine_->submit(r).has_value());
+  }
+  ASSERT_TRUE(sink_.waitTerminal(ids, 120.0));
+  for (const auto& id : ids) EXPECT_EQ(sink_.last(id)->state, PlanState::kSucceeded) << sink_.last(id)->message;
+  EXPECT_EQ(engine_->activeMissions(), 4u);
+  EXPECT_EQ(engine_->status("svc").vehicles, 4u);
+
+  // A large mission in flight is cancelled by stop() well within a second.
+  MissionRequestData big = request("big", "uav-big");
+  for (int i = 0; i < 12; ++i) big.points.push_back(enu(-4000 + 700 * i, 600 * (i % 5) - 1500, 250));
+  ASSERT_FALSE(engine_->submit(big).has_value());
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const auto stop_started = std::chrono::steady_clock::now();
+  engine_->stop();
+  const double stop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - stop_started).count();
+  EXPECT_LT(stop_s, 1.0);
+  ASSERT_TRUE(sink_.last("big").has_value());
+  EXPECT_TRUE(sink_.last("big")->state == PlanState::kCancelled || sink_.last("big")->state == PlanState::kSucceeded);
+  EXPECT_FALSE(engine_->running());
+  const auto refused = engine_->submit(request("late"));
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->code, PlanErrorCode::kBusy);
+}
+
+}  // namespace
+}  // namespace skyroute
