@@ -1,10 +1,13 @@
 // Waypoints + vehicle limits + options -> trajectory + report. The steps (seed 003 section 3-1):
 // extra waypoints at the LOSPO spacing, time allocation, minimum-snap degree-7 spline, then
-// feasibility (limits and, with a motion check, terrain and obstacles) and repair: segments whose
-// curve collides are split at the middle of their straight chord (pulling the curve onto the
-// checked path); segments over a limit are stretched in time, first locally, then the whole
-// trajectory uniformly (which scales speeds by 1/k and accelerations by 1/k^2 exactly for a
-// rest-to-rest spline). Then it checks again; the report says what was repaired or why not.
+// feasibility (limits and, with a motion check, terrain and obstacles) and repair: corners the
+// curve turns through tighter than the vehicle's min turn radius are rounded geometrically
+// (corner_rounding.hpp: a fillet arc, or at a fixed waypoint a straight pass along the turn's
+// bisector between two fillets), each checked clear with the motion check before it is adopted;
+// segments whose curve collides are split at the middle of their straight chord (pulling the
+// curve onto the checked path); segments over a limit are stretched in time, first locally, then
+// the whole trajectory uniformly (which scales speeds by 1/k and accelerations by 1/k^2 exactly
+// for a rest-to-rest spline). Then it checks again; the report says what was repaired or why not.
 #pragma once
 
 #include <cstddef>
@@ -15,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "terrain/result.hpp"
+#include "trajectory/corner_rounding.hpp"
 #include "trajectory/feasibility.hpp"
 #include "trajectory/spline7.hpp"
 #include "trajectory/time_allocation.hpp"
@@ -34,6 +38,14 @@ struct TrajectoryOptions {
   int max_repair_rounds = 12;
   double min_waypoint_separation_m = 1e-3;  // consecutive input waypoints closer than this: error
   double min_split_length_m = 0.5;          // never split a segment whose chord is shorter
+  // Indices into the input waypoints the trajectory must pass exactly, e.g. the mission points
+  // where legs join (the first and last always are). A fixed corner is never cut: a turn-radius
+  // repair there flies straight through it along the turn's bisector. Any order, duplicates ok.
+  std::vector<std::size_t> fixed_waypoints;
+  // Turn-radius repair by rounding the corners the curve turns through too tightly; off = a turn
+  // violation is reported as unrepairable.
+  bool round_corners = true;
+  CornerRoundingOptions corner_rounding;
 };
 
 enum class TrajectoryStatus {
@@ -50,6 +62,7 @@ struct TrajectoryBuildReport {
   FeasibilityReport final_check;     // of the returned trajectory
   std::size_t input_waypoints = 0;
   std::size_t knots = 0;             // waypoints of the final spline (input + extra + repair)
+  std::size_t corners_rounded = 0;   // input corners replaced by a fillet or a pass-through
   int repair_rounds = 0;
   double build_ms = 0.0;
 };
@@ -61,8 +74,9 @@ struct BuiltTrajectory {
 };
 
 // Errors (bad input only, naming the field): "waypoints", "waypoints[i]", "limits.*",
-// "options.*", "boundary.*". An infeasible trajectory is not an error: it comes back with
-// status kInfeasible so the caller can decide (replan, relax limits).
+// "options.*" (e.g. "options.fixed_waypoints" for an index out of range), "boundary.*". An
+// infeasible trajectory is not an error: it comes back with status kInfeasible so the caller can
+// decide (replan, relax limits).
 // collision: optional motion check (times are trajectory times from 0).
 Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits,
                                         const TrajectoryOptions& options = {}, const MotionCheck* collision = nullptr);
