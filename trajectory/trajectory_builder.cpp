@@ -332,7 +332,8 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
             // Put the original corner back, then round it wider than before.
             std::size_t last = at;
             while (last + 1 < path.size() && path[last + 1].corner == existing) ++last;
-            path.erase(path.begin() + static_cast<std::ptrdiff_t>(at + 1), path.begin() + static_cast<std::ptrdiff_t>(last + 1));
+            path.erase(path.begin() + static_cast<std::ptrdiff_t>(at + 1),
+                       path.begin() + static_cast<std::ptrdiff_t>(last + 1));
             path[at] = corners[static_cast<std::size_t>(existing)].original;
             vertex_time.erase(vertex_time.begin() + static_cast<std::ptrdiff_t>(at + 1),
                               vertex_time.begin() + static_cast<std::ptrdiff_t>(last + 1));

@@ -90,7 +90,8 @@ TEST(CornerRounding, FilletIsTangentArcInTheLegsPlane) {
     EXPECT_NEAR((q[k] - centre).norm(), radius, 1e-9) << k;
     EXPECT_NEAR((q[k] - p).dot(normal), 0.0, 1e-9) << k;
     if (k > 0) {
-      const double step = std::acos(std::clamp((q[k] - centre).normalized().dot((q[k - 1] - centre).normalized()), -1.0, 1.0));
+      const double step =
+          std::acos(std::clamp((q[k] - centre).normalized().dot((q[k - 1] - centre).normalized()), -1.0, 1.0));
       EXPECT_LE(step, CornerRoundingOptions{}.arc_step_deg * kDegToRad + 1e-9);
     }
   }
@@ -124,7 +125,8 @@ TEST(CornerRounding, PassThroughKeepsThePointOnTheBisector) {
   chain.insert(chain.end(), q.begin(), q.end());
   chain.push_back(b);
   for (std::size_t k = 1; k + 1 < chain.size(); ++k)
-    EXPECT_LE(deflectionAngle(chain[k - 1], chain[k], chain[k + 1]), CornerRoundingOptions{}.arc_step_deg * kDegToRad + 1e-9);
+    EXPECT_LE(deflectionAngle(chain[k - 1], chain[k], chain[k + 1]),
+              CornerRoundingOptions{}.arc_step_deg * kDegToRad + 1e-9);
   EXPECT_NEAR(deflectionAngle(chain[corner->kept_point], p, chain[corner->kept_point + 2]), 0.0, 1e-9);
   // A reversal can be flown through as well (a teardrop), but not filleted.
   auto reversal = roundCorner(CornerMethod::kPassThrough, a, p, Eigen::Vector3d(100, 0, 100), radius, 0.5, 0.5);
@@ -166,7 +168,8 @@ TEST(TurnRadiusRepair, ZigZagBecomesFeasible) {
   // Ends unchanged; the cut corners are gone from the knots; the curve stays near the corners
   // (the fillet's middle is R (1 / cos(phi / 2) - 1) = 43 m inside a 65 m fillet's corner).
   EXPECT_LT((built->trajectory.evaluate(0.0, Derivative::kPosition) - w.front()).norm(), 1e-9);
-  EXPECT_LT((built->trajectory.evaluate(built->trajectory.duration_s(), Derivative::kPosition) - w.back()).norm(), 1e-9);
+  EXPECT_LT((built->trajectory.evaluate(built->trajectory.duration_s(), Derivative::kPosition) - w.back()).norm(),
+            1e-9);
   for (std::size_t i = 1; i + 1 < w.size(); ++i)
     for (const Eigen::Vector3d& k : built->knots) EXPECT_GT((k - w[i]).norm(), 1.0) << i;
   for (double t = 0.0; t <= built->trajectory.duration_s(); t += 0.05) {
@@ -244,7 +247,8 @@ TEST(TurnRadiusRepair, ObstacleInsideACornerGetsASmallerFilletOrAClearFailure) {
     ASSERT_GT((built->trajectory.evaluate(t, Derivative::kPosition) - centre).norm(), r) << t;
 
   // A sphere across every arc from 65 m down to 50 m (but clear of the legs): a clear failure.
-  const Eigen::Vector3d big_centre = w[2] + into * 0.5 * (middle_of_arc(limits.min_turn_radius_m) + middle_of_arc(preferred));
+  const Eigen::Vector3d big_centre =
+      w[2] + into * 0.5 * (middle_of_arc(limits.min_turn_radius_m) + middle_of_arc(preferred));
   const double big_r = 0.5 * (middle_of_arc(preferred) - middle_of_arc(limits.min_turn_radius_m)) + 3.0;
   ASSERT_GT(distanceToSegment(big_centre, w[1], w[2]), big_r);
   ASSERT_GT(distanceToSegment(big_centre, w[2], w[3]), big_r);
@@ -259,7 +263,8 @@ TEST(TurnRadiusRepair, ObstacleInsideACornerGetsASmallerFilletOrAClearFailure) {
 
 TEST(TurnRadiusRepair, ReportsACornerWithTooLittleRoom) {
   // A 160 degree turn on 120 m legs: a 50 m fillet needs 284 m of each leg.
-  const std::vector<Eigen::Vector3d> w{{0, 0, 500}, {120, 0, 500}, {120 - 120 * std::cos(20 * kDegToRad), 120 * std::sin(20 * kDegToRad), 500}};
+  const std::vector<Eigen::Vector3d> w{
+      {0, 0, 500}, {120, 0, 500}, {120 - 120 * std::cos(20 * kDegToRad), 120 * std::sin(20 * kDegToRad), 500}};
   auto built = buildTrajectory(w, fixedWing());
   ASSERT_TRUE(built.ok());
   EXPECT_EQ(built->report.status, TrajectoryStatus::kInfeasible);
@@ -306,7 +311,8 @@ TEST(TurnRadiusRepair, NothingChangesWithoutATurnLimit) {
     for (std::size_t s = 0; s < a.size(); ++s) {
       if (a[s].duration_s != b[s].duration_s) return false;
       for (int axis = 0; axis < 3; ++axis)
-        if (a[s].axes[static_cast<std::size_t>(axis)].coefficients() != b[s].axes[static_cast<std::size_t>(axis)].coefficients())
+        if (a[s].axes[static_cast<std::size_t>(axis)].coefficients() !=
+            b[s].axes[static_cast<std::size_t>(axis)].coefficients())
           return false;
     }
     return true;
