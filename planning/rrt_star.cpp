@@ -151,11 +151,15 @@ class Search {
     addNode(start, kNoParent, 0.0);
   }
 
-  void run(const TerminationCondition& stop, RrtStarResult& result, Clock::time_point t0) {
+  void run(const TerminationCondition& stop, const TerminationCondition* outer, RrtStarResult& result,
+           Clock::time_point t0) {
     std::vector<std::pair<std::size_t, double>> near;
     std::vector<std::uint32_t> candidates;
     while (true) {
       result.stop_reason = stop.reason(result.iterations);
+      if (result.stop_reason == TerminationCondition::Reason::kNone && outer) {
+        result.stop_reason = outer->reason(result.iterations);
+      }
       if (result.stop_reason != TerminationCondition::Reason::kNone) break;
       if (options_.max_nodes != 0 && nodes_.size() >= options_.max_nodes) {
         result.node_budget_reached = true;
@@ -175,8 +179,7 @@ class Search {
 
       // ChooseBestParent: cheapest neighbour (by cost through it) with a valid motion; the nearest
       // node is known valid, so candidates costlier than it need no check.
-      const std::size_t n = nodes_.size() + 1;
-      const double radius = std::min(max_step_, rrtStarRewireRadius(n, 3, box_volume_, options_.rewire_factor));
+      const double radius = std::min(max_step_, rewireRadius());
       nearWithin(x_new, radius, near);
       candidates.clear();
       for (const auto& [idx, d2] : near) candidates.push_back(static_cast<std::uint32_t>(idx));
@@ -247,6 +250,17 @@ class Search {
 
   std::uint64_t motionChecks() const { return motion_checks_; }
 
+  // Karaman and Frazzoli's radius for the space where samples are drawn now. Once a path exists
+  // that is the informed set (when smaller than the box), and only the nodes inside it count, as
+  // in OMPL's InformedRRTstar with pruning: the formula assumes n uniform samples over the volume,
+  // and with the box's volume and all nodes the samples packed into a thin spheroid would give
+  // near sets of thousands of nodes (each one sorted and many checked per iteration).
+  double rewireRadius() const {
+    if (!informedActive()) return rrtStarRewireRadius(nodes_.size() + 1, 3, box_volume_, options_.rewire_factor);
+    return rrtStarRewireRadius(informed_nodes_ + 1, 3, std::min(box_volume_, informed_.volume(best_cost_)),
+                               options_.rewire_factor);
+  }
+
  private:
   bool motionValid(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     ++motion_checks_;
@@ -257,6 +271,7 @@ class Search {
     const auto id = static_cast<std::uint32_t>(nodes_.size());
     nodes_.push_back(Node{p, cost, parent, {}});
     if (parent != kNoParent) nodes_[parent].children.push_back(id);
+    if (informedActive() && informed_.contains(p, best_cost_)) ++informed_nodes_;
     index_.addPoints(id, id);
     return id;
   }
@@ -275,6 +290,11 @@ class Search {
       nodes_[v].cost += delta;
       for (std::uint32_t c : nodes_[v].children) stack.push_back(c);
     }
+  }
+
+  // Samples come from the informed set (and the radius follows its volume) once a path exists.
+  bool informedActive() const {
+    return options_.informed_sampling && best_cost_ < std::numeric_limits<double>::infinity();
   }
 
   Eigen::Vector3d sample() {
@@ -326,6 +346,10 @@ class Search {
     best_goal_parent_ = best_parent;
     best_cost_ = best;
     ++result.solution_improvements;
+    if (informedActive()) {
+      informed_nodes_ = 0;
+      for (const Node& node : nodes_) informed_nodes_ += informed_.contains(node.p, best_cost_) ? 1 : 0;
+    }
   }
 
   std::vector<Eigen::Vector3d> pathTo(std::uint32_t node) const {
@@ -349,6 +373,7 @@ class Search {
   std::vector<std::uint32_t> goal_parents_;
   std::uint32_t best_goal_parent_ = kNoParent;
   double best_cost_ = std::numeric_limits<double>::infinity();
+  std::size_t informed_nodes_ = 0;  // nodes inside the informed set of best_cost_
   std::uint64_t motion_checks_ = 0;
 };
 
@@ -359,6 +384,16 @@ RrtStar::RrtStar(const MotionValidator& validator, RrtStarOptions options)
 
 Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
                                     const TerminationCondition& stop) const {
+  return plan(start_m, goal_m, stop, nullptr);
+}
+
+Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
+                                    const TerminationCondition& stop, const TerminationCondition& outer) const {
+  return plan(start_m, goal_m, stop, &outer);
+}
+
+Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
+                                    const TerminationCondition& stop, const TerminationCondition* outer) const {
   const auto t0 = Clock::now();
   if (!finite(start_m)) return make_error(ErrorCode::kInvalidArgument, "start", "start is not finite: " + describe(start_m));
   if (!finite(goal_m)) return make_error(ErrorCode::kInvalidArgument, "goal", "goal is not finite: " + describe(goal_m));
@@ -406,7 +441,7 @@ Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen:
 
   const double max_step = options_.max_step_m > 0.0 ? options_.max_step_m : 0.2 * bounds.diagonal().norm();
   Search search(validator_, options_, bounds, start_m, goal_m, max_step);
-  search.run(stop, result, t0);
+  search.run(stop, outer, result, t0);
   search.fillResult(result, options_.allow_approximate);
   result.motion_checks += search.motionChecks();
   return finish();

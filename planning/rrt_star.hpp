@@ -74,10 +74,17 @@ class RrtStar {
   // non-finite sampling box, options out of range. Planning outcomes are statuses in the result.
   Result<RrtStarResult> plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
                              const TerminationCondition& stop) const;
+  // Stops at whichever of the two conditions fires first (for example a per-leg budget and the
+  // caller's deadline or cancel flag); stop_reason is the first one's reason when both fire.
+  Result<RrtStarResult> plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
+                             const TerminationCondition& stop, const TerminationCondition& outer) const;
 
   const RrtStarOptions& options() const { return options_; }
 
  private:
+  Result<RrtStarResult> plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
+                             const TerminationCondition& stop, const TerminationCondition* outer) const;
+
   const MotionValidator& validator_;
   RrtStarOptions options_;
 };

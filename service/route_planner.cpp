@@ -51,6 +51,18 @@ Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, cons
                                const VehicleLimits& limits, const RouteOptions& options,
                                const TerminationCondition& stop) {
   const auto started = std::chrono::steady_clock::now();
+  auto route = planRoutePaths(world, points_m, options, stop);
+  if (!route.ok()) return route.error();
+  Status built = buildRouteTrajectory(world, points_m, limits, options, *route);
+  if (!built.ok()) return built.error();
+  route->planning_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  return route;
+}
+
+Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
+                                    const std::vector<Eigen::Vector3d>& points_m, const RouteOptions& options,
+                                    const TerminationCondition& stop) {
+  const auto started = std::chrono::steady_clock::now();
   if (!world) return make_error(ErrorCode::kInvalidArgument, "world", "is null");
   if (points_m.size() < 2) return make_error(ErrorCode::kInvalidArgument, "points", "needs at least two points");
   for (std::size_t i = 0; i < points_m.size(); ++i) {
@@ -76,9 +88,14 @@ Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, cons
     TerminationCondition leg_stop = options.leg_budget_ms > 0.0 ? TerminationCondition::afterMilliseconds(options.leg_budget_ms)
                                                                 : TerminationCondition();
     if (options.leg_max_iterations > 0) leg_stop.withIterationBudget(options.leg_max_iterations);
-    auto rrt = planner.plan(points_m[i], points_m[i + 1], leg_stop);
+    auto rrt = planner.plan(points_m[i], points_m[i + 1], leg_stop, stop);
     if (!rrt.ok()) return rrt.error();
     if (!rrt->solved()) {
+      // The caller's deadline or cancel flag, not the leg's own budget, stopped the search.
+      if (auto reason = stop.reason(); reason != TerminationCondition::Reason::kNone) {
+        return make_error(reason == TerminationCondition::Reason::kCancelled ? ErrorCode::kCancelled : ErrorCode::kTimeout,
+                          leg_name, "stopped while planning this leg");
+      }
       return make_error(ErrorCode::kUnreachable, leg_name,
                         "no path from points[" + std::to_string(i) + "] to points[" + std::to_string(i + 1) +
                             "] (RRT* " + std::string(to_string(rrt->status)) + " after " +
@@ -95,7 +112,13 @@ Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, cons
     for (std::size_t k = (i == 0 ? 0 : 1); k < leg.path_m.size(); ++k) route.waypoints_m.push_back(leg.path_m[k]);
     route.legs.push_back(std::move(leg));
   }
+  route.planning_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  return route;
+}
 
+Status buildRouteTrajectory(std::shared_ptr<const CollisionWorld> world, const std::vector<Eigen::Vector3d>& points_m,
+                            const VehicleLimits& limits, const RouteOptions& options, PlannedRoute& route) {
+  if (!world) return make_error(ErrorCode::kInvalidArgument, "world", "is null");
   MotionCheck check = collisionWorldMotionCheck(world, options.trajectory_start_world_s);
   if (options.trajectory_start_world_s) {
     check = [world, timed = check, horizon = options.moving_check_horizon_s](const Eigen::Vector3d& a, double ta,
@@ -122,8 +145,7 @@ Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, cons
     leg.end_s = e < times.size() ? times[e] : route.built.trajectory.duration_s();
     k = e;
   }
-  route.planning_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-  return route;
+  return Status::success();
 }
 
 }  // namespace skyroute

@@ -62,6 +62,16 @@ Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, cons
                                const VehicleLimits& limits, const RouteOptions& options,
                                const TerminationCondition& stop = {});
 
+// The two halves of planRoute, for callers that compare or reuse paths before paying for a
+// trajectory (the replanner): planRoutePaths runs RRT* + LOSPO per leg (route.built stays empty;
+// `stop` also bounds each leg's RRT*), buildRouteTrajectory joins the legs' waypoints into the
+// checked trajectory and sets each leg's start and end times.
+Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
+                                    const std::vector<Eigen::Vector3d>& points_m, const RouteOptions& options,
+                                    const TerminationCondition& stop = {});
+Status buildRouteTrajectory(std::shared_ptr<const CollisionWorld> world, const std::vector<Eigen::Vector3d>& points_m,
+                            const VehicleLimits& limits, const RouteOptions& options, PlannedRoute& route);
+
 // Checks a route point cheaply before any search: inside the DEM, above the ground by the
 // clearance, under the ceiling, clear of obstacles. `name` is used in the error.
 Status checkRoutePoint(const CollisionWorld& world, const Eigen::Vector3d& p_m, const std::string& name,
