@@ -30,6 +30,20 @@ struct ReplanOptions {
                                     // whose first conflict comes latest wins, and it replaces the
                                     // current trajectory only when it is better than it
   RouteOptions route;               // per-leg budget, LOSPO, trajectory options
+  // Wall-clock budget of one replan, from the conflict check to the new trajectory, all attempts
+  // included (the RRT* and LOSPO stop at it; the trajectory build and check of the path in hand
+  // finish). When it runs out the best candidate so far is used; when there is none yet, the
+  // attempts go on without the deadline until the first candidate (late beats never: the current
+  // trajectory meets an obstacle). 0 = none (then a run with iteration budgets is reproducible).
+  // The first plan (start()) has no such deadline.
+  double replan_budget_ms = 12.0;
+  // RRT* iterations per leg when replanning; 0 = route.leg_max_iterations.
+  std::uint64_t replan_leg_max_iterations = 0;
+  // Trajectory repair rounds when replanning (at most route.trajectory.max_repair_rounds; < 0 =
+  // those). The build cannot be cut short by the deadline; a cap bounds it, but the first turn
+  // away from an obstacle often needs several rounds (capping at 4 failed those avoidance replans
+  // in the seed-003 scenario and the vehicle hit an obstacle), so by default there is none.
+  int replan_max_repair_rounds = -1;
   // Set from any thread to stop the planning in progress (start() and step() then fail with
   // kCancelled); the engine uses it to cancel in-flight plans.
   std::shared_ptr<std::atomic<bool>> cancel;
@@ -69,11 +83,18 @@ class FlightReplanner {
 
  private:
   FlightReplanner() = default;
-  Result<PlannedRoute> planFrom(const std::vector<Eigen::Vector3d>& points, double at_world_s,
-                                const TrajectoryState* state, int attempt) const;
-  // Tries every attempt and returns the candidate whose first conflict is latest (and that time).
+  RouteOptions attemptOptions(const std::vector<Eigen::Vector3d>& points, double at_world_s,
+                              const TrajectoryState* state, int attempt) const;
+  // Tries the attempts (until one is conflict-free or `stop` fires) and returns the candidate
+  // whose first conflict is latest (and that time). A path equal to `skip` (the current route's
+  // path ahead) or to an earlier attempt's is not built nor checked again: it cannot do better.
+  // With first_only, the first candidate built is returned.
   Result<std::pair<PlannedRoute, double>> bestCandidate(const std::vector<Eigen::Vector3d>& points, double at_world_s,
-                                                        const TrajectoryState* state) const;
+                                                        const TrajectoryState* state, const TerminationCondition& stop,
+                                                        const std::vector<Eigen::Vector3d>* skip,
+                                                        bool first_only = false) const;
+  // The current route's waypoints not yet reached at world_s, with `from` in front.
+  std::vector<Eigen::Vector3d> waypointsAhead(const Eigen::Vector3d& from, double world_s) const;
   void adopt(PlannedRoute route, std::vector<Eigen::Vector3d> points, double start_world_s);
 
   std::shared_ptr<const CollisionWorld> world_;
@@ -82,6 +103,7 @@ class FlightReplanner {
   PlannedRoute route_;
   std::vector<Eigen::Vector3d> points_;        // points of the current trajectory, in order
   std::vector<double> point_times_world_s_;    // when the current trajectory reaches each
+  std::vector<double> waypoint_times_world_s_; // when it reaches each of route_.waypoints_m
   double start_world_s_ = 0.0;
   std::uint32_t revision_ = 0;
 };

@@ -15,29 +15,81 @@
 namespace skyroute {
 namespace {
 
-TEST(FlightReplanner, Seed003ScenarioReachesGoalWithoutCollision) {
-  SKYROUTE_REQUIRE_SHARED(dem, "dem/N44W072.hgt");
+CollisionWorldOptions scenarioWorldOptions() {
   CollisionWorldOptions world_options;
   world_options.vehicle_radius_m = 10.0;
   world_options.min_clearance_m = 50.0;
   world_options.ceiling_m = 1500.0;
   world_options.build_octree = false;
-  auto world = loadTerrainWorld(dem, world_options);
-  ASSERT_TRUE(world.ok()) << world.error().describe();
-  const MovingObstacleScenario scenario = seed003Table1Scenario(*world->heightfield);
-  for (const Obstacle& o : scenario.obstacles) world->collision->upsertObstacle(o);
+  return world_options;
+}
 
+VehicleLimits scenarioLimits() {
   VehicleLimits limits;
   limits.v_ref_mps = 50.0;
   limits.max_speed_mps = 65.0;
   limits.max_accel_mps2 = 10.0;
   limits.max_climb_mps = 20.0;
   limits.max_descent_mps = 20.0;
+  return limits;
+}
+
+ReplanOptions scenarioReplanOptions() {
   ReplanOptions options;
   options.route.seed = 7;
-  options.route.leg_budget_ms = 0.0;           // iteration budgets: reproducible runs
+  options.route.leg_budget_ms = 0.0;           // iteration budgets for the first plan
   options.route.leg_max_iterations = 3000;
   options.route.corridor_margin_m = 4000.0;
+  return options;
+}
+
+// The coarse-then-exact conflict check gives exactly the time the plain check (every chord by
+// CollisionWorld::isSegmentValidDuring) gives, on a trajectory that meets the obstacles often.
+TEST(FlightReplanner, ConflictCheckEqualsTheChordByChordCheck) {
+  SKYROUTE_REQUIRE_SHARED(dem, "dem/N44W072.hgt");
+  auto world = loadTerrainWorld(dem, scenarioWorldOptions());
+  ASSERT_TRUE(world.ok()) << world.error().describe();
+  const MovingObstacleScenario scenario = seed003Table1Scenario(*world->heightfield);
+  for (const Obstacle& o : scenario.obstacles) world->collision->upsertObstacle(o);
+  const ReplanOptions options = scenarioReplanOptions();
+  auto replanner = FlightReplanner::start(world->collision, {scenario.start_m, scenario.goal_m}, scenarioLimits(),
+                                          options, 0.0);
+  ASSERT_TRUE(replanner.ok()) << replanner.error().describe();
+  const FlightReplanner& r = **replanner;
+  const Trajectory& trajectory = r.route().built.trajectory;
+  int conflicts = 0, clear = 0;
+  for (double from = 0.0; from < trajectory.duration_s(); from += 1.7) {
+    for (double horizon : {5.0, 45.0}) {
+      double expected = std::numeric_limits<double>::infinity();
+      const double end = std::min(from + horizon, trajectory.duration_s());
+      for (double t = from; t < end; t += options.check_step_s) {
+        const double t1 = std::min(t + options.check_step_s, end);
+        if (!world->collision->isSegmentValidDuring(trajectory.evaluate(t, Derivative::kPosition), t,
+                                                    trajectory.evaluate(t1, Derivative::kPosition), t1)) {
+          expected = t;
+          break;
+        }
+      }
+      EXPECT_EQ(r.firstConflictS(trajectory, 0.0, from, horizon), expected) << "from " << from << " horizon " << horizon;
+      (std::isinf(expected) ? clear : conflicts) += 1;
+    }
+  }
+  // The first trajectory crosses the obstacles' tracks: both outcomes must occur for the
+  // comparison to mean something.
+  EXPECT_GT(conflicts, 10);
+  EXPECT_GT(clear, 10);
+}
+
+TEST(FlightReplanner, Seed003ScenarioReachesGoalWithoutCollision) {
+  SKYROUTE_REQUIRE_SHARED(dem, "dem/N44W072.hgt");
+  const CollisionWorldOptions world_options = scenarioWorldOptions();
+  auto world = loadTerrainWorld(dem, world_options);
+  ASSERT_TRUE(world.ok()) << world.error().describe();
+  const MovingObstacleScenario scenario = seed003Table1Scenario(*world->heightfield);
+  for (const Obstacle& o : scenario.obstacles) world->collision->upsertObstacle(o);
+
+  const VehicleLimits limits = scenarioLimits();
+  const ReplanOptions options = scenarioReplanOptions();
   auto replanner = FlightReplanner::start(world->collision, {scenario.start_m, scenario.goal_m}, limits, options, 0.0);
   ASSERT_TRUE(replanner.ok()) << replanner.error().describe();
   FlightReplanner& r = **replanner;

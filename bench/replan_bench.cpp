@@ -1,0 +1,198 @@
+// Replanning latency in the seed-003 moving-obstacle scenario (Table 1 on N44W072): the vehicle
+// flies at V_ref = 50 m/s and FlightReplanner::step runs every t_ref = 0.1 s, as in
+// tests/service/flight_replanner_test.cpp. Every cycle is timed in wall time and in the thread's
+// processor time (the machine is shared and loaded: processor time is the cost of the work, wall
+// time is what the vehicle would wait). Cycles are split into
+//   - replans: the trajectory ahead meets an obstacle, so a new one is planned (latency from the
+//     obstacle update to the new trajectory, whether or not it is adopted),
+//   - check-only cycles: the trajectory ahead is clear, only the conflict check runs.
+// Each seed also reports arrival, collisions (independent 10 ms check) and minimum separation.
+//
+// Usage: replan_bench [--seeds N] [--first-seed S] [--config NAME] [--budget-ms MS]
+// (NAME: deadline | no-deadline | both; MS: replan_budget_ms, default ReplanOptions')
+// "deadline" is ReplanOptions' defaults (a wall-clock budget per replan); "no deadline" sets
+// replan_budget_ms = 0, so attempts end only on their iteration budgets (reproducible, and what
+// the work costs when nothing cuts it short).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "service/flight_replanner.hpp"
+#include "service/moving_obstacle_scenario.hpp"
+#include "terrain/terrain_world.hpp"
+
+namespace {
+
+using namespace skyroute;
+
+double threadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  // Nearest rank: p99 of 150 samples is the 149th, not an interpolation below the worst ones.
+  const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+  return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1];
+}
+
+struct Samples {
+  std::vector<double> wall_ms, cpu_ms;
+};
+
+struct SeedOutcome {
+  std::uint64_t seed = 0;
+  bool arrived = false;
+  double arrival_s = NAN;
+  int collisions = 0;  // 10 ms samples inside an obstacle grown by the vehicle radius, or under the clearance
+  double min_separation_m = std::numeric_limits<double>::infinity();
+  int replans = 0, adopted = 0, failed = 0;
+  double max_replan_wall_ms = 0.0;
+};
+
+struct Config {
+  std::string name;
+  ReplanOptions options;
+};
+
+ReplanOptions scenarioOptions(bool deadline, double budget_ms) {
+  ReplanOptions options;
+  // As the test: iteration budgets, a corridor wide enough to go round the obstacles.
+  options.route.leg_budget_ms = 0.0;
+  options.route.leg_max_iterations = 3000;
+  options.route.corridor_margin_m = 4000.0;
+  if (budget_ms > 0.0) options.replan_budget_ms = budget_ms;
+  if (!deadline) options.replan_budget_ms = 0.0;
+  return options;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int seeds = 5;
+  std::uint64_t first_seed = 1;
+  std::string which = "both";
+  double budget_ms = 0.0;  // 0: ReplanOptions' default
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--seeds") seeds = std::atoi(argv[i + 1]);
+    else if (a == "--first-seed") first_seed = std::strtoull(argv[i + 1], nullptr, 10);
+    else if (a == "--config") which = argv[i + 1];
+    else if (a == "--budget-ms") budget_ms = std::atof(argv[i + 1]);
+    else {
+      std::fprintf(stderr, "unknown option %s\n", a.c_str());
+      return 2;
+    }
+  }
+  CollisionWorldOptions world_options;
+  world_options.vehicle_radius_m = 10.0;
+  world_options.min_clearance_m = 50.0;
+  world_options.ceiling_m = 1500.0;
+  world_options.build_octree = false;
+  const std::string dem = std::string(SKYROUTE_SHARED_DATA_DIR) + "/dem/N44W072.hgt";
+  auto world = loadTerrainWorld(dem, world_options);
+  if (!world.ok()) {
+    std::fprintf(stderr, "%s: %s\n", dem.c_str(), world.error().describe().c_str());
+    return 1;
+  }
+  const MovingObstacleScenario scenario = seed003Table1Scenario(*world->heightfield);
+  for (const Obstacle& o : scenario.obstacles) world->collision->upsertObstacle(o);
+  VehicleLimits limits;
+  limits.v_ref_mps = 50.0;
+  limits.max_speed_mps = 65.0;
+  limits.max_accel_mps2 = 10.0;
+  limits.max_climb_mps = 20.0;
+  limits.max_descent_mps = 20.0;
+
+  std::vector<Config> configs;
+  if (which == "deadline" || which == "both") configs.push_back({"deadline", scenarioOptions(true, budget_ms)});
+  if (which == "no-deadline" || which == "both") configs.push_back({"no deadline", scenarioOptions(false, budget_ms)});
+  if (configs.empty()) {
+    std::fprintf(stderr, "unknown config %s\n", which.c_str());
+    return 2;
+  }
+
+  std::printf("| config | seed | arrived | arrival s | collisions | min sep m | replans | adopted | failed | max replan ms |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  struct Totals {
+    Samples replan, check, start;
+    std::vector<SeedOutcome> outcomes;
+  };
+  std::vector<Totals> totals(configs.size());
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    for (int k = 0; k < seeds; ++k) {
+      ReplanOptions options = configs[c].options;
+      SeedOutcome out;
+      out.seed = first_seed + static_cast<std::uint64_t>(k);
+      options.route.seed = out.seed;
+      const double w0 = threadCpuMs();
+      const auto t0 = std::chrono::steady_clock::now();
+      auto started = FlightReplanner::start(world->collision, {scenario.start_m, scenario.goal_m}, limits, options, 0.0);
+      totals[c].start.cpu_ms.push_back(threadCpuMs() - w0);
+      totals[c].start.wall_ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      if (!started.ok()) {
+        std::printf("| %s | %llu | start failed: %s |\n", configs[c].name.c_str(),
+                    static_cast<unsigned long long>(out.seed), started.error().describe().c_str());
+        totals[c].outcomes.push_back(out);
+        continue;
+      }
+      FlightReplanner& r = **started;
+      double t = 0.0;
+      for (; t < 1200.0 && !r.finished(t); t += options.period_s) {
+        const double cpu0 = threadCpuMs();
+        const auto wall0 = std::chrono::steady_clock::now();
+        const ReplanStep step = r.step(t);
+        const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall0).count();
+        const double cpu = threadCpuMs() - cpu0;
+        Samples& s = step.conflict_ahead ? totals[c].replan : totals[c].check;
+        s.wall_ms.push_back(wall);
+        s.cpu_ms.push_back(cpu);
+        if (step.conflict_ahead) {
+          ++out.replans;
+          out.max_replan_wall_ms = std::max(out.max_replan_wall_ms, wall);
+          if (step.replanned) ++out.adopted;
+          if (step.failure) ++out.failed;
+        }
+        for (double ts = t; ts < t + options.period_s; ts += 0.01) {
+          const Eigen::Vector3d p = r.stateAt(ts).position_m;
+          bool hit = p.z() - world->heightfield->heightAt(p.x(), p.y()) < world_options.min_clearance_m - 0.5;
+          for (const Obstacle& o : scenario.obstacles) hit = hit || o.contains(p, ts, world_options.vehicle_radius_m);
+          out.collisions += hit ? 1 : 0;
+          out.min_separation_m = std::min(out.min_separation_m, world->collision->obstacleDistance(p, ts));
+        }
+      }
+      out.arrived = r.finished(t);
+      out.arrival_s = r.arrivalWorldS();
+      std::printf("| %s | %llu | %s | %.1f | %d | %.0f | %d | %d | %d | %.1f |\n", configs[c].name.c_str(),
+                  static_cast<unsigned long long>(out.seed), out.arrived ? "yes" : "NO", out.arrival_s, out.collisions,
+                  out.min_separation_m, out.replans, out.adopted, out.failed, out.max_replan_wall_ms);
+      std::fflush(stdout);
+      totals[c].outcomes.push_back(out);
+    }
+  }
+
+  std::printf("\n| config | cycles | count | wall p50 | wall p90 | wall p99 | wall max | cpu p50 | cpu p90 | cpu p99 | cpu max |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    auto row = [&](const char* what, const Samples& s) {
+      std::printf("| %s | %s | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", configs[c].name.c_str(),
+                  what, s.wall_ms.size(), quantile(s.wall_ms, 0.5), quantile(s.wall_ms, 0.9), quantile(s.wall_ms, 0.99),
+                  quantile(s.wall_ms, 1.0), quantile(s.cpu_ms, 0.5), quantile(s.cpu_ms, 0.9), quantile(s.cpu_ms, 0.99),
+                  quantile(s.cpu_ms, 1.0));
+    };
+    row("replan", totals[c].replan);
+    row("check only", totals[c].check);
+    row("initial plan", totals[c].start);
+  }
+  return 0;
+}
