@@ -31,6 +31,9 @@ struct LospoOptions {
   int max_passes = 1;        // the seed's algorithm is one pass; further passes restart on the result
   double min_pass_gain_m = 1e-3;  // stop repeating when a pass shortens the path by less
   bool merge_collinear = true;    // drop vertices where the path goes straight on (checked again)
+  // Before each visibility test, check the points at 1/2, 1/4 and 3/4 of the way (isStateValid):
+  // one invalid proves the motion invalid. Same result as without, fewer motion checks.
+  bool point_prefilter = true;
 };
 
 struct LospoResult {
@@ -39,6 +42,7 @@ struct LospoResult {
   double length_m = 0.0;
   int passes = 0;
   std::uint64_t motion_checks = 0;
+  std::uint64_t point_checks = 0;  // cheap rejections tried before a motion check (isStateValid calls)
   bool stopped_early = false;  // the termination condition fired; path_m is still valid
   double time_s = 0.0;
 };

@@ -98,7 +98,8 @@ TEST(Lospo, SearchesFromTheGoalBackwardsForTheFarthestVisibleVertex) {
   const Eigen::Vector3d s(40, 60, 10), c(50, 95, 10), g(60, 60, 10);
   const std::vector<Eigen::Vector3d> path{s, c, g};
   const double spacing = 10.0;
-  auto r = lospo(recording, path, LospoOptions{.spacing_m = spacing, .merge_collinear = false});
+  // Without the point pre-filter every visibility test is a motion query, in the seed's order.
+  auto r = lospo(recording, path, LospoOptions{.spacing_m = spacing, .merge_collinear = false, .point_prefilter = false});
   ASSERT_TRUE(r.ok());
   const std::vector<Eigen::Vector3d> dense = densifyPath(path, spacing);
   // Two input checks first, then the first vertex tries the goal, then each vertex back from it.
@@ -124,6 +125,39 @@ TEST(Lospo, SearchesFromTheGoalBackwardsForTheFarthestVisibleVertex) {
   EXPECT_LE((second - s).norm(), spacing + 1e-9);
   EXPECT_LE(r->length_m, polylineLength(path));
   EXPECT_TRUE(world.denseCheck(r->path_m, 0.01));
+}
+
+// The point pre-filter only skips motion checks that would fail: the same path comes out, with
+// fewer motion checks, on RRT* paths through the wall and the sphere fields.
+TEST(Lospo, PointPrefilterGivesTheSamePathWithFewerMotionChecks) {
+  std::uint64_t with_checks = 0, without_checks = 0, point_checks = 0;
+  for (unsigned field = 0; field <= 4; ++field) {
+    const BoxWorld world = field == 0 ? testing::wallWorld() : testing::sphereField(field, 40);
+    const Eigen::Vector3d s = field == 0 ? Eigen::Vector3d(20, 30, 10) : Eigen::Vector3d(2, 2, 2);
+    const Eigen::Vector3d g = field == 0 ? Eigen::Vector3d(80, 30, 10) : Eigen::Vector3d(98, 98, 98);
+    RrtStarOptions o;
+    o.seed = 11 + field;
+    auto plan = RrtStar(world, o).plan(s, g, TerminationCondition().withIterationBudget(1500));
+    ASSERT_TRUE(plan.ok() && plan->solved()) << "field " << field;
+    for (double spacing : {1.0, 4.0}) {
+      LospoOptions lo{.spacing_m = spacing, .max_passes = 3};
+      lo.point_prefilter = true;
+      auto with = lospo(world, plan->path_m, lo);
+      lo.point_prefilter = false;
+      auto without = lospo(world, plan->path_m, lo);
+      ASSERT_TRUE(with.ok() && without.ok());
+      ASSERT_EQ(with->path_m.size(), without->path_m.size()) << "field " << field << " spacing " << spacing;
+      for (std::size_t i = 0; i < with->path_m.size(); ++i) EXPECT_EQ(with->path_m[i], without->path_m[i]);
+      EXPECT_EQ(with->passes, without->passes);
+      EXPECT_LE(with->motion_checks, without->motion_checks);
+      EXPECT_EQ(without->point_checks, 0u);
+      with_checks += with->motion_checks;
+      without_checks += without->motion_checks;
+      point_checks += with->point_checks;
+    }
+  }
+  EXPECT_LT(with_checks, without_checks);
+  EXPECT_GT(point_checks, 0u);
 }
 
 TEST(Lospo, BadInputIsAnErrorNamingTheField) {
