@@ -416,4 +416,24 @@ Result<FleetRequestData> fromWire(const skyroute_msgs_FleetRequest& in) {
   return out;
 }
 
+MissionRequestData identityFromWire(const skyroute_msgs_MissionRequest& in) {
+  MissionRequestData out;
+  out.request_id = text(in.request_id);
+  out.vehicle_id = text(in.vehicle_id);
+  return out;
+}
+
+CancelRequestData identityFromWire(const skyroute_msgs_CancelRequest& in) {
+  CancelRequestData out;
+  out.request_id = text(in.request_id);
+  out.vehicle_id = text(in.vehicle_id);
+  return out;
+}
+
+FleetRequestData identityFromWire(const skyroute_msgs_FleetRequest& in) {
+  FleetRequestData out;
+  out.request_id = text(in.request_id);
+  return out;
+}
+
 }  // namespace skyroute::dds

@@ -49,4 +49,9 @@ Result<CancelRequestData> fromWire(const skyroute_msgs_CancelRequest& in);
 Result<ServiceStatusData> fromWire(const skyroute_msgs_ServiceStatus& in);
 Result<FleetRequestData> fromWire(const skyroute_msgs_FleetRequest& in);
 
+// What identifies the sender of a message that failed fromWire (ids only), to answer it.
+MissionRequestData identityFromWire(const skyroute_msgs_MissionRequest& in);
+CancelRequestData identityFromWire(const skyroute_msgs_CancelRequest& in);
+FleetRequestData identityFromWire(const skyroute_msgs_FleetRequest& in);
+
 }  // namespace skyroute::dds

@@ -39,6 +39,15 @@ class Writer {
     return Status::success();
   }
 
+  // Tells readers the instance with this message's key is gone (transient-local history drops it).
+  Status dispose(const Plain& key_holder) const {
+    WireSample<typename Traits::Wire> sample(Traits::descriptor());
+    toWire(key_holder, sample.msg());
+    const dds_return_t rc = dds_dispose(writer_.get(), &sample.msg());
+    if (rc != DDS_RETCODE_OK) return ddsError(rc, std::string("dds_dispose on ") + Traits::kName);
+    return Status::success();
+  }
+
   // Waits until every matched reliable reader acknowledged what was written.
   Status waitForAcks(double timeout_s) const {
     const dds_return_t rc = dds_wait_for_acks(writer_.get(), static_cast<dds_duration_t>(timeout_s * 1e9));
@@ -62,6 +71,9 @@ class Reader {
   using Traits = TopicTraits<Plain>;
   using SampleHandler = std::function<void(Plain&&)>;
   using ErrorHandler = std::function<void(const Error&)>;
+  // A sample that failed validation, with what identifies its sender (identityFromWire), so the
+  // service can answer it (a request with a NaN still gets a status naming the field).
+  using RejectHandler = std::function<void(const Error&, const Plain& identity)>;
 
   static Result<Reader> create(dds_entity_t participant) {
     Qos qos = Traits::qos();
@@ -76,30 +88,13 @@ class Reader {
   // sample that fails validation to on_error (the loop goes on). Returns the number taken, or
   // the DDS error. Handlers run after the loan is returned, on the caller's thread.
   Result<std::size_t> takeAvailable(const SampleHandler& on_sample, const ErrorHandler& on_error) const {
-    constexpr std::size_t kBatch = 32;
-    std::size_t total = 0;
-    for (;;) {
-      std::array<void*, kBatch> loans{};
-      std::array<dds_sample_info_t, kBatch> infos{};
-      const dds_return_t n = dds_take(reader_.get(), loans.data(), infos.data(), kBatch, kBatch);
-      if (n < 0) return ddsError(n, std::string("dds_take on ") + Traits::kName);
-      if (n == 0) return total;
-      std::vector<Result<Plain>> converted;
-      converted.reserve(static_cast<std::size_t>(n));
-      for (dds_return_t i = 0; i < n; ++i)
-        if (infos[i].valid_data) converted.push_back(fromWire(*static_cast<const typename Traits::Wire*>(loans[i])));
-      const dds_return_t rc = dds_return_loan(reader_.get(), loans.data(), n);
-      if (rc != DDS_RETCODE_OK) return ddsError(rc, std::string("dds_return_loan on ") + Traits::kName);
-      for (auto& result : converted) {
-        if (result.ok()) {
-          on_sample(std::move(result).value());
-        } else if (on_error) {
-          on_error(result.error());
-        }
-      }
-      total += static_cast<std::size_t>(n);
-      if (static_cast<std::size_t>(n) < kBatch) return total;
-    }
+    return take<false>(on_sample, [&](const Error& e, const Plain*) {
+      if (on_error) on_error(e);
+    });
+  }
+  // The same, passing each rejected sample's identity to on_reject.
+  Result<std::size_t> takeAvailableWithRejects(const SampleHandler& on_sample, const RejectHandler& on_reject) const {
+    return take<true>(on_sample, [&](const Error& e, const Plain* identity) { on_reject(e, *identity); });
   }
 
   Status waitForWriters(uint32_t count, double timeout_s) const {
@@ -109,6 +104,44 @@ class Reader {
 
  private:
   Reader(Entity topic, Entity reader) : topic_(std::move(topic)), reader_(std::move(reader)) {}
+
+  template <bool kWithIdentity, class OnFailure>
+  Result<std::size_t> take(const SampleHandler& on_sample, const OnFailure& on_failure) const {
+    constexpr std::size_t kBatch = 32;
+    std::size_t total = 0;
+    for (;;) {
+      std::array<void*, kBatch> loans{};
+      std::array<dds_sample_info_t, kBatch> infos{};
+      const dds_return_t n = dds_take(reader_.get(), loans.data(), infos.data(), kBatch, kBatch);
+      if (n < 0) return ddsError(n, std::string("dds_take on ") + Traits::kName);
+      if (n == 0) return total;
+      std::vector<std::pair<Result<Plain>, Plain>> converted;
+      converted.reserve(static_cast<std::size_t>(n));
+      for (dds_return_t i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto& wire = *static_cast<const typename Traits::Wire*>(loans[i]);
+        Result<Plain> result = fromWire(wire);
+        Plain identity{};
+        if constexpr (kWithIdentity) {
+          if (!result.ok()) identity = identityFromWire(wire);
+        }
+        converted.emplace_back(std::move(result), std::move(identity));
+      }
+      // Handlers run after the loan is returned, so a slow handler never holds the reader's memory.
+      const dds_return_t rc = dds_return_loan(reader_.get(), loans.data(), n);
+      if (rc != DDS_RETCODE_OK) return ddsError(rc, std::string("dds_return_loan on ") + Traits::kName);
+      for (auto& [result, identity] : converted) {
+        if (result.ok()) {
+          on_sample(std::move(result).value());
+        } else {
+          on_failure(result.error(), &identity);
+        }
+      }
+      total += static_cast<std::size_t>(n);
+      if (static_cast<std::size_t>(n) < kBatch) return total;
+    }
+  }
+
   Entity topic_;
   Entity reader_;
 };

@@ -31,6 +31,17 @@ class WaitLoop {
     });
   }
 
+  // The same, with rejected samples passed with their identity (Reader::takeAvailableWithRejects).
+  template <class Plain>
+  Status addWithRejects(const Reader<Plain>& reader, typename Reader<Plain>::SampleHandler on_sample,
+                        typename Reader<Plain>::RejectHandler on_reject) {
+    return addSource(reader.handle(), [&reader, on_sample = std::move(on_sample), on_reject = std::move(on_reject)]() {
+      auto taken = reader.takeAvailableWithRejects(on_sample, on_reject);
+      if (!taken) return Status(taken.error());
+      return Status::success();
+    });
+  }
+
   // Dispatches until stop() (kStopped) or until timeout_s passes (kTimedOut; nullopt = forever).
   Result<Outcome> run(std::optional<double> timeout_s = std::nullopt);
   // One wait of at most timeout_s, dispatching what arrived; kStopped if a stop was requested.

@@ -1,0 +1,122 @@
+// skyrouted: the planning daemon. Configuration from --config (TOML) with command-line overrides;
+// the node goes configure -> activate, then the main thread waits for signals: SIGINT or SIGTERM
+// deactivate it (the waitset is triggered, in-flight plans are cancelled, writers flushed) and
+// clean it up; SIGHUP reloads the configuration file. The signals are blocked in every thread and
+// taken with sigwait here, so no handler runs inside Cyclone's or the engine's threads.
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "service/daemon_config.hpp"
+#include "service/dds/mission_service.hpp"
+#include "service/logging.hpp"
+
+namespace {
+
+struct Overrides {
+  std::string config_path;
+  std::optional<std::string> dem;
+  std::optional<int> domain;
+  std::optional<std::string> log_level;
+  std::optional<std::string> log_format;
+  std::optional<std::uint64_t> seed;
+};
+
+skyroute::Result<skyroute::DaemonConfig> buildConfig(const Overrides& o) {
+  skyroute::DaemonConfig config;
+  if (!o.config_path.empty()) {
+    auto loaded = skyroute::loadDaemonConfig(o.config_path);
+    if (!loaded.ok()) return loaded.error();
+    config = std::move(*loaded);
+  }
+  if (o.dem) config.dem_path = *o.dem;
+  if (o.domain) config.domain = *o.domain;
+  if (o.log_level) config.log_level = *o.log_level;
+  if (o.log_format) config.log_format = *o.log_format;
+  if (o.seed) config.engine.seed = *o.seed;
+  if (config.dem_path.empty()) config.dem_path = SKYROUTE_DEFAULT_DEM;
+  return config;
+}
+
+int fail(const skyroute::Error& e, int code) {
+  spdlog::critical("event=fatal field={} message=\"{}\"", e.field, e.message);
+  std::cerr << "skyrouted: " << e.describe() << std::endl;
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("skyrouted: terrain-aware 3D trajectory planning service over Cyclone DDS", "skyrouted");
+  app.set_version_flag("--version", std::string("skyrouted ") + SKYROUTE_VERSION);
+  Overrides overrides;
+  bool print_config = false;
+  app.add_option("--config", overrides.config_path, "TOML configuration file (skyrouted --print-config shows every key)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--dem", overrides.dem, "DEM raster (any GDAL raster); default: the embedded terrain");
+  app.add_option("--domain", overrides.domain, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--seed", overrides.seed, "RRT* seed of every plan");
+  app.add_option("--log-level", overrides.log_level, "trace | debug | info | warn | error");
+  app.add_option("--log-format", overrides.log_format, "text | json");
+  app.add_flag("--print-config", print_config, "print the effective configuration as TOML and exit");
+  CLI11_PARSE(app, argc, argv);
+
+  // Blocked before any thread exists, so every thread inherits the mask and only sigwait sees them.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGHUP);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  auto config = buildConfig(overrides);
+  if (!config.ok()) {
+    std::cerr << "skyrouted: " << config.error().describe() << std::endl;
+    return 2;
+  }
+  if (print_config) {
+    std::cout << skyroute::describeDaemonConfig(*config);
+    return 0;
+  }
+  if (skyroute::Status s = skyroute::setupLogging(config->log_level, config->log_format); !s.ok()) {
+    std::cerr << "skyrouted: " << s.error().describe() << std::endl;
+    return 2;
+  }
+  spdlog::info("event=starting version={} dem={} domain={}", SKYROUTE_VERSION, config->dem_path, config->domain);
+
+  skyroute::dds::MissionService service;
+  if (skyroute::Status s = service.configure(*config); !s.ok()) return fail(s.error(), 3);
+  if (skyroute::Status s = service.activate(); !s.ok()) return fail(s.error(), 3);
+  spdlog::info("event=ready domain={} service_id={}", config->domain, config->service_id);
+
+  for (;;) {
+    int signal_number = 0;
+    if (sigwait(&signals, &signal_number) != 0) continue;
+    if (signal_number == SIGHUP) {
+      spdlog::info("event=sighup config={}", overrides.config_path.empty() ? "(none)" : overrides.config_path);
+      auto reloaded = buildConfig(overrides);
+      if (!reloaded.ok()) {
+        // A broken file must not take a running service down: keep the configuration in force.
+        spdlog::error("event=reload_failed field={} message=\"{}\"", reloaded.error().field, reloaded.error().message);
+        continue;
+      }
+      if (skyroute::Status s = skyroute::setupLogging(reloaded->log_level, reloaded->log_format); !s.ok()) {
+        spdlog::error("event=reload_failed field={} message=\"{}\"", s.error().field, s.error().message);
+        continue;
+      }
+      if (skyroute::Status s = service.reload(*reloaded); !s.ok()) return fail(s.error(), 3);
+      continue;
+    }
+    spdlog::info("event=stopping signal={}", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+    break;
+  }
+  (void)service.deactivate();
+  (void)service.cleanup();
+  spdlog::info("event=stopped");
+  return 0;
+}

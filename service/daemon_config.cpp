@@ -1,0 +1,224 @@
+#include "service/daemon_config.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <variant>
+#include <vector>
+
+#include <toml++/toml.h>
+
+namespace skyroute {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One configuration key: where it lives, what it means, and the field it sets.
+struct Key {
+  const char* section;
+  const char* name;
+  const char* doc;  // meaning and unit
+  std::variant<double*, std::int64_t*, bool*, std::string*> target;
+  double min = -kInf;  // numbers only
+  double max = kInf;
+  std::vector<std::string> choices = {};  // strings only (empty = any)
+};
+
+// Integer fields are kept in these while parsing, then copied to their typed homes.
+struct IntegerShadow {
+  std::int64_t domain, seed, threads, max_queue, max_points, leg_max_iterations, order_cells, max_attempts;
+};
+
+IntegerShadow shadowOf(const DaemonConfig& c) {
+  return IntegerShadow{c.domain,
+                       static_cast<std::int64_t>(c.engine.seed),
+                       c.engine.planning_threads,
+                       static_cast<std::int64_t>(c.engine.max_queue),
+                       static_cast<std::int64_t>(c.engine.bounds.max_points),
+                       static_cast<std::int64_t>(c.engine.replan.route.leg_max_iterations),
+                       c.engine.order.max_cells_per_axis,
+                       c.engine.replan.max_attempts};
+}
+
+void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
+  c.domain = static_cast<int>(s.domain);
+  c.engine.seed = static_cast<std::uint64_t>(s.seed);
+  c.engine.planning_threads = static_cast<int>(s.threads);
+  c.engine.max_queue = static_cast<std::size_t>(s.max_queue);
+  c.engine.bounds.max_points = static_cast<std::size_t>(s.max_points);
+  c.engine.replan.route.leg_max_iterations = static_cast<std::uint64_t>(s.leg_max_iterations);
+  c.engine.order.max_cells_per_axis = static_cast<int>(s.order_cells);
+  c.engine.replan.max_attempts = static_cast<int>(s.max_attempts);
+}
+
+std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
+  EngineOptions& e = c.engine;
+  return {
+      {"terrain", "dem", "DEM raster path (any GDAL raster); \"\" = the embedded default terrain", &c.dem_path},
+      {"terrain", "vehicle_radius_m", "every vehicle's bounding sphere, metres", &c.world.vehicle_radius_m, 0.01, 1000},
+      {"terrain", "terrain_margin_m", "horizontal distance kept from the ground, metres", &c.world.terrain_margin_m, 0, 1000},
+      {"terrain", "constant_velocity_horizon_s",
+       "how far ahead an obstacle with a constant velocity and no end of validity is predicted, seconds",
+       &c.world.constant_velocity_horizon_s, 1, 86400},
+      {"dds", "domain", "DDS domain id", &s.domain, 0, 232},
+      {"dds", "service_id", "this daemon's key in the ServiceStatus heartbeat", &c.service_id},
+      {"dds", "heartbeat_period_s", "ServiceStatus period, seconds", &c.heartbeat_period_s, 0.05, 3600},
+      {"dds", "flush_timeout_s", "on stop, how long writers wait for readers' acknowledgements, seconds",
+       &c.flush_timeout_s, 0, 10},
+      {"planning", "default_planner", "planner used when a request names none", &e.default_planner, -kInf, kInf,
+       {"rrtstar_lospo"}},
+      {"planning", "seed", "RRT* seed of every plan (a run is reproducible from it)", &s.seed, 0, 9.0e18},
+      {"planning", "threads", "requests planned at once", &s.threads, 1, 64},
+      {"planning", "max_queue", "requests waiting beyond this are refused with ERROR_BUSY", &s.max_queue, 1, 100000},
+      {"planning", "max_points", "largest number of mission points in one request", &s.max_points, 1, 1000},
+      {"planning", "sample_dt_s", "spacing of the published trajectory samples, seconds", &e.sample_dt_s, 0.001, 10},
+      {"planning", "leg_max_iterations", "RRT* iterations per leg (0 = none; then set leg_budget_ms)",
+       &s.leg_max_iterations, 0, 1e9},
+      {"planning", "leg_budget_ms", "RRT* wall-time budget per leg, milliseconds (0 = none)",
+       &e.replan.route.leg_budget_ms, 0, 600000},
+      {"planning", "corridor_margin_m", "RRT* samples within this distance of a leg's bounding box, metres",
+       &e.replan.route.corridor_margin_m, 0, 1e6},
+      {"planning", "lospo_spacing_m", "LOSPO vertex spacing and extra trajectory waypoints, metres",
+       &e.replan.route.lospo.spacing_m, 1, 10000},
+      {"planning", "order_grid_max_cells", "cells per axis of the MMD*L ordering grid at most", &s.order_cells, 8, 2000},
+      {"planning", "order_band_margin_m", "the ordering grid's flight band reaches this far above the highest point, metres",
+       &e.order.band_margin_m, 0, 10000},
+      {"replanning", "enabled", "replan active missions when obstacles will meet them", &e.replanning},
+      {"replanning", "period_s", "replanning cycle t_ref, seconds", &e.replan.period_s, 0.01, 10},
+      {"replanning", "horizon_s", "how far ahead conflicts are looked for, seconds", &e.replan.horizon_s, 1, 3600},
+      {"replanning", "margin_m", "extra room kept from moving obstacles when replanning, metres", &e.replan.margin_m,
+       0, 10000},
+      {"replanning", "window_s", "a moving obstacle blocks the stretch it covers in this long, seconds",
+       &e.replan.window_s, 0, 3600},
+      {"replanning", "max_attempts", "candidates tried per replan", &s.max_attempts, 1, 100},
+      {"log", "level", "log level", &c.log_level, -kInf, kInf, {"trace", "debug", "info", "warn", "error"}},
+      {"log", "format", "text, or json (one object per line)", &c.log_format, -kInf, kInf, {"text", "json"}},
+  };
+}
+
+std::string keyName(const Key& k) { return std::string(k.section) + "." + k.name; }
+
+Status setKey(const Key& key, const toml::node& node) {
+  const std::string name = keyName(key);
+  auto range = [&](double v) -> Status {
+    if (!std::isfinite(v) || v < key.min || v > key.max) {
+      std::ostringstream m;
+      m << "is " << v << ", outside [" << key.min << ", " << key.max << "]";
+      return make_error(ErrorCode::kInvalidArgument, name, m.str());
+    }
+    return Status::success();
+  };
+  if (auto* d = std::get_if<double*>(&key.target)) {
+    std::optional<double> v = node.is_integer() ? std::optional<double>(static_cast<double>(*node.value<std::int64_t>()))
+                                                : node.value<double>();
+    if (!node.is_number() || !v) return make_error(ErrorCode::kInvalidArgument, name, "must be a number");
+    if (Status s = range(*v); !s.ok()) return s;
+    **d = *v;
+  } else if (auto* i = std::get_if<std::int64_t*>(&key.target)) {
+    if (!node.is_integer()) return make_error(ErrorCode::kInvalidArgument, name, "must be an integer");
+    const std::int64_t v = *node.value<std::int64_t>();
+    if (Status s = range(static_cast<double>(v)); !s.ok()) return s;
+    **i = v;
+  } else if (auto* b = std::get_if<bool*>(&key.target)) {
+    if (!node.is_boolean()) return make_error(ErrorCode::kInvalidArgument, name, "must be true or false");
+    **b = *node.value<bool>();
+  } else if (auto* str = std::get_if<std::string*>(&key.target)) {
+    if (!node.is_string()) return make_error(ErrorCode::kInvalidArgument, name, "must be a string");
+    const std::string v = *node.value<std::string>();
+    if (!key.choices.empty() && std::find(key.choices.begin(), key.choices.end(), v) == key.choices.end()) {
+      std::string known;
+      for (const auto& c : key.choices) known += (known.empty() ? "" : ", ") + c;
+      return make_error(ErrorCode::kInvalidArgument, name, "'" + v + "' is not one of " + known);
+    }
+    **str = v;
+  }
+  return Status::success();
+}
+
+}  // namespace
+
+Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::string& source_name,
+                                       DaemonConfig defaults) {
+  toml::table document;
+  try {
+    document = toml::parse(toml_text, source_name);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream m;
+    m << source_name << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description();
+    return make_error(ErrorCode::kParseError, source_name, m.str());
+  }
+  DaemonConfig config = std::move(defaults);
+  IntegerShadow shadow = shadowOf(config);
+  const std::vector<Key> keys = keysOf(config, shadow);
+  for (const auto& [section_name, section_node] : document) {
+    const std::string section(section_name.str());
+    const toml::table* table = section_node.as_table();
+    const bool known_section =
+        std::any_of(keys.begin(), keys.end(), [&](const Key& k) { return section == k.section; });
+    if (!known_section) {
+      return make_error(ErrorCode::kInvalidArgument, section,
+                        "unknown section [" + section + "] (known: terrain, dds, planning, replanning, log)");
+    }
+    if (!table) return make_error(ErrorCode::kInvalidArgument, section, "must be a table [" + section + "]");
+    for (const auto& [key_name, node] : *table) {
+      const std::string name(key_name.str());
+      auto key = std::find_if(keys.begin(), keys.end(),
+                              [&](const Key& k) { return section == k.section && name == k.name; });
+      if (key == keys.end()) {
+        return make_error(ErrorCode::kInvalidArgument, section + "." + name,
+                          "unknown key (skyrouted --print-config lists every key)");
+      }
+      if (Status s = setKey(*key, node); !s.ok()) return s.error();
+    }
+  }
+  applyShadow(shadow, config);
+  if (config.engine.replan.route.leg_max_iterations == 0 && config.engine.replan.route.leg_budget_ms <= 0.0) {
+    return make_error(ErrorCode::kInvalidArgument, "planning.leg_max_iterations",
+                      "and planning.leg_budget_ms are both 0: RRT* would never stop");
+  }
+  config.engine.bounds.planners = {kDefaultPlanner};
+  return config;
+}
+
+Result<DaemonConfig> loadDaemonConfig(const std::string& path, DaemonConfig defaults) {
+  std::ifstream in(path);
+  if (!in) return make_error(ErrorCode::kFileNotFound, path, "cannot read the configuration file " + path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parseDaemonConfig(text.str(), path, std::move(defaults));
+}
+
+std::string describeDaemonConfig(const DaemonConfig& config) {
+  DaemonConfig copy = config;
+  IntegerShadow shadow = shadowOf(copy);
+  const std::vector<Key> keys = keysOf(copy, shadow);
+  std::ostringstream out;
+  out << "# skyrouted configuration (TOML). Every key is optional; shown with its current value.\n";
+  std::string section;
+  for (const Key& k : keys) {
+    if (section != k.section) {
+      section = k.section;
+      out << "\n[" << section << "]\n";
+    }
+    out << "# " << k.doc << "\n" << k.name << " = ";
+    if (auto* d = std::get_if<double*>(&k.target)) {
+      std::ostringstream v;
+      v << **d;
+      std::string text = v.str();
+      if (text.find_first_of(".e") == std::string::npos && text.find("inf") == std::string::npos) text += ".0";
+      out << text;
+    } else if (auto* i = std::get_if<std::int64_t*>(&k.target)) {
+      out << **i;
+    } else if (auto* b = std::get_if<bool*>(&k.target)) {
+      out << (**b ? "true" : "false");
+    } else if (auto* s = std::get_if<std::string*>(&k.target)) {
+      out << toml::value<std::string>(**s);
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace skyroute
