@@ -1,49 +1,25 @@
 #include "planning/dstar_lite.hpp"
 
 #include <chrono>
-#include <functional>
 
 namespace skyroute {
 
-namespace {
-
-struct EntryGreater {
-  bool operator()(const DStarQueue::Entry& a, const DStarQueue::Entry& b) const { return b.key < a.key; }
-};
-
-// UpdateVertex after u's g or rhs may have changed: insert u into every queue when it is
-// inconsistent and its key changed; a consistent u leaves only stale entries behind (lazy remove).
-void updateVertex(const DStarGoalField& field, std::uint32_t u, double old_min, bool was_inconsistent,
-                  std::span<DStarQueue* const> queues, SearchStats& stats) {
-  if (field.consistent(u)) return;
-  if (was_inconsistent && costEqual(field.minCost(u), old_min)) return;
-  for (DStarQueue* q : queues) q->push(u, q->calcKey(field, u), stats);
-}
-
-}  // namespace
-
 DStarGoalField::DStarGoalField(const GridLayer& grid, GridCell goal, const GridMoves& moves)
-    : grid_(&grid),
-      moves_(moves),
-      goal_(goal),
-      goal_index_(static_cast<std::uint32_t>(grid.inside(goal) ? grid.index(goal) : 0)),
-      g_(grid.cellCount(), kInfiniteCost),
-      rhs_(grid.cellCount(), kInfiniteCost) {}
+    : DStarGoalField(std::make_shared<GridMoveTable>(grid, moves), goal) {}
 
-double DStarGoalField::bestRhs(std::uint32_t i) const {
-  double best = kInfiniteCost;
-  forEachMove(*grid_, grid_->cellOf(i), moves_, [&](GridCell s, double c) {
-    const double v = c + g_[grid_->index(s)];
-    if (v < best) best = v;
-  });
-  return best;
-}
+DStarGoalField::DStarGoalField(std::shared_ptr<GridMoveTable> table, GridCell goal)
+    : table_(std::move(table)),
+      goal_(goal),
+      goal_index_(static_cast<std::uint32_t>(table_->grid().inside(goal) ? table_->grid().index(goal) : 0)),
+      cost_(table_->grid().cellCount(), Cost{kInfiniteCost, kInfiniteCost}) {}
 
 GridCell DStarGoalField::nextCell(GridCell from) const {
+  // Walks the grid itself rather than the move table: not a hot path, and right even when asked
+  // between a grid change and the repair.
   double best = kInfiniteCost;
   GridCell next = from;
-  forEachMove(*grid_, from, moves_, [&](GridCell s, double c) {
-    const double v = c + g_[grid_->index(s)];
+  forEachMove(grid(), from, moves(), [&](GridCell s, double c) {
+    const double v = c + cost_[grid().index(s)].g;
     if (v < best) {
       best = v;
       next = s;
@@ -54,12 +30,12 @@ GridCell DStarGoalField::nextCell(GridCell from) const {
 
 std::vector<GridCell> DStarGoalField::pathFrom(GridCell start) const {
   std::vector<GridCell> path;
-  if (!grid_->inside(start) || !(costFrom(start) < kInfiniteCost)) return path;
+  if (!grid().inside(start) || !(costFrom(start) < kInfiniteCost)) return path;
   path.push_back(start);
   GridCell cur = start;
   // Each step strictly lowers g on a consistent path; the bound only guards against a caller
   // asking before the search finished.
-  for (std::size_t steps = 0; !(cur == goal_) && steps < grid_->cellCount(); ++steps) {
+  for (std::size_t steps = 0; !(cur == goal_) && steps < grid().cellCount(); ++steps) {
     const GridCell next = nextCell(cur);
     if (next == cur) return {};
     path.push_back(next);
@@ -69,120 +45,137 @@ std::vector<GridCell> DStarGoalField::pathFrom(GridCell start) const {
   return path;
 }
 
-DStarKey DStarQueue::calcKey(const DStarGoalField& field, std::uint32_t cell) const {
-  const double m = field.minCost(cell);
-  return DStarKey{m + field.moves().estimate(start_, field.grid().cellOf(cell)) + km_, m};
-}
-
-void DStarQueue::push(std::uint32_t cell, DStarKey key, SearchStats& stats) {
-  heap_.push_back(Entry{key, cell});
-  std::push_heap(heap_.begin(), heap_.end(), EntryGreater{});
-  ++stats.queue_pushes;
-}
-
-const DStarQueue::Entry* DStarQueue::top(const DStarGoalField& field, SearchStats& stats) {
-  while (!heap_.empty()) {
-    const Entry& e = heap_.front();
-    if (!field.consistent(e.cell) && costEqual(e.key.k2, field.minCost(e.cell))) return &heap_.front();
-    std::pop_heap(heap_.begin(), heap_.end(), EntryGreater{});
-    heap_.pop_back();
-    ++stats.queue_pops;
+void DStarQueue::siftUp(std::size_t i) {
+  const Entry e = heap_[i];
+  while (i > 0) {
+    const std::size_t parent = (i - 1) / kArity;
+    if (!(e.key < heap_[parent].key)) break;
+    heap_[i] = heap_[parent];
+    i = parent;
   }
-  return nullptr;
+  heap_[i] = e;
 }
 
-DStarQueue::Entry DStarQueue::pop(SearchStats& stats) {
-  std::pop_heap(heap_.begin(), heap_.end(), EntryGreater{});
-  const Entry e = heap_.back();
-  heap_.pop_back();
-  ++stats.queue_pops;
-  return e;
+void DStarQueue::siftDown(std::size_t i, Entry e) {
+  const std::size_t n = heap_.size();
+  for (;;) {
+    const std::size_t first = i * kArity + 1;
+    if (first >= n) break;
+    const std::size_t last = std::min(first + kArity, n);
+    std::size_t best = first;
+    for (std::size_t c = first + 1; c < last; ++c)
+      if (heap_[c].key < heap_[best].key) best = c;
+    if (!(heap_[best].key < e.key)) break;
+    heap_[i] = heap_[best];
+    i = best;
+  }
+  heap_[i] = e;
 }
 
 void DStarQueue::adapt(const DStarGoalField& field, SearchStats& stats) {
-  std::vector<Entry> live;
-  live.reserve(heap_.size());
-  for (const Entry& e : heap_) {
-    if (!field.consistent(e.cell) && costEqual(e.key.k2, field.minCost(e.cell))) live.push_back(Entry{calcKey(field, e.cell), e.cell});
-  }
-  std::sort(live.begin(), live.end(), [](const Entry& a, const Entry& b) { return a.cell < b.cell; });
-  live.erase(std::unique(live.begin(), live.end(), [](const Entry& a, const Entry& b) { return a.cell == b.cell; }),
-             live.end());
-  std::make_heap(live.begin(), live.end(), EntryGreater{});
-  stats.queue_pushes += live.size();
-  heap_ = std::move(live);
+  std::size_t out = 0;
+  for (const Entry& e : heap_)
+    if (!field.consistent(e.cell) && costEqual(e.key.k2, field.minCost(e.cell)))
+      heap_[out++] = Entry{calcKey(field, e.cell), e.cell};
+  heap_.resize(out);
+  if (out > 1)
+    for (std::size_t i = (out - 2) / kArity + 1; i-- > 0;) siftDown(i, heap_[i]);
+  stats.queue_pushes += out;
+  compacted_size_ = out;
 }
 
 void dstarInitialize(DStarGoalField& field, DStarQueue& queue, SearchStats& stats) {
-  std::fill(field.g_.begin(), field.g_.end(), kInfiniteCost);
-  std::fill(field.rhs_.begin(), field.rhs_.end(), kInfiniteCost);
-  field.rhs_[field.goal_index_] = 0.0;
+  std::fill(field.cost_.begin(), field.cost_.end(), DStarGoalField::Cost{kInfiniteCost, kInfiniteCost});
+  field.cost_[field.goal_index_].rhs = 0.0;
   queue.push(field.goal_index_, queue.calcKey(field, field.goal_index_), stats);
 }
 
-SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, std::span<DStarQueue* const> mirrors,
-                                      SearchStats& stats, const TerminationCondition& stop) {
+SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, SearchStats& stats,
+                                      const TerminationCondition& stop) {
   const auto t0 = std::chrono::steady_clock::now();
-  const GridLayer& grid = field.grid();
-  const GridMoves& moves = field.moves();
-  const std::uint32_t s = static_cast<std::uint32_t>(grid.index(queue.start()));
+  GridMoveTable& table = *field.table_;
+  table.sync();
+  const GridLayer& grid = table.grid();
+  const GridMoves moves = table.moves();
+  const GridCell sc = queue.start();
+  const auto s = static_cast<std::uint32_t>(grid.index(sc));
   const std::uint32_t goal = field.goal_index_;
-  std::vector<DStarQueue*> all;  // the active queue and its mirrors: where vertex updates go
-  all.reserve(mirrors.size() + 1);
-  all.push_back(&queue);
-  all.insert(all.end(), mirrors.begin(), mirrors.end());
+  const double km = queue.km();
+  DStarGoalField::Cost* const cost = field.cost_.data();
+  const bool log = field.logging_;
+  // UpdateVertex (lines 06-08) after v's rhs or g changed: insert v when it is inconsistent and its
+  // key changed; a consistent v leaves only stale entries behind (lazy remove).
+  auto updated = [&](std::uint32_t v, int vx, int vy, double old_min, bool was_inconsistent) {
+    const double g = cost[v].g, rhs = cost[v].rhs;
+    if (costEqual(g, rhs)) return;
+    const double m = std::min(g, rhs);
+    if (was_inconsistent && costEqual(m, old_min)) return;
+    queue.push(v, DStarKey{m + moves.estimate(sc, GridCell{vx, vy}) + km, m}, stats);
+    if (log) field.record(v);
+  };
   SearchStatus status = SearchStatus::kFound;
   std::uint64_t iterations = 0;
   for (;;) {
     const DStarQueue::Entry* top = queue.top(field, stats);
+    if (top == nullptr) break;  // the start is then consistent: no live entry means no inconsistent cell
     const bool start_inconsistent = !field.consistent(s);
-    if (top == nullptr) break;  // start is then consistent: no live entry means no inconsistent cell
-    if (!(top->key < queue.calcKey(field, s)) && !start_inconsistent) break;
+    if (!(top->key < queue.calcKey(field, s, sc.x, sc.y)) && !start_inconsistent) break;
     if ((++iterations & 1023) == 0 && stop.shouldStop(stats.expansions)) {
       status = SearchStatus::kStopped;
       break;
     }
     const DStarQueue::Entry e = queue.pop(stats);
     const std::uint32_t u = e.cell;
-    const DStarKey k_new = queue.calcKey(field, u);
+    const GridCell uc = grid.cellOf(u);
+    const DStarKey k_new = queue.calcKey(field, u, uc.x, uc.y);
     if (e.key < k_new) {  // k_old < CalcKey(u): only this queue's k_m or start moved; re-key
       queue.push(u, k_new, stats);
       continue;
     }
     ++stats.expansions;
-    const GridCell uc = grid.cellOf(u);
-    if (costLess(field.rhs_[u], field.g_[u])) {  // overconsistent: settle and relax the predecessors
-      field.g_[u] = field.rhs_[u];
-      const double gu = field.g_[u];
-      forEachMove(grid, uc, moves, [&](GridCell p, double c) {
-        const auto pi = static_cast<std::uint32_t>(grid.index(p));
-        if (pi == goal || !costLess(c + gu, field.rhs_[pi])) return;
-        const double old_min = field.minCost(pi);
-        const bool was_inconsistent = !field.consistent(pi);
-        field.rhs_[pi] = c + gu;
-        updateVertex(field, pi, old_min, was_inconsistent, all, stats);
-      });
+    unsigned mask = table.mask(u);
+    if (costLess(cost[u].rhs, cost[u].g)) {  // overconsistent: settle and relax the predecessors
+      const double gu = cost[u].rhs;
+      cost[u].g = gu;
+      while (mask != 0) {
+        const int k = std::countr_zero(mask);
+        mask &= mask - 1;
+        const auto p = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(u) + table.delta(k));
+        const double v = table.cost(k) + gu;
+        if (p == goal || !costLess(v, cost[p].rhs)) continue;
+        const double old_min = std::min(cost[p].g, cost[p].rhs);
+        const bool was_inconsistent = !costEqual(cost[p].g, cost[p].rhs);
+        cost[p].rhs = v;
+        const GridOffset d = kGridOffsets[static_cast<std::size_t>(k)];
+        updated(p, uc.x + d.dx, uc.y + d.dy, old_min, was_inconsistent);
+      }
     } else {  // underconsistent: invalidate and let the predecessors that used u look again
-      const double g_old = field.g_[u];
-      field.g_[u] = kInfiniteCost;
-      updateVertex(field, u, g_old, true, all, stats);
-      forEachMove(grid, uc, moves, [&](GridCell p, double c) {
-        const auto pi = static_cast<std::uint32_t>(grid.index(p));
-        if (pi == goal || !costEqual(field.rhs_[pi], c + g_old)) return;
-        const double old_min = field.minCost(pi);
-        const bool was_inconsistent = !field.consistent(pi);
-        field.rhs_[pi] = field.bestRhs(pi);
-        updateVertex(field, pi, old_min, was_inconsistent, all, stats);
-      });
+      const double g_old = cost[u].g;
+      cost[u].g = kInfiniteCost;
+      updated(u, uc.x, uc.y, g_old, true);
+      while (mask != 0) {
+        const int k = std::countr_zero(mask);
+        mask &= mask - 1;
+        const auto p = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(u) + table.delta(k));
+        if (p == goal || !costEqual(cost[p].rhs, table.cost(k) + g_old)) continue;
+        const double old_min = std::min(cost[p].g, cost[p].rhs);
+        const bool was_inconsistent = !costEqual(cost[p].g, cost[p].rhs);
+        cost[p].rhs = field.bestRhs(p);
+        const GridOffset d = kGridOffsets[static_cast<std::size_t>(k)];
+        updated(p, uc.x + d.dx, uc.y + d.dy, old_min, was_inconsistent);
+      }
     }
   }
-  if (status == SearchStatus::kFound && !(field.g_[s] < kInfiniteCost)) status = SearchStatus::kNoPath;
+  // This queue holds its own insertions already: it has read the log up to its end.
+  if (log) field.readLog(queue);
+  if (status == SearchStatus::kFound && !(cost[s].g < kInfiniteCost)) status = SearchStatus::kNoPath;
   stats.time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return status;
 }
 
 void dstarUpdateChangedCells(DStarGoalField& field, std::span<const GridCell> changed,
                              std::span<DStarQueue* const> queues, SearchStats& stats) {
+  field.table_->update(changed);
   const GridLayer& grid = field.grid();
   std::vector<std::uint32_t> touched;
   touched.reserve(changed.size() * 9);
@@ -200,14 +193,54 @@ void dstarUpdateChangedCells(DStarGoalField& field, std::span<const GridCell> ch
     if (u == field.goal_index_) continue;
     const double old_min = field.minCost(u);
     const bool was_inconsistent = !field.consistent(u);
-    field.rhs_[u] = field.bestRhs(u);
-    updateVertex(field, u, old_min, was_inconsistent, queues, stats);
+    field.cost_[u].rhs = field.bestRhs(u);
+    if (field.consistent(u)) continue;
+    if (was_inconsistent && costEqual(field.minCost(u), old_min)) continue;
+    for (DStarQueue* q : queues) q->push(u, q->calcKey(field, u), stats);
+    if (field.logging_) field.record(u);
   }
+}
+
+void dstarSyncQueue(DStarGoalField& field, DStarQueue& queue, SearchStats& stats) {
+  for (std::size_t i = queue.log_cursor_; i < field.log_.size(); ++i) {
+    const std::uint32_t u = field.log_[i];
+    if (!field.consistent(u)) queue.push(u, queue.calcKey(field, u), stats);
+  }
+  field.readLog(queue);
+  // Lazy deletion leaves stale entries behind; rebuild once they outnumber the live ones.
+  if (queue.size() > 2 * queue.compacted_size_ + 4096) queue.adapt(field, stats);
+}
+
+void dstarTrimLog(DStarGoalField& field, std::span<DStarQueue* const> queues) {
+  std::size_t seen = field.log_.size();
+  for (const DStarQueue* q : queues) seen = std::min(seen, q->log_cursor_);
+  if (seen == 0) return;
+  for (std::size_t i = field.log_fresh_; i < seen; ++i) field.logged_[field.log_[i]] = 0;
+  field.log_.erase(field.log_.begin(), field.log_.begin() + static_cast<std::ptrdiff_t>(seen));
+  field.log_fresh_ = std::max(field.log_fresh_, seen) - seen;
+  for (DStarQueue* q : queues) q->log_cursor_ -= seen;
+}
+
+void DStarGoalField::readLog(DStarQueue& queue) {
+  // A later key change of any logged cell must be logged again, or this queue would miss it.
+  for (std::size_t i = log_fresh_; i < log_.size(); ++i) logged_[log_[i]] = 0;
+  log_fresh_ = log_.size();
+  queue.log_cursor_ = log_.size();
+}
+
+void DStarGoalField::setLogging(bool on) {
+  logging_ = on;
+  if (on && logged_.empty()) logged_.assign(cost_.size(), 0);
 }
 
 DStarLite::DStarLite(const GridLayer& grid, GridCell start, GridCell goal, const GridMoves& moves)
     : field_(grid, goal, moves), queue_(start, 0.0), last_start_(start) {
   if (grid.passable(goal)) dstarInitialize(field_, queue_, stats_);
+}
+
+DStarLite::DStarLite(std::shared_ptr<GridMoveTable> table, GridCell start, GridCell goal)
+    : field_(std::move(table), goal), queue_(start, 0.0), last_start_(start) {
+  if (field_.grid().passable(goal)) dstarInitialize(field_, queue_, stats_);
 }
 
 SearchStatus DStarLite::computeShortestPath(const TerminationCondition& stop) {
@@ -220,7 +253,7 @@ SearchStatus DStarLite::computeShortestPath(const TerminationCondition& stop) {
     queue_.setKm(queue_.km() + field_.moves().estimate(last_start_, queue_.start()));
     last_start_ = queue_.start();
   }
-  return dstarComputeShortestPath(field_, queue_, {}, stats_, stop);
+  return dstarComputeShortestPath(field_, queue_, stats_, stop);
 }
 
 void DStarLite::updateCells(std::span<const GridCell> changed) {

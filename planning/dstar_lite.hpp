@@ -4,9 +4,15 @@
 // The parts are split the way MMD*L (mmdstar_lite.hpp) needs them: DStarGoalField holds g and rhs
 // of every cell for one goal (independent of the start, seed section 3.2), DStarQueue is the
 // priority queue U of one start with its k_m, and the free functions run ComputeShortestPath and
-// the edge-cost repair on a field with one active queue plus any queues sharing the field
-// (MMD*L's lines 20-30: every vertex update is mirrored into them). DStarLite is the plain
-// single-pair planner built from the same parts.
+// the edge-cost repair on a field and one queue. DStarLite is the plain single-pair planner built
+// from the same parts.
+//
+// Sharing a field between the queues of several starts (MMD*L replanning, lines 20-30 and 63-65 of
+// the seed): with the field's update log on, every vertex update that inserts a cell into the
+// active queue is also recorded once in the field; another start's queue replays the records it
+// has not seen when it is loaded (dstarSyncQueue), inserting the cells that are still inconsistent
+// with its own start and k_m. Its live content is then exactly what inserting into every queue at
+// each update would have left there, without one push per queue and update.
 //
 // Queue entries are deleted lazily: an entry is live while its cell is inconsistent and its k2
 // equals the cell's current min(g, rhs); a stale one is dropped when it reaches the top. A live
@@ -15,8 +21,10 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -37,8 +45,11 @@ inline bool costEqual(double a, double b) { return a == b || std::abs(a - b) <= 
 struct DStarKey {
   double k1 = kInfiniteCost;
   double k2 = kInfiniteCost;
+  // costLess(k1) || (costEqual(k1) && costLess(k2)), written with fewer branches: the priority
+  // queue spends most of its time here. (Given !costLess(a.k1, b.k1), costEqual is a.k1 <= b.k1 + tol,
+  // infinities included.)
   friend bool operator<(const DStarKey& a, const DStarKey& b) {
-    return costLess(a.k1, b.k1) || (costEqual(a.k1, b.k1) && costLess(a.k2, b.k2));
+    return (a.k1 < b.k1 - kCostTolerance) | ((a.k1 <= b.k1 + kCostTolerance) & (a.k2 < b.k2 - kCostTolerance));
   }
 };
 
@@ -48,43 +59,83 @@ class DStarQueue;
 class DStarGoalField {
  public:
   DStarGoalField(const GridLayer& grid, GridCell goal, const GridMoves& moves);
+  // Several fields on the same grid can share one move table (MMD*L: one per mission).
+  DStarGoalField(std::shared_ptr<GridMoveTable> table, GridCell goal);
 
-  const GridLayer& grid() const { return *grid_; }
-  const GridMoves& moves() const { return moves_; }
+  const GridLayer& grid() const { return table_->grid(); }
+  const GridMoves& moves() const { return table_->moves(); }
+  GridMoveTable& table() const { return *table_; }
   GridCell goal() const { return goal_; }
   std::uint32_t goalIndex() const { return goal_index_; }
 
-  double g(std::uint32_t i) const { return g_[i]; }
-  double rhs(std::uint32_t i) const { return rhs_[i]; }
-  double minCost(std::uint32_t i) const { return std::min(g_[i], rhs_[i]); }
-  bool consistent(std::uint32_t i) const { return costEqual(g_[i], rhs_[i]); }
+  double g(std::size_t i) const { return cost_[i].g; }
+  double rhs(std::size_t i) const { return cost_[i].rhs; }
+  double minCost(std::size_t i) const { return std::min(cost_[i].g, cost_[i].rhs); }
+  bool consistent(std::size_t i) const { return costEqual(cost_[i].g, cost_[i].rhs); }
   // Cost to the goal of a cell whose search is complete (g); infinity when not reached.
-  double costFrom(GridCell c) const { return grid_->inside(c) ? g_[grid_->index(c)] : kInfiniteCost; }
+  double costFrom(GridCell c) const { return grid().inside(c) ? cost_[grid().index(c)].g : kInfiniteCost; }
 
   // rhs from the successors: min over moves of c(u, s') + g(s') (eq. 2, u != goal).
-  double bestRhs(std::uint32_t i) const;
+  double bestRhs(std::size_t i) const {
+    double best = kInfiniteCost;
+    unsigned m = table_->mask(i);
+    while (m != 0) {
+      const int k = std::countr_zero(m);
+      m &= m - 1;
+      const double v = table_->cost(k) + cost_[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(i) + table_->delta(k))].g;
+      if (v < best) best = v;
+    }
+    return best;
+  }
   // Greedy step towards the goal: the neighbour minimising c(u, s') + g(s'); `from` when none.
   GridCell nextCell(GridCell from) const;
   // The path from `start` to the goal following nextCell; empty when it does not reach the goal.
   std::vector<GridCell> pathFrom(GridCell start) const;
 
-  std::size_t memoryBytes() const { return (g_.capacity() + rhs_.capacity()) * sizeof(double); }
+  // The update log (see the file comment); off by default.
+  void setLogging(bool on);
+  bool logging() const { return logging_; }
+  std::size_t logSize() const { return log_.size(); }
+
+  std::size_t memoryBytes() const {
+    return cost_.capacity() * sizeof(Cost) + logged_.capacity() + log_.capacity() * sizeof(std::uint32_t);
+  }
 
  private:
-  friend SearchStatus dstarComputeShortestPath(DStarGoalField&, DStarQueue&, std::span<DStarQueue* const>,
-                                               SearchStats&, const TerminationCondition&);
+  friend class DStarQueue;
+  friend SearchStatus dstarComputeShortestPath(DStarGoalField&, DStarQueue&, SearchStats&, const TerminationCondition&);
   friend void dstarUpdateChangedCells(DStarGoalField&, std::span<const GridCell>, std::span<DStarQueue* const>,
                                       SearchStats&);
   friend void dstarInitialize(DStarGoalField&, DStarQueue&, SearchStats&);
-  const GridLayer* grid_;
-  GridMoves moves_;
+  friend void dstarSyncQueue(DStarGoalField&, DStarQueue&, SearchStats&);
+  friend void dstarTrimLog(DStarGoalField&, std::span<DStarQueue* const>);
+
+  // g and rhs side by side: every access reads both.
+  struct Cost {
+    double g;
+    double rhs;
+  };
+  // Moves `queue`'s cursor to the end of the log.
+  void readLog(DStarQueue& queue);
+  void record(std::uint32_t u) {
+    if (logged_[u] == 0) {
+      logged_[u] = 1;
+      log_.push_back(u);
+    }
+  }
+
+  std::shared_ptr<GridMoveTable> table_;
   GridCell goal_;
   std::uint32_t goal_index_;
-  std::vector<double> g_;
-  std::vector<double> rhs_;
+  std::vector<Cost> cost_;
+  bool logging_ = false;
+  std::vector<std::uint32_t> log_;  // cells whose key changed while they were inconsistent
+  // 1: in log_ after every queue's cursor, so not recorded again (every queue will read it).
+  std::vector<std::uint8_t> logged_;
+  std::size_t log_fresh_ = 0;  // log_ entries from here on have their flag set
 };
 
-// Priority queue U of one start: the start cell, its k_m and a lazily cleaned binary heap.
+// Priority queue U of one start: the start cell, its k_m and a lazily cleaned 4-ary heap.
 class DStarQueue {
  public:
   struct Entry {
@@ -101,35 +152,80 @@ class DStarQueue {
   void setKm(double km) { km_ = km; }
 
   // CalcKey (eq. 3) for this queue's start and k_m.
-  DStarKey calcKey(const DStarGoalField& field, std::uint32_t cell) const;
+  DStarKey calcKey(const DStarGoalField& field, std::uint32_t cell) const {
+    const GridCell c = field.grid().cellOf(cell);
+    return calcKey(field, cell, c.x, c.y);
+  }
+  DStarKey calcKey(const DStarGoalField& field, std::uint32_t cell, int x, int y) const {
+    const double m = field.minCost(cell);
+    return DStarKey{m + field.moves().estimate(start_, GridCell{x, y}) + km_, m};
+  }
 
-  void push(std::uint32_t cell, DStarKey key, SearchStats& stats);
+  void push(std::uint32_t cell, DStarKey key, SearchStats& stats) {
+    heap_.push_back(Entry{key, cell});
+    siftUp(heap_.size() - 1);
+    ++stats.queue_pushes;
+  }
   // Top live entry after dropping stale ones, or nullptr when none is left.
-  const Entry* top(const DStarGoalField& field, SearchStats& stats);
-  Entry pop(SearchStats& stats);
+  const Entry* top(const DStarGoalField& field, SearchStats& stats) {
+    while (!heap_.empty()) {
+      const Entry& e = heap_.front();
+      if (!field.consistent(e.cell) && costEqual(e.key.k2, field.minCost(e.cell))) return &heap_.front();
+      removeTop();
+      ++stats.queue_pops;
+    }
+    return nullptr;
+  }
+  Entry pop(SearchStats& stats) {
+    const Entry e = heap_.front();
+    removeTop();
+    ++stats.queue_pops;
+    return e;
+  }
   // Inconsistent cell adaptation (seed 3.3, lines 31-32): recompute every live cell's key for the
-  // current start and k_m, drop stale and duplicate entries, and rebuild the heap.
+  // current start and k_m, drop stale entries, and rebuild the heap.
   void adapt(const DStarGoalField& field, SearchStats& stats);
   std::size_t size() const { return heap_.size(); }
 
  private:
+  friend class DStarGoalField;
+  friend void dstarSyncQueue(DStarGoalField&, DStarQueue&, SearchStats&);
+  friend void dstarTrimLog(DStarGoalField&, std::span<DStarQueue* const>);
+  friend SearchStatus dstarComputeShortestPath(DStarGoalField&, DStarQueue&, SearchStats&, const TerminationCondition&);
+  static constexpr std::size_t kArity = 4;  // shallower than binary, children share a cache line
+  void siftUp(std::size_t i);
+  void siftDown(std::size_t i, Entry e);
+  void removeTop() {
+    const Entry last = heap_.back();
+    heap_.pop_back();
+    if (!heap_.empty()) siftDown(0, last);
+  }
+
   GridCell start_;
   double km_ = 0.0;
   std::vector<Entry> heap_;
+  std::size_t log_cursor_ = 0;      // the field's log entries before this are in the heap
+  std::size_t compacted_size_ = 0;  // size after the last adapt: grows of stale entries trigger one
 };
 
-// ComputeShortestPath (optimised D* Lite; lines 09-30 of the seed). `mirrors` are the queues of
-// other starts sharing the field: every vertex update is inserted there too, with their own start
-// and k_m (MMD*L replanning); empty for plain D* Lite and for MMD*L preplanning.
-SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, std::span<DStarQueue* const> mirrors,
-                                      SearchStats& stats, const TerminationCondition& stop);
+// ComputeShortestPath (optimised D* Lite; lines 09-19 of the seed) with `queue` as U. When the
+// field logs, every insertion is recorded for the other queues sharing the field (lines 20-30).
+SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, SearchStats& stats,
+                                      const TerminationCondition& stop);
 
 // Repairs rhs after the blocked state of `changed` cells flipped (the grid already shows the new
 // state): every move touching a changed cell, including diagonals cut at its corner, has both ends
 // in its 8-neighbourhood, so those cells' rhs is recomputed and the vertex updated in every queue
-// of `queues` (seed lines 63-65).
+// of `queues` and, when the field logs, recorded for the others (seed lines 63-65).
 void dstarUpdateChangedCells(DStarGoalField& field, std::span<const GridCell> changed,
                              std::span<DStarQueue* const> queues, SearchStats& stats);
+
+// Loading a start's queue (line 26/69 "load U"): inserts the logged cells it has not seen yet that
+// are still inconsistent, keyed with its current start and k_m; adapts it when stale entries have
+// piled up.
+void dstarSyncQueue(DStarGoalField& field, DStarQueue& queue, SearchStats& stats);
+// Drops the log entries every queue of `queues` (all queues sharing the field) has seen.
+void dstarTrimLog(DStarGoalField& field, std::span<DStarQueue* const> queues);
 
 // Initialize() (lines 01-05) for a new field: puts the goal into `queue`.
 void dstarInitialize(DStarGoalField& field, DStarQueue& queue, SearchStats& stats);
@@ -138,6 +234,8 @@ void dstarInitialize(DStarGoalField& field, DStarQueue& queue, SearchStats& stat
 class DStarLite {
  public:
   DStarLite(const GridLayer& grid, GridCell start, GridCell goal, const GridMoves& moves = {});
+  // Many pairs on one grid can share a move table (the per-pair baseline of MMD*L).
+  DStarLite(std::shared_ptr<GridMoveTable> table, GridCell start, GridCell goal);
 
   // kInvalidStart / kInvalidGoal when outside or blocked (checked before any search).
   SearchStatus computeShortestPath(const TerminationCondition& stop = {});

@@ -126,6 +126,50 @@ std::vector<double> dijkstraCostField(const GridLayer& grid, GridCell source, co
   return dist;
 }
 
+GridMoveTable::GridMoveTable(const GridLayer& grid, const GridMoves& moves)
+    : grid_(&grid), moves_(moves), mask_(grid.cellCount(), 0) {
+  for (int k = 0; k < 8; ++k) {
+    const GridOffset d = kGridOffsets[static_cast<std::size_t>(k)];
+    delta_[static_cast<std::size_t>(k)] = static_cast<std::ptrdiff_t>(d.dy) * grid.width() + d.dx;
+    cost_[static_cast<std::size_t>(k)] = (d.dx != 0 && d.dy != 0) ? moves.diagonal_cost : 1.0;
+  }
+  rebuild();
+}
+
+void GridMoveTable::refresh(GridCell c) {
+  // The same rule as moveCost, from the 3x3 block read once.
+  bool blocked[3][3];
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) blocked[dy + 1][dx + 1] = grid_->blocked(GridCell{c.x + dx, c.y + dy});
+  std::uint8_t m = 0;
+  if (!blocked[1][1]) {
+    for (int k = 0; k < 8; ++k) {
+      const GridOffset d = kGridOffsets[static_cast<std::size_t>(k)];
+      if (blocked[d.dy + 1][d.dx + 1]) continue;
+      if (d.dx != 0 && d.dy != 0 && !moves_.corner_cutting && (blocked[1][d.dx + 1] || blocked[d.dy + 1][1])) continue;
+      m = static_cast<std::uint8_t>(m | (1u << k));
+    }
+  }
+  mask_[grid_->index(c)] = m;
+}
+
+void GridMoveTable::rebuild() {
+  for (int y = 0; y < grid_->height(); ++y)
+    for (int x = 0; x < grid_->width(); ++x) refresh(GridCell{x, y});
+  version_ = grid_->version();
+}
+
+void GridMoveTable::update(std::span<const GridCell> changed) {
+  if (version_ == grid_->version()) return;
+  for (const GridCell& c : changed)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const GridCell n{c.x + dx, c.y + dy};
+        if (grid_->inside(n)) refresh(n);
+      }
+  version_ = grid_->version();
+}
+
 std::vector<std::uint8_t> reachableCells(const GridLayer& grid, GridCell source, const GridMoves& moves) {
   std::vector<std::uint8_t> seen(grid.cellCount(), 0);
   if (grid.blocked(source)) return seen;

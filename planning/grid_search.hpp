@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -26,6 +27,10 @@ struct GridMoves {
   };
   double diagonal_cost = std::numbers::sqrt2;
   Heuristic heuristic = Heuristic::kOctile;
+  // false (the project's rule, DESIGN.md): a diagonal move needs both orthogonal neighbours free.
+  // true: only its two ends must be free, as in the seed's simulation (section IV), where c(s, s')
+  // is infinite only when s or s' is an obstacle.
+  bool corner_cutting = false;
 
   // The paper's rules: diagonal 1.4, Chebyshev heuristic.
   static GridMoves paper() { return GridMoves{1.4, Heuristic::kChebyshev}; }
@@ -55,7 +60,7 @@ inline double moveCost(const GridLayer& grid, GridCell a, GridOffset d, const Gr
   const GridCell b{a.x + d.dx, a.y + d.dy};
   if (grid.blocked(a) || grid.blocked(b)) return kInfiniteCost;
   if (d.dx != 0 && d.dy != 0) {
-    if (grid.blocked(GridCell{a.x + d.dx, a.y}) || grid.blocked(GridCell{a.x, a.y + d.dy})) return kInfiniteCost;
+    if (!moves.corner_cutting && (grid.blocked(GridCell{a.x + d.dx, a.y}) || grid.blocked(GridCell{a.x, a.y + d.dy}))) return kInfiniteCost;
     return moves.diagonal_cost;
   }
   return 1.0;
@@ -69,6 +74,41 @@ void forEachMove(const GridLayer& grid, GridCell a, const GridMoves& moves, F&& 
     if (c < kInfiniteCost) f(GridCell{a.x + d.dx, a.y + d.dy}, c);
   }
 }
+
+// The allowed moves of every cell as a bit mask (bit k: kGridOffsets[k]), for the incremental
+// searches: their inner loops then walk neighbours by flat index, with no bounds or corner tests.
+// It follows the grid through the changed cells the searches are told about (update), and rebuilds
+// itself when the grid changed behind its back (sync, by GridLayer::version).
+class GridMoveTable {
+ public:
+  GridMoveTable(const GridLayer& grid, const GridMoves& moves);
+
+  const GridLayer& grid() const { return *grid_; }
+  const GridMoves& moves() const { return moves_; }
+  std::uint8_t mask(std::size_t i) const { return mask_[i]; }
+  // Index offset and cost of move k.
+  std::ptrdiff_t delta(int k) const { return delta_[k]; }
+  double cost(int k) const { return cost_[k]; }
+
+  // Refreshes the masks of the 3x3 neighbourhood of every changed cell (a move's cost depends only
+  // on cells in its start's 3x3 block), once per grid version however many searches ask.
+  void update(std::span<const GridCell> changed);
+  // Full rebuild when the grid's version moved without an update().
+  void sync() {
+    if (version_ != grid_->version()) rebuild();
+  }
+
+ private:
+  void rebuild();
+  void refresh(GridCell c);
+
+  const GridLayer* grid_;
+  GridMoves moves_;
+  std::vector<std::uint8_t> mask_;
+  std::array<std::ptrdiff_t, 8> delta_{};
+  std::array<double, 8> cost_{};
+  std::uint64_t version_ = 0;
+};
 
 // Counters every search reports; queue operations count pushes and pops of its priority queue.
 struct SearchStats {

@@ -17,7 +17,7 @@ SearchStatus SharedGoalSearch::solveFrom(GridCell start, const TerminationCondit
   } else {
     queue_.adapt(field_, stats_);
   }
-  return dstarComputeShortestPath(field_, queue_, {}, stats_, stop);
+  return dstarComputeShortestPath(field_, queue_, stats_, stop);
 }
 
 MmdStarLite::MmdStarLite(const GridLayer& grid, std::vector<GridCell> points, const GridMoves& moves)
@@ -42,11 +42,12 @@ const DStarGoalField* MmdStarLite::field(int goal_point) const {
 
 SearchStatus MmdStarLite::preplan(const TerminationCondition& stop) {
   goals_.clear();
+  table_ = std::make_shared<GridMoveTable>(*grid_, moves_);
   SearchStatus status = SearchStatus::kFound;
   for (int goal_point : remainingGoals()) {  // line 33
     GoalSlot goal;
     goal.point = goal_point;
-    goal.field = std::make_unique<DStarGoalField>(*grid_, points_[goal_point], moves_);
+    goal.field = std::make_unique<DStarGoalField>(table_, points_[goal_point]);
     const std::vector<int> starts = startsFor(goal_point);
     if (starts.empty()) continue;
     // One U carried from start to start (lines 34-38).
@@ -56,7 +57,7 @@ SearchStatus MmdStarLite::preplan(const TerminationCondition& stop) {
       carried.setStart(startCell(start_point));
       carried.setKm(0.0);
       carried.adapt(*goal.field, stats_);  // line 37
-      const SearchStatus s = dstarComputeShortestPath(*goal.field, carried, {}, stats_, stop);  // line 38
+      const SearchStatus s = dstarComputeShortestPath(*goal.field, carried, stats_, stop);  // line 38
       if (s == SearchStatus::kStopped) status = s;
       if (status == SearchStatus::kStopped) break;
     }
@@ -68,6 +69,8 @@ SearchStatus MmdStarLite::preplan(const TerminationCondition& stop) {
       st.queue.adapt(*goal.field, stats_);
       goal.starts.push_back(std::move(st));
     }
+    // From now on the starts share their insertions through the field (lines 20-30).
+    goal.field->setLogging(true);
     goals_.push_back(std::move(goal));
     if (status == SearchStatus::kStopped) break;
   }
@@ -87,13 +90,12 @@ SearchStatus MmdStarLite::applyChanges(std::span<const GridCell> changed, const 
       st.queue.setStart(startCell(st.point));
       queues.push_back(&st.queue);
     }
-    dstarUpdateChangedCells(*goal.field, changed, queues, stats_);  // lines 58-65
-    for (std::size_t i = 0; i < queues.size(); ++i) {               // lines 66-70
-      std::vector<DStarQueue*> mirrors;
-      mirrors.reserve(queues.size());
-      for (std::size_t j = 0; j < queues.size(); ++j)
-        if (j != i) mirrors.push_back(queues[j]);
-      const SearchStatus s = dstarComputeShortestPath(*goal.field, *queues[i], mirrors, stats_, stop);
+    dstarTrimLog(*goal.field, queues);
+    // Lines 58-65: rhs repaired once per goal; the insertions reach each queue when it is loaded.
+    dstarUpdateChangedCells(*goal.field, changed, {}, stats_);
+    for (DStarQueue* q : queues) {  // lines 66-70
+      dstarSyncQueue(*goal.field, *q, stats_);  // line 69: load U with what the others inserted
+      const SearchStatus s = dstarComputeShortestPath(*goal.field, *q, stats_, stop);
       if (s == SearchStatus::kStopped) return s;
     }
   }

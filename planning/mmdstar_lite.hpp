@@ -5,10 +5,13 @@
 // (section 3.2). Each start keeps its own queue U:
 //  - preplanning (lines 33-42): per goal one queue is carried from start to start, re-keyed by
 //    inconsistent cell adaptation, and each start gets a copy adapted to it at the end;
-//  - replanning (lines 51-71): changed cells update the vertex in every queue of the goal, then each
-//    start's ComputeShortestPath mirrors its vertex updates into the other queues of the goal,
+//  - replanning (lines 51-71): changed cells update the vertex once per goal, then each start's
+//    ComputeShortestPath runs on its own queue; every insertion into U (from the changed cells or
+//    from another start's expansions) reaches the queues of the other starts of the goal, keyed
 //    with k_m = 0 for starts that are mission points not reached yet and the vehicle's k_m for the
-//    vehicle's queue (lines 20-30, 60-61, 67-68).
+//    vehicle's queue (lines 20-30, 60-61, 67-68). The insertions are recorded once in the field and
+//    replayed into a queue when it is loaded (dstar_lite.hpp), which leaves the same live entries
+//    as inserting into every queue at every update, at a fraction of the queue operations.
 // Memory: n+1 maps of g/rhs (plus the queues, which hold only inconsistent cells).
 #pragma once
 
@@ -73,6 +76,7 @@ class MmdStarLite final : public MissionSearch {
   GoalSlot* slot(int goal_point);
   const GoalSlot* slot(int goal_point) const;
 
+  std::shared_ptr<GridMoveTable> table_;  // shared by every field
   std::vector<GoalSlot> goals_;
 };
 

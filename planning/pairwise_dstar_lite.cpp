@@ -18,9 +18,10 @@ SearchStatus PairwiseDStarLite::run(DStarLite& search, const TerminationConditio
 
 SearchStatus PairwiseDStarLite::preplan(const TerminationCondition& stop) {
   pairs_.clear();
+  table_ = std::make_shared<GridMoveTable>(*grid_, moves_);
   for (int goal : remainingGoals()) {
     for (int start : startsFor(goal)) {
-      auto search = std::make_unique<DStarLite>(*grid_, startCell(start), points_[goal], moves_);
+      auto search = std::make_unique<DStarLite>(table_, startCell(start), points_[goal]);
       // The initial goal insertion is a queue operation of this pair too.
       stats_.queue_pushes += search->stats().queue_pushes;
       search->resetStats();

@@ -28,6 +28,7 @@ class PairwiseDStarLite final : public MissionSearch {
  private:
   SearchStatus run(DStarLite& search, const TerminationCondition& stop);
 
+  std::shared_ptr<GridMoveTable> table_;  // shared by every pair (it holds no search state)
   std::map<std::pair<int, int>, std::unique_ptr<DStarLite>> pairs_;  // (start, goal)
 };
 

@@ -14,6 +14,13 @@
 namespace skyroute {
 namespace {
 
+// The seed's simulation rule: diagonal moves may pass between two blocked cells.
+GridMoves cornerCuttingMoves() {
+  GridMoves m = GridMoves::paper();
+  m.corner_cutting = true;
+  return m;
+}
+
 void checkScenario(const std::string& map_path, const std::string& scen_path) {
   auto grid = loadMovingAiMap(map_path);
   ASSERT_TRUE(grid.ok()) << grid.error().describe();
@@ -62,7 +69,7 @@ GridCell randomFree(const GridLayer& grid, std::mt19937& rng) {
 // The vehicle walks towards the goal; every few steps random cells flip (obstacles added and
 // removed, never at the vehicle or the goal). After each repair the cost equals Dijkstra's.
 TEST(DStarLite, ReplanningMatchesDijkstraWhileStartMovesAndCellsChange) {
-  for (const GridMoves moves : {GridMoves{}, GridMoves::paper()}) {
+  for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
     std::mt19937 rng(42);
     for (int trial = 0; trial < 8; ++trial) {
       GridLayer grid = randomGrid(50, 40, 0.2, rng);

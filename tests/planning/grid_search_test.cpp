@@ -73,6 +73,67 @@ TEST(GridSearch, NoCornerCutting) {
   EXPECT_DOUBLE_EQ(p.cost, 2.0);
 }
 
+TEST(GridSearch, CornerCuttingOptionOnlyNeedsBothEndsFree) {
+  GridLayer grid(3, 3);
+  const std::vector<GridCell> walls{{1, 0}, {0, 1}};
+  grid.setStaticBlocked(walls, true);
+  GridMoves cut = GridMoves::paper();
+  cut.corner_cutting = true;
+  // Both orthogonal cells blocked: only the corner-cutting rule lets (0,0) reach (1,1) at all.
+  EXPECT_EQ(moveCost(grid, {0, 0}, {1, 1}, GridMoves::paper()), kInfiniteCost);
+  EXPECT_DOUBLE_EQ(moveCost(grid, {0, 0}, {1, 1}, cut), 1.4);
+  EXPECT_EQ(astarSearch(grid, {0, 0}, {2, 2}, GridMoves::paper()).status, SearchStatus::kNoPath);
+  const GridPath p = astarSearch(grid, {0, 0}, {2, 2}, cut);
+  ASSERT_EQ(p.status, SearchStatus::kFound);
+  EXPECT_NEAR(p.cost, 2.8, 1e-12);
+  // A blocked end still forbids the move.
+  EXPECT_EQ(moveCost(grid, {0, 0}, {1, 0}, cut), kInfiniteCost);
+}
+
+// The move table the incremental searches walk must say exactly what moveCost says, after
+// reported changes (update) and after changes it was not told about (sync).
+TEST(GridSearch, MoveTableFollowsTheGrid) {
+  std::mt19937 rng(5);
+  for (const bool cut : {false, true}) {
+    GridMoves moves;
+    moves.corner_cutting = cut;
+    GridLayer grid(23, 17);
+    GridMoveTable table(grid, moves);
+    auto expectSame = [&](const char* when) {
+      for (int y = 0; y < grid.height(); ++y)
+        for (int x = 0; x < grid.width(); ++x)
+          for (int k = 0; k < 8; ++k) {
+            const double c = moveCost(grid, {x, y}, kGridOffsets[static_cast<std::size_t>(k)], moves);
+            const bool allowed = (table.mask(grid.index({x, y})) >> k) & 1u;
+            ASSERT_EQ(allowed, c < kInfiniteCost) << when << " at (" << x << ", " << y << ") move " << k;
+            if (allowed) {
+              ASSERT_EQ(table.cost(k), c);
+              const GridOffset d = kGridOffsets[static_cast<std::size_t>(k)];
+              ASSERT_EQ(static_cast<std::ptrdiff_t>(grid.index({x, y})) + table.delta(k),
+                        static_cast<std::ptrdiff_t>(grid.index({x + d.dx, y + d.dy})));
+            }
+          }
+    };
+    expectSame("empty");
+    std::uniform_int_distribution<int> ux(0, grid.width() - 1), uy(0, grid.height() - 1);
+    for (int round = 0; round < 20; ++round) {
+      std::vector<GridCell> flip;
+      for (int k = 0; k < 15; ++k) flip.push_back({ux(rng), uy(rng)});
+      std::vector<GridCell> changed;
+      for (const GridCell& c : flip) {
+        const std::vector<GridCell> one{c};
+        for (const GridCell& d : grid.setStaticBlocked(one, !grid.staticBlocked(c))) changed.push_back(d);
+      }
+      if (round % 4 == 3) {
+        table.sync();  // not told which cells changed
+      } else {
+        table.update(changed);
+      }
+      expectSame(round % 4 == 3 ? "after sync" : "after update");
+    }
+  }
+}
+
 TEST(GridSearch, PaperMovesUseDiagonal14) {
   GridLayer grid(10, 10);
   const GridPath p = astarSearch(grid, {0, 0}, {4, 3}, GridMoves::paper());

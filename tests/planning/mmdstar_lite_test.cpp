@@ -16,6 +16,13 @@
 namespace skyroute {
 namespace {
 
+// The seed's simulation rule: diagonal moves may pass between two blocked cells.
+GridMoves cornerCuttingMoves() {
+  GridMoves m = GridMoves::paper();
+  m.corner_cutting = true;
+  return m;
+}
+
 // Distinct passable points all in the component of the first one.
 std::vector<GridCell> connectedPoints(const GridLayer& grid, int count, std::mt19937& rng) {
   std::uniform_int_distribution<int> ux(0, grid.width() - 1), uy(0, grid.height() - 1);
@@ -57,7 +64,7 @@ void expectMatrixMatchesDijkstra(const MissionSearch& search, const std::string&
 }
 
 TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
-  for (const GridMoves moves : {GridMoves{}, GridMoves::paper()}) {
+  for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
     std::mt19937 rng(2024);
     for (int trial = 0; trial < 6; ++trial) {
       GridLayer grid = randomGrid(60, 50, 0.2, rng);
