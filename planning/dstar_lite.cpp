@@ -85,7 +85,10 @@ void DStarQueue::adapt(const DStarGoalField& field, SearchStats& stats) {
 }
 
 void dstarInitialize(DStarGoalField& field, DStarQueue& queue, SearchStats& stats) {
-  std::fill(field.cost_.begin(), field.cost_.end(), DStarGoalField::Cost{kInfiniteCost, kInfiniteCost});
+  // A new field is already all infinity: writing 16 bytes a cell again costs more than the search
+  // on a large grid that is only partly explored.
+  if (!field.pristine_) std::fill(field.cost_.begin(), field.cost_.end(), DStarGoalField::Cost{kInfiniteCost, kInfiniteCost});
+  field.pristine_ = false;
   field.cost_[field.goal_index_].rhs = 0.0;
   queue.push(field.goal_index_, queue.calcKey(field, field.goal_index_), stats);
 }
@@ -101,6 +104,7 @@ SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, 
   const auto s = static_cast<std::uint32_t>(grid.index(sc));
   const std::uint32_t goal = field.goal_index_;
   const double km = queue.km();
+  field.pristine_ = false;
   DStarGoalField::Cost* const cost = field.cost_.data();
   const bool log = field.logging_;
   // UpdateVertex (lines 06-08) after v's rhs or g changed: insert v when it is inconsistent and its
@@ -176,6 +180,7 @@ SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, 
 void dstarUpdateChangedCells(DStarGoalField& field, std::span<const GridCell> changed,
                              std::span<DStarQueue* const> queues, SearchStats& stats) {
   field.table_->update(changed);
+  field.pristine_ = false;
   const GridLayer& grid = field.grid();
   std::vector<std::uint32_t> touched;
   touched.reserve(changed.size() * 9);

@@ -128,6 +128,7 @@ class DStarGoalField {
   GridCell goal_;
   std::uint32_t goal_index_;
   std::vector<Cost> cost_;
+  bool pristine_ = true;  // every cost still infinite as constructed
   bool logging_ = false;
   std::vector<std::uint32_t> log_;  // cells whose key changed while they were inconsistent
   // 1: in log_ after every queue's cursor, so not recorded again (every queue will read it).
