@@ -21,84 +21,18 @@
 #include "service/world_model.hpp"
 #include "terrain/terrain_world.hpp"
 #include "tests/daemon/daemon_process.hpp"
+#include "tests/daemon/ground_station.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute {
 namespace {
 
 using testing::ChildProcess;
+using testing::Station;
 
 std::string tempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("skyroute_e2e_" + std::to_string(::getpid()) + "_" + name)).string();
 }
-
-// The ground station: a participant of its own with every topic the daemon serves.
-struct Station {
-  dds::Entity participant;
-  std::optional<dds::Writer<MissionRequestData>> requests;
-  std::optional<dds::Writer<CancelRequestData>> cancels;
-  std::optional<dds::Writer<ObstacleUpdateData>> obstacles;
-  std::optional<dds::Reader<PlanStatusData>> statuses;
-  std::optional<dds::Reader<TrajectoryData>> trajectories;
-  std::optional<dds::Reader<ServiceStatusData>> heartbeat;
-  std::optional<dds::Reader<ObstacleUpdateData>> obstacle_echo;
-  std::optional<dds::WaitLoop> loop;
-
-  std::vector<PlanStatusData> status_log;
-  std::vector<TrajectoryData> trajectory_log;
-  std::vector<ObstacleUpdateData> obstacle_log;
-  int heartbeats = 0;
-
-  static std::unique_ptr<Station> open(int domain) {
-    auto s = std::make_unique<Station>();
-    auto participant = dds::createParticipant(domain);
-    if (!participant.ok()) return nullptr;
-    s->participant = std::move(*participant);
-    const dds_entity_t p = s->participant.get();
-    s->requests.emplace(std::move(dds::Writer<MissionRequestData>::create(p).value()));
-    s->cancels.emplace(std::move(dds::Writer<CancelRequestData>::create(p).value()));
-    s->obstacles.emplace(std::move(dds::Writer<ObstacleUpdateData>::create(p).value()));
-    s->statuses.emplace(std::move(dds::Reader<PlanStatusData>::create(p).value()));
-    s->trajectories.emplace(std::move(dds::Reader<TrajectoryData>::create(p).value()));
-    s->heartbeat.emplace(std::move(dds::Reader<ServiceStatusData>::create(p).value()));
-    s->obstacle_echo.emplace(std::move(dds::Reader<ObstacleUpdateData>::create(p).value()));
-    s->loop.emplace(std::move(dds::WaitLoop::create(p).value()));
-    Station* self = s.get();
-    auto ignore = [](const Error&) {};
-    (void)s->loop->add(*s->statuses, [self](PlanStatusData&& x) { self->status_log.push_back(std::move(x)); }, ignore);
-    (void)s->loop->add(*s->trajectories, [self](TrajectoryData&& x) { self->trajectory_log.push_back(std::move(x)); }, ignore);
-    (void)s->loop->add(*s->heartbeat, [self](ServiceStatusData&&) { ++self->heartbeats; }, ignore);
-    (void)s->loop->add(*s->obstacle_echo, [self](ObstacleUpdateData&& x) { self->obstacle_log.push_back(std::move(x)); }, ignore);
-    return s;
-  }
-
-  // Dispatches samples until done() holds or timeout_s passes; returns done().
-  bool pumpUntil(const std::function<bool()>& done, double timeout_s) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-    while (!done()) {
-      const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
-      if (left <= 0) return false;
-      (void)loop->runOnce(std::min(left, 0.05));
-    }
-    return true;
-  }
-
-  std::optional<PlanStatusData> terminal(const std::string& request_id) const {
-    for (const auto& s : status_log)
-      if (s.request_id == request_id && isTerminal(s.state)) return s;
-    return std::nullopt;
-  }
-  bool waitTerminal(const std::vector<std::string>& ids, double timeout_s) {
-    return pumpUntil([&] { return std::all_of(ids.begin(), ids.end(), [&](const auto& id) { return terminal(id).has_value(); }); },
-                     timeout_s);
-  }
-  const TrajectoryData* latest(const std::string& vehicle) const {
-    const TrajectoryData* found = nullptr;
-    for (const auto& t : trajectory_log)
-      if (t.vehicle_id == vehicle && (!found || t.revision >= found->revision)) found = &t;
-    return found;
-  }
-};
 
 class SkyroutedE2E : public ::testing::Test {
  protected:
