@@ -93,6 +93,8 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"replanning", "window_s", "a moving obstacle blocks the stretch it covers in this long, seconds",
        &e.replan.window_s, 0, 3600},
       {"replanning", "max_attempts", "candidates tried per replan", &s.max_attempts, 1, 100},
+      {"replanning", "budget_ms", "wall-time budget of one replan (the first candidate is always finished), milliseconds",
+       &e.replan.replan_budget_ms, 0, 60000},
       {"log", "level", "log level", &c.log_level, -kInf, kInf, {"trace", "debug", "info", "warn", "error"}},
       {"log", "format", "text, or json (one object per line)", &c.log_format, -kInf, kInf, {"text", "json"}},
   };

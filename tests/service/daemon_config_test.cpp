@@ -1,0 +1,73 @@
+// skyrouted's configuration: every key printed by describeDaemonConfig parses back to the same
+// values; unknown sections and keys, wrong types and values out of range are errors naming the key;
+// a malformed file names the line.
+#include <gtest/gtest.h>
+
+#include "service/daemon_config.hpp"
+
+namespace skyroute {
+namespace {
+
+TEST(DaemonConfig, DescribedConfigurationParsesBackToItself) {
+  DaemonConfig config;
+  config.dem_path = "/data/dem/N44W072.hgt";
+  config.domain = 17;
+  config.engine.seed = 99;
+  config.engine.sample_dt_s = 0.5;
+  config.engine.replan.horizon_s = 30.0;
+  config.engine.replanning = false;
+  config.log_format = "json";
+  const std::string text = describeDaemonConfig(config);
+  auto parsed = parseDaemonConfig(text, "described.toml");
+  ASSERT_TRUE(parsed.ok()) << parsed.error().describe() << "\n" << text;
+  EXPECT_EQ(parsed->dem_path, config.dem_path);
+  EXPECT_EQ(parsed->domain, 17);
+  EXPECT_EQ(parsed->engine.seed, 99u);
+  EXPECT_EQ(parsed->engine.sample_dt_s, 0.5);
+  EXPECT_EQ(parsed->engine.replan.horizon_s, 30.0);
+  EXPECT_FALSE(parsed->engine.replanning);
+  EXPECT_EQ(parsed->log_format, "json");
+  EXPECT_EQ(describeDaemonConfig(*parsed), text);
+}
+
+TEST(DaemonConfig, EmptyFileKeepsTheDefaults) {
+  auto parsed = parseDaemonConfig("", "empty.toml");
+  ASSERT_TRUE(parsed.ok());
+  EXPECT_EQ(describeDaemonConfig(*parsed), describeDaemonConfig(DaemonConfig{}));
+}
+
+TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
+  struct Case {
+    std::string text, field;
+    ErrorCode code;
+  };
+  const std::vector<Case> cases = {
+      {"[planing]\nseed = 1\n", "planing", ErrorCode::kInvalidArgument},
+      {"[planning]\nsed = 1\n", "planning.sed", ErrorCode::kInvalidArgument},
+      {"[planning]\nseed = \"one\"\n", "planning.seed", ErrorCode::kInvalidArgument},
+      {"[planning]\nsample_dt_s = -1\n", "planning.sample_dt_s", ErrorCode::kInvalidArgument},
+      {"[planning]\nthreads = 0\n", "planning.threads", ErrorCode::kInvalidArgument},
+      {"[planning]\ndefault_planner = \"magic\"\n", "planning.default_planner", ErrorCode::kInvalidArgument},
+      {"[planning]\nleg_max_iterations = 0\nleg_budget_ms = 0\n", "planning.leg_max_iterations",
+       ErrorCode::kInvalidArgument},
+      {"[dds]\ndomain = 300\n", "dds.domain", ErrorCode::kInvalidArgument},
+      {"[replanning]\nenabled = 1\n", "replanning.enabled", ErrorCode::kInvalidArgument},
+      {"[log]\nformat = \"xml\"\n", "log.format", ErrorCode::kInvalidArgument},
+      {"seed = 1\n", "seed", ErrorCode::kInvalidArgument},
+      {"[planning\nseed = 1\n", "bad.toml", ErrorCode::kParseError},
+  };
+  for (const Case& c : cases) {
+    auto parsed = parseDaemonConfig(c.text, "bad.toml");
+    ASSERT_FALSE(parsed.ok()) << c.text;
+    EXPECT_EQ(parsed.error().code, c.code) << c.text;
+    EXPECT_EQ(parsed.error().field, c.field) << c.text << " -> " << parsed.error().describe();
+  }
+  auto malformed = parseDaemonConfig("[planning\nseed = 1\n", "bad.toml");
+  EXPECT_NE(malformed.error().message.find("bad.toml:1:"), std::string::npos) << malformed.error().message;
+  auto missing = loadDaemonConfig("/nonexistent/skyrouted.toml");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().code, ErrorCode::kFileNotFound);
+}
+
+}  // namespace
+}  // namespace skyroute
