@@ -31,6 +31,25 @@ Result<std::unique_ptr<FlightReplanner>> FlightReplanner::start(std::shared_ptr<
   return r;
 }
 
+Result<std::unique_ptr<FlightReplanner>> FlightReplanner::startWithRoute(std::shared_ptr<const CollisionWorld> world,
+                                                                         std::vector<Eigen::Vector3d> points_m,
+                                                                         const VehicleLimits& limits,
+                                                                         const ReplanOptions& options,
+                                                                         double start_world_s, PlannedRoute route) {
+  if (!(options.period_s > 0.0) || !(options.horizon_s > 0.0) || !(options.check_step_s > 0.0)) {
+    return make_error(ErrorCode::kInvalidArgument, "replan", "period, horizon and check step must be positive");
+  }
+  if (route.legs.size() + 1 != points_m.size() || route.built.knots.empty()) {
+    return make_error(ErrorCode::kInvalidArgument, "route", "must have one leg per pair of points and a trajectory");
+  }
+  std::unique_ptr<FlightReplanner> r(new FlightReplanner());
+  r->world_ = std::move(world);
+  r->limits_ = limits;
+  r->options_ = options;
+  r->adopt(std::move(route), std::move(points_m), start_world_s);
+  return r;
+}
+
 RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>& points, double at_world_s,
                                              const TrajectoryState* state, int attempt) const {
   RouteOptions route = options_.route;

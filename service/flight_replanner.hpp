@@ -63,6 +63,13 @@ class FlightReplanner {
                                                         std::vector<Eigen::Vector3d> points_m,
                                                         const VehicleLimits& limits, const ReplanOptions& options,
                                                         double start_world_s);
+  // The same, flying a route planned elsewhere (another global planner; route.built set, starting
+  // at start_world_s); replans still use RRT* + LOSPO.
+  static Result<std::unique_ptr<FlightReplanner>> startWithRoute(std::shared_ptr<const CollisionWorld> world,
+                                                                 std::vector<Eigen::Vector3d> points_m,
+                                                                 const VehicleLimits& limits,
+                                                                 const ReplanOptions& options, double start_world_s,
+                                                                 PlannedRoute route);
 
   // One cycle at world time now_s.
   ReplanStep step(double now_s);
