@@ -5,7 +5,13 @@
 // Times are processor time (std::clock) of this single-threaded process, so other work on a shared
 // machine does not inflate them; the termination budget is wall time.
 //
+// Also RRT* with LOSPO (planning/rrt_star + planning/lospo through GridMotionValidator).
+//
 //   habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N]
+//               [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP]
+// --budget-s: wall budget per HAB-PP run (default 120); --stable: stable_iterations override;
+// --rrt-iterations: RRT* budget (0 skips that row); --no-hab: only the reference rows;
+// --weights: eq. (2) weights instead of the paper's 1/3 each.
 //
 // Writes nothing; docs/benchmarks/habpp.md records its output.
 #include <algorithm>
@@ -18,7 +24,10 @@
 #include <vector>
 
 #include "planning/any_angle_search.hpp"
+#include "planning/grid_motion_validator.hpp"
 #include "planning/hab_pp.hpp"
+#include "planning/lospo.hpp"
+#include "planning/rrt_star.hpp"
 #include "terrain/movingai.hpp"
 
 namespace {
@@ -30,6 +39,7 @@ struct Case {
   std::string file;
   int x0, y0, width, height;  // crop; width 0 = whole map
   GridCell start, goal;       // in the cropped map's coordinates
+  std::uint64_t rrt_iterations;  // RRT* + LOSPO budget: a few times what its first path needs here
 };
 
 GridLayer crop(const GridLayer& full, int x0, int y0, int width, int height) {
@@ -98,10 +108,62 @@ double median(std::vector<double> v) {
 double maxOf(const std::vector<double>& v) { return v.empty() ? NAN : *std::max_element(v.begin(), v.end()); }
 double minOf(const std::vector<double>& v) { return v.empty() ? NAN : *std::min_element(v.begin(), v.end()); }
 
+void printRow(const char* name, const Stats& s, int runs);
+double cpuSince(std::clock_t c0) { return static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC; }
+
+// Sum of turning angles of a polyline (x, y only).
+double angleChange(const std::vector<Eigen::Vector3d>& p) {
+  double sum = 0.0;
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+    const Eigen::Vector2d u = (p[i] - p[i - 1]).head<2>(), v = (p[i + 1] - p[i]).head<2>();
+    if (u.norm() > 0.0 && v.norm() > 0.0) sum += std::acos(std::clamp(u.dot(v) / (u.norm() * v.norm()), -1.0, 1.0));
+  }
+  return sum;
+}
+
+// RRT* (planning/rrt_star, default options, seeded) on the grid through GridMotionValidator, its
+// path flattened to z = 0 and shortened by LOSPO (1-cell spacing, up to 4 passes). An iteration
+// budget, not a deadline, stops it, so a seed repeats exactly; the first-path time is the processor
+// time of a second run of the same seed stopped at the iteration that found the first path (the
+// same tree, bit for bit). "Total" = the full RRT* run plus LOSPO.
+void rrtStarLospoRow(const GridLayer& grid, GridCell start, GridCell goal, int runs, std::uint64_t iterations) {
+  const GridMotionValidator validator(grid);
+  Stats s;
+  double mean_first_iteration = 0.0;
+  for (int r = 0; r < runs; ++r) {
+    RrtStarOptions o;
+    o.seed = 1000 + static_cast<std::uint64_t>(r);
+    const RrtStar planner(validator, o);
+    const Eigen::Vector3d from(start.x, start.y, 0.0), to(goal.x, goal.y, 0.0);
+    const std::clock_t c0 = std::clock();
+    auto plan = planner.plan(from, to, TerminationCondition().withIterationBudget(iterations));
+    if (!plan.ok() || !plan->solved()) continue;
+    std::vector<Eigen::Vector3d> path = plan->path_m;
+    for (Eigen::Vector3d& q : path) q.z() = 0.0;
+    auto shortened = lospo(validator, path, LospoOptions{.spacing_m = 1.0, .max_passes = 4});
+    const double total_s = cpuSince(c0);
+    if (!shortened.ok()) continue;
+    const std::clock_t c1 = std::clock();
+    auto first = planner.plan(from, to, TerminationCondition().withIterationBudget(plan->first_solution_iteration));
+    const double first_s = cpuSince(c1);
+    ++s.solved;
+    ++s.converged;
+    s.first_s.push_back(first.ok() && first->solved() ? first_s : NAN);
+    s.total_s.push_back(total_s);
+    s.length.push_back(shortened->length_m);
+    s.angle.push_back(angleChange(shortened->path_m));
+    mean_first_iteration += static_cast<double>(plan->first_solution_iteration) / runs;
+  }
+  printRow("RRT* + LOSPO", s, runs);
+  std::printf("|   (details) | RRT* budget %llu iterations; mean iterations to the first path %.0f |\n",
+              static_cast<unsigned long long>(iterations), mean_first_iteration);
+}
+
 void printRow(const char* name, const Stats& s, int runs) {
   std::printf("| %-16s | %2d/%2d | %2d | %8.4f / %8.4f / %8.4f | %8.4f / %8.4f / %8.4f | %8.2f / %8.2f / %8.2f | %6.3f |\n",
               name, s.solved, runs, s.converged, mean(s.first_s), median(s.first_s), maxOf(s.first_s), mean(s.total_s),
               median(s.total_s), maxOf(s.total_s), mean(s.length), minOf(s.length), maxOf(s.length), mean(s.angle));
+  std::fflush(stdout);
 }
 
 }  // namespace
@@ -110,6 +172,9 @@ int main(int argc, char** argv) {
   int runs = 30;
   double budget_s = 120.0;
   int stable = 0;  // 0: the default HabPpParameters::stable_iterations
+  long long rrt_iterations = -1;  // RRT* + LOSPO iteration budget; -1: the map's; 0 skips the row
+  bool hab = true;
+  double weights[3] = {-1.0, -1.0, -1.0};  // w_L, w_A, w_P of eq. (2); negative: the paper's 1/3 each
   std::vector<std::string> wanted;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -117,16 +182,21 @@ int main(int argc, char** argv) {
     else if (a == "--map" && i + 1 < argc) wanted.push_back(argv[++i]);
     else if (a == "--budget-s" && i + 1 < argc) budget_s = std::atof(argv[++i]);
     else if (a == "--stable" && i + 1 < argc) stable = std::atoi(argv[++i]);
+    else if (a == "--rrt-iterations" && i + 1 < argc) rrt_iterations = std::atoll(argv[++i]);
+    else if (a == "--no-hab") hab = false;
+    else if (a == "--weights" && i + 1 < argc) {
+      if (std::sscanf(argv[++i], "%lf,%lf,%lf", &weights[0], &weights[1], &weights[2]) != 3) return 2;
+    }
     else {
-      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N]\n");
+      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N] [--rrt-iterations N] [--no-hab]\n");
       return 2;
     }
   }
   const std::string dir = std::string(SKYROUTE_SHARED_DATA_DIR) + "/movingai/";
   std::vector<Case> cases = {
-      {"office", "8room_000.map", 0, 0, 100, 100, {}, {}},
-      {"apartment", "8room_000.map", 0, 0, 160, 170, {}, {}},
-      {"boston", "Boston_0_256.map", 0, 0, 0, 0, GridCell{5, 14}, GridCell{254, 254}},
+      {"office", "8room_000.map", 0, 0, 100, 100, {}, {}, 200000},
+      {"apartment", "8room_000.map", 0, 0, 160, 170, {}, {}, 400000},
+      {"boston", "Boston_0_256.map", 0, 0, 0, 0, GridCell{5, 14}, GridCell{254, 254}, 50000},
   };
   for (Case& c : cases) {
     if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), c.name) == wanted.end()) continue;
@@ -164,10 +234,18 @@ int main(int argc, char** argv) {
     }
     printRow("A* (8-conn.)", astar, runs);
     printRow("Theta*", theta, runs);
+    const long long rrt_budget = rrt_iterations < 0 ? static_cast<long long>(c.rrt_iterations) : rrt_iterations;
+    if (rrt_budget > 0) rrtStarLospoRow(grid, c.start, c.goal, runs, static_cast<std::uint64_t>(rrt_budget));
     const double reference = mean(theta.length);
     for (bool improved : {false, true}) {
+      if (!hab) break;
       HabPpParameters params = improved ? HabPpParameters::improved() : HabPpParameters{};
       if (stable > 0) params.stable_iterations = stable;
+      if (weights[0] >= 0.0) {
+        params.w_length = weights[0];
+        params.w_angle = weights[1];
+        params.w_points = weights[2];
+      }
       Stats s;
       double iterations = 0.0, first_iteration = 0.0;
       for (int r = 0; r < runs; ++r) {
@@ -190,8 +268,6 @@ int main(int argc, char** argv) {
                   100.0 * (mean(s.length) / reference - 1.0), 100.0 * (minOf(s.length) / reference - 1.0),
                   first_iteration, iterations);
     }
-    std::printf("\nRRT* with LOSPO: not measured here yet (planning/rrt_star and planning/lospo are being written "
-                "in parallel; to be added when the engine integrates them).\n");
   }
   return 0;
 }

@@ -37,7 +37,7 @@ Status HabPpParameters::validate() const {
       {"far_sighted_ants", far_sighted_ants}, {"sight_general_ants", sight_general_ants},
       {"sight_far_sighted_ants", sight_far_sighted_ants}, {"rrt_ants", rrt_ants},
       {"crossover_paths", crossover_paths}, {"max_ant_steps", max_ant_steps},
-      {"crossover_points", crossover_points}};
+      {"crossover_points", crossover_points}, {"tighten_passes", tighten_passes}};
   for (const auto& [field, value] : counts) {
     if (value < 0) return bad(field, "must be >= 0, got " + std::to_string(value));
   }
@@ -75,6 +75,21 @@ Status HabPpParameters::validate() const {
 }
 
 namespace habpp {
+
+namespace {
+// x^e for the exponents of eq. (1): the paper's 2, 1 and 1 need no std::pow, which otherwise
+// dominates the ants' innermost loop.
+inline double powExponent(double x, double e) {
+  if (e == 1.0) return x;
+  if (e == 2.0) return x * x;
+  if (e == 0.0) return 1.0;
+  return std::pow(x, e);
+}
+inline double dist(GridCell a, GridCell b) {
+  const double dx = a.x - b.x, dy = a.y - b.y;
+  return std::sqrt(dx * dx + dy * dy);
+}
+}  // namespace
 
 // ---- geometry ------------------------------------------------------------------------------------
 
@@ -163,8 +178,8 @@ std::vector<GridCell> candidates(const GridFields& fields, GridCell at, int radi
 double angleFactor(double heading_x, double heading_y, GridCell at, GridCell to, double floor) {
   const double sx = to.x - at.x;
   const double sy = to.y - at.y;
-  const double hn = std::hypot(heading_x, heading_y);
-  const double sn = std::hypot(sx, sy);
+  const double hn = std::sqrt(heading_x * heading_x + heading_y * heading_y);
+  const double sn = std::sqrt(sx * sx + sy * sy);
   if (hn == 0.0 || sn == 0.0) return 1.0;
   const double cos_theta = (heading_x * sx + heading_y * sy) / (hn * sn);
   return std::max(floor, 0.5 * (1.0 + cos_theta));
@@ -205,6 +220,53 @@ Path prunePath(const GridLayer& grid, const Path& path) {
     i = k;
   }
   return out;
+}
+
+Path tightenPath(const GridLayer& grid, const Path& path, int max_passes) {
+  Path p = prunePath(grid, path);
+  struct Move {
+    double length;
+    GridCell to;
+  };
+  Move moves[8];
+  for (int pass = 0; pass < max_passes; ++pass) {
+    bool changed = false;
+    for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+      const GridCell a = p[i - 1], b = p[i + 1];
+      if (grid.lineOfSight(a, b)) {
+        p.erase(p.begin() + static_cast<std::ptrdiff_t>(i));
+        --i;
+        changed = true;
+        continue;
+      }
+      // The shortening moves, shortest first; the first whose segments are in sight wins.
+      const double now = dist(a, p[i]) + dist(p[i], b);
+      int n = 0;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const GridCell q{p[i].x + dx, p[i].y + dy};
+          if ((dx == 0 && dy == 0) || q == a || q == b || grid.blocked(q)) continue;
+          const double len = dist(a, q) + dist(q, b);
+          if (len < now - 1e-9) moves[n++] = Move{len, q};
+        }
+      }
+      auto before = [](const Move& u, const Move& v) {
+        return u.length != v.length ? u.length < v.length : (u.to.x != v.to.x ? u.to.x < v.to.x : u.to.y < v.to.y);
+      };
+      for (int k = 1; k < n; ++k) {  // insertion sort of at most 8
+        for (int j = k; j > 0 && before(moves[j], moves[j - 1]); --j) std::swap(moves[j], moves[j - 1]);
+      }
+      for (int k = 0; k < n; ++k) {
+        if (grid.lineOfSight(a, moves[k].to) && grid.lineOfSight(moves[k].to, b)) {
+          p[i] = moves[k].to;
+          changed = true;
+          break;
+        }
+      }
+    }
+    if (!changed) break;
+  }
+  return p;
 }
 
 namespace {
@@ -297,36 +359,61 @@ PheromoneField::PheromoneField(const GridFields& fields, const HabPpParameters& 
   }
 }
 
-void PheromoneField::update(const std::vector<Path>& ranked, const std::vector<double>& evaluation) {
+void PheromoneField::nextStamp() {
+  if (++stamp_now_ == 0) {  // wrapped: clear the stamps once
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    stamp_now_ = 1;
+  }
+}
+
+std::vector<std::uint32_t> PheromoneField::pathCells(const Path& path) {
   const GridLayer& grid = fields_->grid();
-  for (double& t : tau_) t *= (1.0 - params_.rho);
-  for (std::size_t k = 0; k < ranked.size(); ++k) {
-    const double deposit = params_.rho * evaluation[k];
-    if (++stamp_now_ == 0) {  // wrapped: clear the stamps once
-      std::fill(stamp_.begin(), stamp_.end(), 0);
-      stamp_now_ = 1;
-    }
-    const Path& p = ranked[k];
-    for (std::size_t s = 0; s + 1 < p.size(); ++s) {
-      for (GridCell c : segmentCells(p[s], p[s + 1])) {  // Fig. 3: the cells between points too
-        if (!grid.inside(c)) continue;
-        const std::size_t i = grid.index(c);
-        if (stamp_[i] == stamp_now_) continue;
-        stamp_[i] = stamp_now_;
-        tau_[i] += deposit;
-      }
+  std::vector<std::uint32_t> cells;
+  nextStamp();
+  for (std::size_t s = 0; s + 1 < path.size(); ++s) {
+    for (GridCell c : segmentCells(path[s], path[s + 1])) {  // Fig. 3: the cells between points too
+      if (!grid.inside(c)) continue;
+      const std::size_t i = grid.index(c);
+      if (stamp_[i] == stamp_now_) continue;
+      stamp_[i] = stamp_now_;
+      cells.push_back(static_cast<std::uint32_t>(i));
     }
   }
+  return cells;
+}
+
+void PheromoneField::update(const std::vector<Path>& ranked, const std::vector<double>& evaluation) {
+  std::vector<std::vector<std::uint32_t>> cells;
+  cells.reserve(ranked.size());
+  for (const Path& p : ranked) cells.push_back(pathCells(p));
+  updateCells(cells, evaluation);
+}
+
+void PheromoneField::updateCells(const std::vector<std::vector<std::uint32_t>>& ranked_cells,
+                                 const std::vector<double>& evaluation) {
+  for (double& t : tau_) t *= (1.0 - params_.rho);
+  for (std::size_t k = 0; k < ranked_cells.size(); ++k) {
+    const double deposit = params_.rho * evaluation[k];
+    for (std::uint32_t i : ranked_cells[k]) tau_[i] += deposit;
+  }
   for (double& t : tau_) t = std::clamp(t, params_.pheromone_min, params_.pheromone_max);
+  cumulative_stale_ = true;
 }
 
 GridCell PheromoneField::sample(Rng& rng) const {
-  std::uniform_int_distribution<std::size_t> pick(0, free_cells_.size() - 1);
-  std::uniform_real_distribution<double> accept(0.0, 1.0);
-  for (;;) {
-    const std::size_t i = free_cells_[pick(rng)];
-    if (accept(rng) < std::pow(tau_[i] / params_.pheromone_max, params_.alpha)) return fields_->grid().cellOf(i);
+  if (cumulative_stale_) {
+    cumulative_.resize(free_cells_.size());
+    double sum = 0.0;
+    for (std::size_t k = 0; k < free_cells_.size(); ++k) {
+      sum += powExponent(tau_[free_cells_[k]], params_.alpha);
+      cumulative_[k] = sum;
+    }
+    cumulative_stale_ = false;
   }
+  const double r = std::uniform_real_distribution<double>(0.0, cumulative_.back())(rng);
+  const auto it = std::upper_bound(cumulative_.begin(), cumulative_.end(), r);
+  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - cumulative_.begin()), free_cells_.size() - 1);
+  return fields_->grid().cellOf(free_cells_[k]);
 }
 
 // ---- the colony ----------------------------------------------------------------------------------
@@ -377,7 +464,7 @@ class Colony {
     }
     for (RrtAnt& tree : rrt_) {
       if (std::optional<Path> p = tree.step(pheromone_, rng)) {
-        arrivals.push_back(prunePath(grid_, *p));
+        arrivals.push_back(tightenPath(grid_, *p, params_.tighten_passes));
         ++stats.rrt_arrivals;
       }
     }
@@ -388,7 +475,7 @@ class Colony {
       for (std::size_t r = 0; r < parents; ++r) {
         for (const Path& a : arrivals) {
           for (Path& child : crossover(grid_, ranked_[r], a, params_.crossover_points)) {
-            pool.push_back(std::move(child));
+            pool.push_back(tightenPath(grid_, child, params_.tighten_passes));
             ++stats.crossover_children;
           }
         }
@@ -396,7 +483,7 @@ class Colony {
       for (Path& a : arrivals) pool.push_back(std::move(a));
       changed = rank(pool);
     }
-    pheromone_.update(ranked_, ranked_eval_);
+    pheromone_.updateCells(ranked_cells_, ranked_eval_);
     return changed;
   }
 
@@ -435,8 +522,9 @@ class Colony {
     }
     weights_.resize(c.size());
     for (std::size_t k = 0; k < c.size(); ++k) {
-      weights_[k] = std::pow(pheromone_.at(c[k]), params_.alpha) * std::pow(fields_.visibility(c[k]), params_.beta) *
-                    std::pow(angleFactor(hx, hy, at, c[k], params_.angle_factor_floor), params_.gamma);
+      weights_[k] = powExponent(pheromone_.at(c[k]), params_.alpha) *
+                    powExponent(fields_.visibility(c[k]), params_.beta) *
+                    powExponent(angleFactor(hx, hy, at, c[k], params_.angle_factor_floor), params_.gamma);
     }
     const GridCell j = c[rouletteSelect(weights_, rng)];
     ant.path.push_back(j);
@@ -444,7 +532,7 @@ class Colony {
     ++ant.steps;
     pruneLastStep(grid_, ant.path);
     if (!(j == goal_)) return std::nullopt;
-    Path arrived = prunePath(grid_, ant.path);
+    Path arrived = tightenPath(grid_, ant.path, params_.tighten_passes);
     restart(ant);
     return arrived;
   }
@@ -465,15 +553,19 @@ class Colony {
     });
     std::vector<Path> next;
     std::vector<double> next_eval;
+    std::vector<std::vector<std::uint32_t>> next_cells;
     for (std::size_t i : order) {
       if (!next.empty() && next.back() == pool[i]) continue;  // equal paths sort next to each other
       if (next.size() >= static_cast<std::size_t>(params_.ranked_paths)) break;
       next.push_back(pool[i]);
       next_eval.push_back(eval[i]);
+      // The pool starts with the ranked list itself, whose cells are known.
+      next_cells.push_back(i < ranked_cells_.size() ? ranked_cells_[i] : pheromone_.pathCells(pool[i]));
     }
     const bool changed = next != ranked_;
     ranked_ = std::move(next);
     ranked_eval_ = std::move(next_eval);
+    ranked_cells_ = std::move(next_cells);
     return changed;
   }
 
@@ -488,6 +580,7 @@ class Colony {
   std::vector<RrtAnt> rrt_;
   std::vector<Path> ranked_;
   std::vector<double> ranked_eval_;
+  std::vector<std::vector<std::uint32_t>> ranked_cells_;  // pheromone cells of each ranked path
   std::vector<double> weights_;
 };
 

@@ -65,6 +65,8 @@ struct HabPpParameters {
   int max_ant_steps = 0;             // an ant that walked this many steps restarts; 0: 2 * (width + height)
   int crossover_points = 2;          // crossings used per pair of paths in the path crossover
   int rrt_nodes_after_solution = 150;  // an RRT* tree restarts after this many nodes past its first path
+  // Passes of vertex relocation in the arrival pruning (see habpp::tightenPath); 0: greedy pruning only.
+  int tighten_passes = 64;
 
   // The improved planner of seed 004: the same colony plus N_RA = 5 RRT* ants.
   static HabPpParameters improved() {
@@ -172,6 +174,15 @@ std::size_t rouletteSelect(const std::vector<double>& weights, Rng& rng);
 void pruneLastStep(const GridLayer& grid, Path& path);
 Path prunePath(const GridLayer& grid, const Path& path);
 
+// Path pruning on arrival, Choice (stronger than [19]'s, so lengths approach the any-angle
+// optimum of the path's route): prunePath, then local string pulling by vertex relocation: each
+// interior vertex moves to the neighbouring free cell centre (8-neighbourhood) that shortens its
+// two segments most while both stay in sight, and a vertex whose neighbours see each other is
+// dropped; passes repeat until one changes nothing (at most max_passes). Every change keeps all
+// segments in sight and strictly shortens the path, so it ends; the vertices end next to the
+// obstacle corners the path bends round, as Theta*'s do.
+Path tightenPath(const GridLayer& grid, const Path& path, int max_passes);
+
 // Path crossover, Choice: two paths cross where their interpolated cells (segmentCells) share a
 // cell other than start and goal. At up to `max_points` such crossings (spread evenly over the
 // crossings found) the heads and tails are swapped through the shared cell; children whose new
@@ -191,8 +202,14 @@ class PheromoneField {
   // path's segments touch (each cell once per path), to [pheromone_min, pheromone_max].
   // Choice: the deposit of a path is rho * f_Eval, so a cell on a path of value 1 tends to the cap.
   void update(const std::vector<Path>& ranked, const std::vector<double>& evaluation);
+  // The same with each path given as its touched cells' indices, each once (pathCells): the
+  // colony keeps these for its ranked paths instead of re-walking every segment each iteration.
+  void updateCells(const std::vector<std::vector<std::uint32_t>>& ranked_cells, const std::vector<double>& evaluation);
+  // The indices of the cells the path's segments touch (Fig. 3), each once, in path order.
+  std::vector<std::uint32_t> pathCells(const Path& path);
   // Roulette-wheel choice of a free cell with probability proportional to tau^alpha (the RRT*
-  // species' sampling), drawn by rejection against pheromone_max^alpha: exact, no table to rebuild.
+  // species' sampling): a binary search in the cumulative tau^alpha of the free cells, rebuilt on
+  // the first draw after each update (once per iteration, only when an RRT* ant samples).
   GridCell sample(Rng& rng) const;
 
  private:
@@ -202,6 +219,9 @@ class PheromoneField {
   std::vector<std::size_t> free_cells_;
   std::vector<std::uint32_t> stamp_;  // per-cell marker, so each path deposits once per cell
   std::uint32_t stamp_now_ = 0;
+  mutable std::vector<double> cumulative_;  // running sum of tau^alpha over free_cells_
+  mutable bool cumulative_stale_ = true;
+  void nextStamp();
 };
 
 }  // namespace habpp

@@ -18,37 +18,66 @@ RrtAnt::RrtAnt(const GridLayer& grid, GridCell start, GridCell goal, const HabPp
       near_radius_cells_(params.rrt_near_radius_cells),
       nodes_after_solution_(params.rrt_nodes_after_solution),
       node_at_(grid.cellCount(), -1) {
+  buckets_x_ = (grid.width() + kBucketCells - 1) / kBucketCells;
+  buckets_y_ = (grid.height() + kBucketCells - 1) / kBucketCells;
+  buckets_.resize(static_cast<std::size_t>(buckets_x_) * buckets_y_);
   reset();
 }
 
 void RrtAnt::reset() {
-  for (const Node& n : nodes_) node_at_[grid_->index(n.cell)] = -1;
+  for (const Node& n : nodes_) {
+    node_at_[grid_->index(n.cell)] = -1;
+    buckets_[bucketOf(n.cell)].clear();
+  }
   nodes_.clear();
   nodes_.push_back(Node{start_, -1, 0.0, {}});
   node_at_[grid_->index(start_)] = 0;
+  buckets_[bucketOf(start_)].push_back(0);
   goal_node_ = -1;
   reported_goal_cost_ = std::numeric_limits<double>::infinity();
   nodes_since_solution_ = 0;
 }
 
 int RrtAnt::nearest(GridCell c) const {
-  int best = 0;
+  // Rings of buckets around c's bucket; a node in ring R + 1 or beyond is more than R buckets'
+  // width away, so the search stops once the best distance is within that. Ties go to the lowest
+  // index, as in a scan of every node.
+  int best = -1;
   double best_d = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    const double d = dist(nodes_[i].cell, c);
-    if (d < best_d) {
-      best_d = d;
-      best = static_cast<int>(i);
+  const int bx = c.x / kBucketCells, by = c.y / kBucketCells;
+  const int rings = std::max(buckets_x_, buckets_y_);
+  for (int r = 0; r <= rings; ++r) {
+    for (int y = by - r; y <= by + r; ++y) {
+      if (y < 0 || y >= buckets_y_) continue;
+      for (int x = bx - r; x <= bx + r; ++x) {
+        if (x < 0 || x >= buckets_x_ || (std::abs(x - bx) != r && std::abs(y - by) != r)) continue;
+        for (int i : buckets_[static_cast<std::size_t>(y) * buckets_x_ + x]) {
+          const double d = dist(nodes_[i].cell, c);
+          if (d < best_d || (d == best_d && i < best)) {
+            best_d = d;
+            best = i;
+          }
+        }
+      }
     }
+    if (best >= 0 && best_d <= static_cast<double>(r) * kBucketCells) break;
   }
   return best;
 }
 
 std::vector<int> RrtAnt::near(GridCell c) const {
   std::vector<int> out;
-  for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    if (dist(nodes_[i].cell, c) <= near_radius_cells_) out.push_back(static_cast<int>(i));
+  const int reach = static_cast<int>(std::ceil(near_radius_cells_));
+  const int x0 = std::max(0, (c.x - reach) / kBucketCells), x1 = std::min(buckets_x_ - 1, (c.x + reach) / kBucketCells);
+  const int y0 = std::max(0, (c.y - reach) / kBucketCells), y1 = std::min(buckets_y_ - 1, (c.y + reach) / kBucketCells);
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      for (int i : buckets_[static_cast<std::size_t>(y) * buckets_x_ + x]) {
+        if (dist(nodes_[i].cell, c) <= near_radius_cells_) out.push_back(i);
+      }
+    }
   }
+  std::sort(out.begin(), out.end());  // index order, as a scan of every node gives
   return out;
 }
 
@@ -71,19 +100,27 @@ void RrtAnt::setParent(int node, int parent) {
 }
 
 int RrtAnt::addNode(GridCell cell, const std::vector<int>& near_nodes, int fallback_parent) {
-  // Lines 9-19: the cheapest visible parent among the near nodes.
+  // Lines 9-19: the cheapest visible parent among the near nodes. Candidates cheaper than the
+  // (visible) fallback are tried cheapest first, so only the line of sight of the winner and of
+  // the cheaper hidden ones is checked.
   int parent = fallback_parent;
-  double best = nodes_[fallback_parent].cost + dist(nodes_[fallback_parent].cell, cell);
+  const double fallback_cost = nodes_[fallback_parent].cost + dist(nodes_[fallback_parent].cell, cell);
+  scratch_.clear();
   for (int i : near_nodes) {
     const double c = nodes_[i].cost + dist(nodes_[i].cell, cell);
-    if (c < best && grid_->lineOfSight(nodes_[i].cell, cell)) {
-      best = c;
+    if (c < fallback_cost) scratch_.emplace_back(c, i);
+  }
+  std::sort(scratch_.begin(), scratch_.end());
+  for (const auto& [c, i] : scratch_) {
+    if (grid_->lineOfSight(nodes_[i].cell, cell)) {
       parent = i;
+      break;
     }
   }
   const int id = static_cast<int>(nodes_.size());
   nodes_.push_back(Node{cell, -1, 0.0, {}});
   node_at_[grid_->index(cell)] = id;
+  buckets_[bucketOf(cell)].push_back(id);
   setParent(id, parent);
   return id;
 }

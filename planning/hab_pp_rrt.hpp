@@ -49,8 +49,19 @@ class RrtAnt {
   double step_cells_;
   double near_radius_cells_;
   int nodes_after_solution_;
+  std::size_t bucketOf(GridCell c) const {
+    return static_cast<std::size_t>(c.y / kBucketCells) * buckets_x_ + static_cast<std::size_t>(c.x / kBucketCells);
+  }
+
+  // Nodes are binned in square buckets of kBucketCells cells so nearest() and near() look only at
+  // the buckets that can hold an answer (the results equal a scan of every node).
+  static constexpr int kBucketCells = 8;
   std::vector<Node> nodes_;
   std::vector<int> node_at_;  // node index of each grid cell, -1 if none
+  std::vector<std::vector<int>> buckets_;
+  int buckets_x_ = 0;
+  int buckets_y_ = 0;
+  mutable std::vector<std::pair<double, int>> scratch_;
   int goal_node_ = -1;
   double reported_goal_cost_ = 0.0;  // goal cost last handed to the colony (infinity: none yet)
   int nodes_since_solution_ = 0;
