@@ -68,7 +68,7 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"dds", "flush_timeout_s", "on stop, how long writers wait for readers' acknowledgements, seconds",
        &c.flush_timeout_s, 0, 10},
       {"planning", "default_planner", "planner used when a request names none", &e.default_planner, -kInf, kInf,
-       {"rrtstar_lospo"}},
+       {kDefaultPlanner, kHabPpPlanner, kHabPpRrtPlanner}},
       {"planning", "seed", "RRT* seed of every plan (a run is reproducible from it)", &s.seed, 0, 9.0e18},
       {"planning", "threads", "requests planned at once", &s.threads, 1, 64},
       {"planning", "max_queue", "requests waiting beyond this are refused with ERROR_BUSY", &s.max_queue, 1, 100000},
@@ -180,7 +180,6 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
     return make_error(ErrorCode::kInvalidArgument, "planning.leg_max_iterations",
                       "and planning.leg_budget_ms are both 0: RRT* would never stop");
   }
-  config.engine.bounds.planners = {kDefaultPlanner};
   return config;
 }
 

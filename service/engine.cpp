@@ -236,7 +236,8 @@ std::shared_ptr<Engine::Mission> Engine::planMission(const Job& job, const Engin
   points.push_back(toEnu(r.end));
 
   const std::string planner = r.planner.empty() ? options.default_planner : r.planner;
-  if (planner != kDefaultPlanner) {
+  const std::optional<GridGlobalPlanner> grid_planner = parseGridGlobalPlanner(planner);
+  if (planner != kDefaultPlanner && !grid_planner) {
     error = PlanError{PlanErrorCode::kUnknownPlanner, "planner", "planner '" + planner + "' is not available here"};
     return nullptr;
   }
@@ -281,14 +282,37 @@ std::shared_ptr<Engine::Mission> Engine::planMission(const Job& job, const Engin
   ReplanOptions replan = options.replan;
   replan.route.seed = options.seed;
   replan.cancel = job.cancel;
-  auto replanner = FlightReplanner::start(*world, mission->ordered_m, limits, replan, now_s);
+  Result<std::unique_ptr<FlightReplanner>> replanner = make_error(ErrorCode::kInternal, "planner", "not run");
+  if (grid_planner) {
+    // HAB-PP finds each leg's path on the flight band; the trajectory stage is the same.
+    TerminationCondition leg_stop = TerminationCondition::after(
+        std::chrono::nanoseconds(static_cast<std::int64_t>(options.grid_leg_budget_s * 1e9)));
+    leg_stop.withCancelFlag(job.cancel);
+    auto route = planGridRoutePaths(*world, mission->ordered_m, *grid_planner, options.grid_legs, options.seed,
+                                    leg_stop, snapshot);
+    if (route.ok()) {
+      RouteOptions build = replan.route;
+      build.trajectory_start_world_s = now_s;
+      build.moving_check_horizon_s = replan.horizon_s;
+      if (Status built = buildRouteTrajectory(*world, mission->ordered_m, limits, build, *route); !built.ok()) {
+        replanner = built.error();
+      } else {
+        replanner = FlightReplanner::startWithRoute(*world, mission->ordered_m, limits, replan, now_s,
+                                                    std::move(route.value()));
+      }
+    } else {
+      replanner = route.error();
+    }
+  } else {
+    replanner = FlightReplanner::start(*world, mission->ordered_m, limits, replan, now_s);
+  }
   if (!replanner.ok()) {
     error = requestError(replanner.error(), mission->order);
     return nullptr;
   }
   mission->replanner = std::move(*replanner);
-  spdlog::info("event=order request={} method={} cost_m={:.0f} expansions={} time_ms={:.1f}", r.request_id,
-               order->method, order->cost_m, order->expansions, order->time_ms);
+  spdlog::info("event=order request={} method={} cost_m={:.0f} expansions={} time_ms={:.1f} planner={}", r.request_id,
+               order->method, order->cost_m, order->expansions, order->time_ms, planner);
   return mission;
 }
 

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "service/flight_replanner.hpp"
+#include "service/grid_leg_planner.hpp"
 #include "service/mission_order.hpp"
 #include "service/mission_types.hpp"
 #include "service/world_model.hpp"
@@ -36,6 +37,14 @@ inline constexpr const char* kDefaultPlanner = "rrtstar_lospo";
 
 // The engine's leg pipeline: RRT* on an iteration budget (3000 per leg, no deadline), so a plan
 // is reproducible from the seed on any machine; the replanning loop as seed 003 (t_ref = 0.1 s).
+// Every planner a request may name: RRT* + LOSPO (the default), and HAB-PP / Improved HAB-PP on
+// the flight band's grid (replans then use RRT* + LOSPO: the ant colonies take seconds).
+inline MissionRequestBounds engineRequestBounds() {
+  MissionRequestBounds b;
+  b.planners = {kDefaultPlanner, kHabPpPlanner, kHabPpRrtPlanner};
+  return b;
+}
+
 inline ReplanOptions engineReplanDefaults() {
   ReplanOptions o;
   o.route.leg_budget_ms = 0.0;
@@ -49,8 +58,10 @@ struct EngineOptions {
   int planning_threads = 1;             // requests planned at once
   std::size_t max_queue = 64;           // requests waiting beyond this are refused (kBusy)
   double sample_dt_s = 0.2;             // trajectory sample spacing in the published message
-  MissionRequestBounds bounds;          // what a request may ask for
+  MissionRequestBounds bounds = engineRequestBounds();  // what a request may ask for
   MissionOrderOptions order;            // the MMD*L order grid
+  GridLegOptions grid_legs;             // the HAB-PP planners' flight-band grid
+  double grid_leg_budget_s = 30.0;      // wall time a HAB-PP leg may take
   ReplanOptions replan = engineReplanDefaults();  // the leg pipeline (replan.route) and the loop
   bool replanning = true;               // run the replanning loop on active missions
 };

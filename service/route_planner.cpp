@@ -126,7 +126,16 @@ Status buildRouteTrajectory(std::shared_ptr<const CollisionWorld> world, const s
       return ta <= horizon ? timed(a, ta, b, tb) : world->isStaticSegmentValid(a, b);
     };
   }
-  auto built = buildTrajectory(route.waypoints_m, limits, options.trajectory, &check);
+  TrajectoryOptions trajectory_options = options.trajectory;
+  // The route points (leg ends) stay knots of the spline, so corner rounding for the turn radius
+  // never cuts a mission point, and the leg times below are read at them.
+  std::size_t leg_end = 0;
+  trajectory_options.fixed_waypoints.push_back(0);
+  for (const RouteLeg& leg : route.legs) {
+    leg_end += leg.path_m.size() - 1;  // leg 0 adds all its points, later legs all but their first
+    trajectory_options.fixed_waypoints.push_back(leg_end);
+  }
+  auto built = buildTrajectory(route.waypoints_m, limits, trajectory_options, &check);
   if (!built.ok()) return built.error();
   if (built->report.status == TrajectoryStatus::kInfeasible) {
     return make_error(ErrorCode::kUnreachable, "trajectory",

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/cli/commands.hpp"
+#include "service/grid_leg_planner.hpp"
 #include "service/map_image.hpp"
 #include "service/route_planner.hpp"
 #include "service/trajectory_data.hpp"
@@ -35,6 +36,7 @@ struct PlanArgs {
   double dt_s = 0.5;
   std::string out;
   std::string png;
+  std::string planner = "rrtstar_lospo";
 };
 
 [[noreturn]] void fail(const std::string& field, const std::string& message, int code = 2) {
@@ -125,7 +127,17 @@ void runPlan(const PlanArgs& args) {
   limits.v_ref_mps = args.vref_mps;
   limits.max_speed_mps = std::max(limits.max_speed_mps, 1.2 * args.vref_mps);
   std::cerr << "planning " << points.size() - 1 << " leg(s) ..." << std::endl;
-  auto route = planRoute(world->collision, points, limits, route_options);
+  Result<PlannedRoute> route = make_error(ErrorCode::kInternal, "planner", "not run");
+  if (auto grid_planner = parseGridGlobalPlanner(args.planner)) {
+    // HAB-PP on the flight band per leg, then the same trajectory stage.
+    route = planGridRoutePaths(world->collision, points, *grid_planner, GridLegOptions{}, args.seed);
+    if (route.ok()) {
+      if (Status built = buildRouteTrajectory(world->collision, points, limits, route_options, *route); !built.ok())
+        route = built.error();
+    }
+  } else {
+    route = planRoute(world->collision, points, limits, route_options);
+  }
   if (!route.ok()) {
     const Error& e = route.error();
     std::string field = e.field;
@@ -142,7 +154,8 @@ void runPlan(const PlanArgs& args) {
     rrt_length += leg.rrt.length_m;
     lospo_length += leg.lospo_length_m;
   }
-  std::printf("route: %zu legs, RRT* %.0f m, after LOSPO %.0f m (%.1f%% shorter), %zu waypoints\n", route->legs.size(),
+  std::printf("route: %zu legs, %s %.0f m, after LOSPO %.0f m (%.1f%% shorter), %zu waypoints\n", route->legs.size(),
+              args.planner.c_str(),
               rrt_length, lospo_length, 100.0 * (1.0 - lospo_length / rrt_length), route->waypoints_m.size());
   std::printf("trajectory: %.1f s, %s, max speed %.1f m/s, max accel %.2f m/s^2, planned in %.0f ms\n",
               trajectory.duration_s(), std::string(to_string(route->built.report.status)).c_str(),
@@ -215,6 +228,9 @@ void addPlanCommand(CLI::App& app) {
   plan->add_option("--dt", args->dt_s, "Sampling step of the output, s")->check(CLI::Range(0.01, 60.0))->capture_default_str();
   plan->add_option("--out", args->out, "Write the sampled trajectory (.csv, .geojson or .json)");
   plan->add_option("--png", args->png, "Write a picture: hillshade, path and altitude profile");
+  plan->add_option("--planner", args->planner, "Global planner of each leg: rrtstar_lospo, hab-pp or hab-pp-rrt")
+      ->check(CLI::IsMember({"rrtstar_lospo", "hab-pp", "hab-pp-rrt"}))
+      ->capture_default_str();
   plan->callback([args] {
     if (args->budget_ms <= 0.0 && args->iterations == 0) fail("--budget-ms", "needs a time budget or --iterations");
     runPlan(*args);

@@ -180,6 +180,39 @@ TEST_F(EngineTest, MissionBecomesATrajectoryThroughEveryPointClearOfTheGround) {
   }
 }
 
+TEST_F(EngineTest, HabPpPlannersGoThroughTheSameTrajectoryStage) {
+  // A leg that must cross the embedded terrain's main ridge low: the straight line is blocked, so
+  // HAB-PP plans on the flight band.
+  for (const std::string planner : {"hab-pp", "hab-pp-rrt"}) {
+    MissionRequestData r = request("grid-" + planner, "uav-" + planner);
+    r.planner = planner;
+    r.begin = enu(-5000, -2000, 60);
+    r.points = {enu(0, -5500, 60)};
+    r.end = enu(5000, 2000, 60);
+    r.fixed_order = true;
+    r.limits.min_turn_radius_m = 30.0;  // the corners of the grid path are rounded
+    auto world = world_->worldFor(r.limits.min_clearance_agl_m, r.limits.ceiling_amsl_m);
+    ASSERT_TRUE(world.ok());
+    ASSERT_FALSE((*world)->isSegmentValid(r.begin.enu_m, r.points[0].enu_m) &&
+                 (*world)->isSegmentValid(r.points[0].enu_m, r.end.enu_m))
+        << "the test needs a leg whose straight line is blocked";
+    ASSERT_FALSE(engine_->submit(r).has_value());
+    ASSERT_TRUE(engine_->planNext());
+    const auto status = sink_.last(r.request_id);
+    ASSERT_EQ(status->state, PlanState::kSucceeded) << planner << ": " << status->field << " " << status->message;
+    const TrajectoryData& t = sink_.trajectories.back();
+    ASSERT_EQ(t.request_id, r.request_id);
+    ASSERT_EQ(t.legs.size(), 2u);
+    EXPECT_LT((t.samples.front().position_enu_m - r.begin.enu_m).norm(), 0.01);
+    EXPECT_LT((t.samples.back().position_enu_m - r.end.enu_m).norm(), 0.01);
+    const double clearance = r.limits.min_clearance_agl_m;
+    for (const auto& s : t.samples) {
+      const double ground = heightfield_->heightAt(s.position_enu_m.x(), s.position_enu_m.y());
+      ASSERT_GE(s.position_enu_m.z() - ground, clearance - 0.5) << planner << " at t=" << s.t_rel_s;
+    }
+  }
+}
+
 TEST_F(EngineTest, SameSeedSameTrajectory) {
   ASSERT_FALSE(engine_->submit(request("a")).has_value());
   ASSERT_TRUE(engine_->planNext());

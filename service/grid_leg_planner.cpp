@@ -1,0 +1,114 @@
+#include "service/grid_leg_planner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "planning/hab_pp.hpp"
+#include "terrain/grid_from_terrain.hpp"
+
+namespace skyroute {
+
+std::optional<GridGlobalPlanner> parseGridGlobalPlanner(std::string_view name) {
+  if (name == kHabPpPlanner) return GridGlobalPlanner::kHabPp;
+  if (name == kHabPpRrtPlanner) return GridGlobalPlanner::kHabPpRrt;
+  return std::nullopt;
+}
+
+namespace {
+
+std::string legName(std::size_t i) { return "legs[" + std::to_string(i) + "]"; }
+
+}  // namespace
+
+Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> world,
+                                        const std::vector<Eigen::Vector3d>& points_m, GridGlobalPlanner planner,
+                                        const GridLegOptions& options, std::uint64_t seed,
+                                        const TerminationCondition& stop, std::optional<ObstacleSnapshot> snapshot) {
+  const auto started = std::chrono::steady_clock::now();
+  if (!world) return make_error(ErrorCode::kInvalidArgument, "world", "is null");
+  if (points_m.size() < 2) return make_error(ErrorCode::kInvalidArgument, "points", "a route needs two points");
+  const Heightfield& terrain = world->terrain();
+  const CollisionWorldOptions& wo = world->options();
+  auto valid = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return snapshot ? world->isSegmentValid(a, b, *snapshot) : world->isSegmentValid(a, b);
+  };
+  const HabPpParameters params = planner == GridGlobalPlanner::kHabPpRrt ? HabPpParameters::improved() : HabPpParameters{};
+  const double cell_m = std::max(terrain.dem().resolutionM().minCoeff(),
+                                 1.0001 * terrain.boundsEn().sizes().maxCoeff() / std::max(8, options.max_cells_per_axis));
+  PlannedRoute route;
+  for (std::size_t i = 0; i + 1 < points_m.size(); ++i) {
+    const Eigen::Vector3d& a = points_m[i];
+    const Eigen::Vector3d& b = points_m[i + 1];
+    RouteLeg leg;
+    leg.from_point = i;
+    leg.to_point = i + 1;
+    if (valid(a, b)) {
+      leg.path_m = {a, b};  // the straight leg is clear: nothing for a global planner to do
+    } else {
+      // The band: from the ground clearance up to above the higher end, under the ceiling.
+      const double band_top_m = std::min(wo.ceiling_m - 1.0, std::max(a.z(), b.z()) + options.band_margin_m);
+      TerrainGridOptions grid_options;
+      grid_options.cell_size_m = cell_m;
+      grid_options.flight_ceiling_m = band_top_m;
+      grid_options.min_clearance_m = wo.min_clearance_m + wo.vehicle_radius_m;
+      auto grid = buildTerrainGrid(terrain, grid_options);
+      if (!grid.ok()) return grid.error();
+      const auto start = grid->cellAt(a.head<2>());
+      const auto goal = grid->cellAt(b.head<2>());
+      if (!start || !goal) return make_error(ErrorCode::kOutsideMap, legName(i), "an end of the leg is off the flight-band grid");
+      const HabPpResult found = planHabPp(*grid, *start, *goal, params, seed + i, stop);
+      if (found.stop_reason == TerminationCondition::Reason::kCancelled)
+        return make_error(ErrorCode::kCancelled, legName(i), "cancelled");
+      if (!hasPath(found.status)) {
+        return make_error(ErrorCode::kUnreachable, legName(i),
+                          std::string(to_string(found.status)) + " on the flight band under " +
+                              std::to_string(static_cast<int>(band_top_m)) + " m" +
+                              (found.message.empty() ? "" : ": " + found.message));
+      }
+      // Lift: the interior vertices at the band altitude (cell centres), the ends as given.
+      const double cruise_m = band_top_m;
+      std::vector<Eigen::Vector3d> lifted{a};
+      for (std::size_t k = 1; k + 1 < found.path.size(); ++k) {
+        const Eigen::Vector2d en = grid->cellCenter(found.path[k]);
+        lifted.emplace_back(en.x(), en.y(), cruise_m);
+      }
+      lifted.push_back(b);
+      // Climb over the start and descend over the end where the direct slope is blocked.
+      std::vector<Eigen::Vector3d> path{a};
+      for (std::size_t k = 1; k < lifted.size(); ++k) {
+        const Eigen::Vector3d& from = path.back();
+        const Eigen::Vector3d& to = lifted[k];
+        if (!valid(from, to)) {
+          const Eigen::Vector3d up_here(from.x(), from.y(), cruise_m);
+          const Eigen::Vector3d up_there(to.x(), to.y(), cruise_m);
+          if (from.z() < cruise_m && valid(from, up_here) && valid(up_here, to)) {
+            path.push_back(up_here);
+          } else if (to.z() < cruise_m && valid(from, up_there) && valid(up_there, to)) {
+            path.push_back(up_there);
+          } else if (from.z() < cruise_m && to.z() < cruise_m && valid(from, up_here) && valid(up_here, up_there) &&
+                     valid(up_there, to)) {
+            path.push_back(up_here);
+            path.push_back(up_there);
+          } else {
+            return make_error(ErrorCode::kUnreachable, legName(i),
+                              "the grid path lifted to the band is blocked between vertices " +
+                                  std::to_string(k - 1) + " and " + std::to_string(k));
+          }
+        }
+        path.push_back(to);
+      }
+      leg.path_m = std::move(path);
+    }
+    double length = 0.0;
+    for (std::size_t k = 1; k < leg.path_m.size(); ++k) length += (leg.path_m[k] - leg.path_m[k - 1]).norm();
+    leg.lospo_length_m = length;
+    leg.rrt.length_m = length;
+    for (std::size_t k = (i == 0 ? 0 : 1); k < leg.path_m.size(); ++k) route.waypoints_m.push_back(leg.path_m[k]);
+    route.legs.push_back(std::move(leg));
+  }
+  route.planning_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  return route;
+}
+
+}  // namespace skyroute

@@ -1,0 +1,42 @@
+// Global planners on the grid layer at the flight band (seed 004): HAB-PP ("hab-pp") or Improved
+// HAB-PP ("hab-pp-rrt") finds an any-angle path for each leg on a grid of the terrain's flight
+// band; the path is lifted to 3D and goes through the same trajectory stage as RRT* + LOSPO paths
+// (buildRouteTrajectory). Lifting: the vehicle climbs (or descends) over its leg's start to the
+// band altitude, follows the grid path's vertices at that altitude, and changes altitude over the
+// leg's end; where a straight climb or descent to the next vertex is clear, it is used instead.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "planning/termination.hpp"
+#include "service/route_planner.hpp"
+#include "terrain/collision_world.hpp"
+
+namespace skyroute {
+
+enum class GridGlobalPlanner { kHabPp, kHabPpRrt };
+inline constexpr const char* kHabPpPlanner = "hab-pp";
+inline constexpr const char* kHabPpRrtPlanner = "hab-pp-rrt";
+std::optional<GridGlobalPlanner> parseGridGlobalPlanner(std::string_view name);
+
+struct GridLegOptions {
+  int max_cells_per_axis = 160;  // the grid's cell edge is the terrain extent / this (at least the DEM cell)
+  double band_margin_m = 200.0;  // the band's top is this far above the leg's higher end (under the ceiling)
+};
+
+// points_m: the route in visiting order (ENU). Returns legs with 3D paths and the joined waypoints
+// (route.built empty). Errors name the leg ("legs[i]") or point ("points[i]"): kUnreachable when
+// the planner finds no path or the lifted path is blocked, kCancelled / kTimeout from `stop`.
+Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> world,
+                                        const std::vector<Eigen::Vector3d>& points_m, GridGlobalPlanner planner,
+                                        const GridLegOptions& options, std::uint64_t seed,
+                                        const TerminationCondition& stop = {},
+                                        std::optional<ObstacleSnapshot> snapshot = std::nullopt);
+
+}  // namespace skyroute
