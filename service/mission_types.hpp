@@ -196,4 +196,29 @@ struct FleetRequestData {
   std::string planner;
 };
 
+// One vehicle's share of a fleet plan: its tasks (indices into FleetRequestData::tasks, in visiting
+// order) and how long its start was held back so it keeps the minimum separation.
+struct FleetVehicleAllocationData {
+  std::string vehicle_id;
+  std::vector<std::uint32_t> tasks;
+  double delay_s = 0.0;
+};
+
+// The answer to a FleetRequest besides the trajectories: state, error (the offending field, e.g.
+// "tasks[3]", "begins[1]", "vehicle_ids[2]") and, on success, the allocation and the timing.
+struct FleetStatusData {
+  std::string request_id;
+  PlanState state = PlanState::kAccepted;
+  PlanErrorCode error_code = PlanErrorCode::kNone;
+  std::string field;
+  std::string message;
+  std::vector<FleetVehicleAllocationData> allocation;  // one per vehicle, request order
+  std::int32_t makespan_steps = 0;      // the grid plan's T_max (time steps)
+  double makespan_s = 0.0;              // latest end of the flown trajectories, delays included
+  double min_separation_m = 0.0;        // required between any two vehicles at every instant
+  double achieved_separation_m = 0.0;   // smallest distance found by the check (sampled)
+  std::uint32_t separation_repairs = 0; // vehicles whose start had to be delayed
+  double planning_time_s = 0.0;
+};
+
 }  // namespace skyroute
