@@ -11,7 +11,8 @@
 namespace skyroute {
 
 struct Engine::Job {
-  MissionRequestData request;
+  MissionRequestData request;                // a mission (request.vehicle_id set), or
+  std::optional<FleetRequestData> fleet;     // a fleet (request left empty)
   std::shared_ptr<std::atomic<bool>> cancel = std::make_shared<std::atomic<bool>>(false);
 };
 
@@ -154,14 +155,108 @@ std::optional<PlanError> Engine::submit(MissionRequestData request) {
   return std::nullopt;
 }
 
+namespace {
+
+FleetStatusData fleetStatus(const std::string& request_id, PlanState state) {
+  FleetStatusData s;
+  s.request_id = request_id;
+  s.state = state;
+  return s;
+}
+
+FleetStatusData fleetFailed(const std::string& request_id, const PlanError& error) {
+  FleetStatusData s = fleetStatus(request_id, error.code == PlanErrorCode::kCancelled ? PlanState::kCancelled
+                                                                                         : PlanState::kFailed);
+  s.error_code = error.code;
+  s.field = error.field;
+  s.message = error.describe();
+  return s;
+}
+
+}  // namespace
+
+std::optional<PlanError> Engine::submitFleet(FleetRequestData request) {
+  std::optional<PlanError> problem;
+  {
+    std::lock_guard lock(mutex_);
+    problem = validateFleetRequest(request, options_.fleet);
+    if (!problem && stopping_) problem = PlanError{PlanErrorCode::kBusy, "", "the service is shutting down"};
+    if (!problem && queue_.size() >= options_.max_queue) {
+      problem = PlanError{PlanErrorCode::kBusy, "",
+                          "the planning queue is full (" + std::to_string(options_.max_queue) + " requests); retry later"};
+    }
+    if (!problem) {
+      auto job = std::make_unique<Job>();
+      job->fleet = request;
+      queue_.push_back(std::move(job));
+    }
+  }
+  if (problem) {
+    spdlog::warn("event=fleet_rejected request={} code={} field={} message=\"{}\"", request.request_id,
+                 to_string(problem->code), problem->field, problem->message);
+    sink_.publishFleetStatus(fleetFailed(request.request_id, *problem));
+    return problem;
+  }
+  spdlog::info("event=fleet_accepted request={} vehicles={} tasks={}", request.request_id, request.vehicle_ids.size(),
+               request.tasks.size());
+  sink_.publishFleetStatus(fleetStatus(request.request_id, PlanState::kAccepted));
+  work_cv_.notify_one();
+  return std::nullopt;
+}
+
+void Engine::planFleetJob(Job& job) {
+  const FleetRequestData& r = *job.fleet;
+  if (job.cancel->load()) {
+    sink_.publishFleetStatus(fleetFailed(r.request_id, PlanError{PlanErrorCode::kCancelled, "", "cancelled before planning"}));
+    return;
+  }
+  sink_.publishFleetStatus(fleetStatus(r.request_id, PlanState::kPlanning));
+  const EngineOptions options = this->options();
+  FleetMissionOptions fleet = options.fleet;
+  fleet.sample_dt_s = options.sample_dt_s;
+  fleet.route.trajectory = options.replan.route.trajectory;
+  TerminationCondition stop;
+  stop.withCancelFlag(job.cancel);
+  const FleetPlanOutput out = planFleetMission(r, *world_, fleet, clock_(), stop);
+  if (!out.ok()) {
+    spdlog::warn("event=fleet_failed request={} code={} field={} message=\"{}\" time_s={:.3f}", r.request_id,
+                 to_string(out.status.error_code), out.status.field, out.status.message, out.status.planning_time_s);
+    sink_.publishFleetStatus(out.status);
+    return;
+  }
+  // A vehicle's own mission ends: the fleet's trajectory replaces it (and is not replanned).
+  std::vector<std::shared_ptr<Mission>> replaced;
+  {
+    std::lock_guard lock(mutex_);
+    for (const std::string& vehicle : r.vehicle_ids) {
+      if (auto it = missions_.find(vehicle); it != missions_.end()) {
+        replaced.push_back(it->second);
+        missions_.erase(it);
+      }
+    }
+  }
+  for (const std::shared_ptr<Mission>& m : replaced) {
+    m->cancel->store(true);
+    std::lock_guard old_lock(m->mutex);
+    m->ended = true;
+  }
+  for (const TrajectoryData& t : out.trajectories) sink_.publishTrajectory(t);
+  spdlog::info("event=fleet_succeeded request={} vehicles={} makespan_steps={} makespan_s={:.1f} separation_m={:.0f} "
+               "repairs={} time_s={:.3f}",
+               r.request_id, r.vehicle_ids.size(), out.status.makespan_steps, out.status.makespan_s,
+               out.status.achieved_separation_m, out.status.separation_repairs, out.status.planning_time_s);
+  sink_.publishFleetStatus(out.status);
+}
+
 bool Engine::cancel(const CancelRequestData& request) {
   std::vector<MissionRequestData> cancelled;
   std::shared_ptr<Mission> ended;
   bool matched = false;
   {
     std::lock_guard lock(mutex_);
-    auto matches = [&](const MissionRequestData& r) {
-      return r.vehicle_id == request.vehicle_id && (request.request_id.empty() || r.request_id == request.request_id);
+    auto matches = [&](const MissionRequestData& r) {  // a fleet job's request is empty: never matches
+      return !r.vehicle_id.empty() && r.vehicle_id == request.vehicle_id &&
+             (request.request_id.empty() || r.request_id == request.request_id);
     };
     for (auto it = queue_.begin(); it != queue_.end();) {
       if (matches((*it)->request)) {
@@ -351,6 +446,10 @@ TrajectoryData Engine::trajectoryOf(const Mission& mission) const {
 }
 
 void Engine::plan(Job& job) {
+  if (job.fleet) {
+    planFleetJob(job);
+    return;
+  }
   const auto started = std::chrono::steady_clock::now();
   const MissionRequestData& r = job.request;
   if (job.cancel->load()) {
@@ -506,13 +605,20 @@ void Engine::start() {
 
 void Engine::stop() {
   std::vector<MissionRequestData> dropped;
+  std::vector<std::string> dropped_fleets;
   {
     std::lock_guard lock(mutex_);
     if (stopping_ && !running_) return;
     stopping_ = true;
     for (Job* job : in_flight_) job->cancel->store(true);
     for (const auto& [vehicle, mission] : missions_) mission->cancel->store(true);
-    for (const auto& job : queue_) dropped.push_back(job->request);
+    for (const auto& job : queue_) {
+      if (job->fleet) {
+        dropped_fleets.push_back(job->fleet->request_id);
+      } else {
+        dropped.push_back(job->request);
+      }
+    }
     queue_.clear();
   }
   work_cv_.notify_all();
@@ -524,6 +630,9 @@ void Engine::stop() {
     PlanStatusData s = PlanStatusData::failed(r, PlanError{PlanErrorCode::kCancelled, "", "the service stopped"}, 0.0);
     s.state = PlanState::kCancelled;
     sink_.publishStatus(s);
+  }
+  for (const std::string& id : dropped_fleets) {
+    sink_.publishFleetStatus(fleetFailed(id, PlanError{PlanErrorCode::kCancelled, "", "the service stopped"}));
   }
   if (running_.exchange(false)) spdlog::info("event=engine_stopped");
 }

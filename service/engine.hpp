@@ -25,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "service/fleet_mission.hpp"
 #include "service/flight_replanner.hpp"
 #include "service/grid_leg_planner.hpp"
 #include "service/mission_order.hpp"
@@ -64,6 +65,7 @@ struct EngineOptions {
   double grid_leg_budget_s = 30.0;      // wall time a HAB-PP leg may take
   ReplanOptions replan = engineReplanDefaults();  // the leg pipeline (replan.route) and the loop
   bool replanning = true;               // run the replanning loop on active missions
+  FleetMissionOptions fleet;            // fleet requests (sample_dt_s and the trajectory stage from above)
 };
 
 // Where results go. Called from engine threads (never while an engine lock is held).
@@ -74,6 +76,8 @@ class EngineSink {
   virtual void publishTrajectory(const TrajectoryData& trajectory) = 0;
   // The vehicle's trajectory no longer holds (its mission was cancelled).
   virtual void retractTrajectory(const std::string& vehicle_id) { (void)vehicle_id; }
+  // The state of a fleet request (accepted, planning, then succeeded with the allocation, or failed).
+  virtual void publishFleetStatus(const FleetStatusData& status) { (void)status; }
 };
 
 class Engine {
@@ -90,6 +94,12 @@ class Engine {
   // Checks the request's structure at once (a failed status names the field) and queues it.
   // Returns the error it answered with, if any.
   std::optional<PlanError> submit(MissionRequestData request);
+  // A fleet (fleet_mission.hpp): checked at once (a failed fleet status names the field), queued
+  // with the missions and planned on the same workers; answered with one trajectory per vehicle and
+  // a fleet status. Fleet vehicles are not replanned: the plan's separation holds only while every
+  // vehicle flies its own trajectory, and replanning one alone would break it (an active mission
+  // of one of the vehicles ends, its trajectory replaced).
+  std::optional<PlanError> submitFleet(FleetRequestData request);
   // Stops a queued or in-flight plan, or ends an active mission; answers with a cancelled status.
   // Returns false when nothing matched.
   bool cancel(const CancelRequestData& request);
@@ -119,6 +129,7 @@ class Engine {
   struct Mission;
   Engine(std::shared_ptr<WorldModel> world, const EngineOptions& options, EngineSink& sink, Clock clock);
   void plan(Job& job);
+  void planFleetJob(Job& job);
   // The mission for a job, or nullptr with `error` set (the reply's code and field).
   std::shared_ptr<Mission> planMission(const Job& job, const EngineOptions& options, PlanError& error);
   void status(const MissionRequestData& request, PlanState state, double planning_time_s = 0.0);

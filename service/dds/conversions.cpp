@@ -436,4 +436,61 @@ FleetRequestData identityFromWire(const skyroute_msgs_FleetRequest& in) {
   return out;
 }
 
+void toWire(const FleetStatusData& in, skyroute_msgs_FleetStatus& out) {
+  out.request_id = dup(in.request_id);
+  out.state = static_cast<skyroute_msgs_PlanState>(static_cast<int>(in.state));
+  out.error_code = static_cast<skyroute_msgs_PlanErrorCode>(static_cast<int>(in.error_code));
+  out.field = dup(in.field);
+  out.message = dup(in.message);
+  auto* vehicles = allocSequence<dds_sequence_skyroute_msgs_FleetVehicleAllocation, skyroute_msgs_FleetVehicleAllocation>(
+      out.allocation, in.allocation.size());
+  for (std::size_t i = 0; i < in.allocation.size(); ++i) {
+    const FleetVehicleAllocationData& a = in.allocation[i];
+    vehicles[i].vehicle_id = dup(a.vehicle_id);
+    auto* tasks = allocSequence<dds_sequence_uint32, uint32_t>(vehicles[i].tasks, a.tasks.size());
+    for (std::size_t k = 0; k < a.tasks.size(); ++k) tasks[k] = a.tasks[k];
+    vehicles[i].delay_s = a.delay_s;
+  }
+  out.makespan_steps = in.makespan_steps;
+  out.makespan_s = in.makespan_s;
+  out.min_separation_m = in.min_separation_m;
+  out.achieved_separation_m = in.achieved_separation_m;
+  out.separation_repairs = in.separation_repairs;
+  out.planning_time_s = in.planning_time_s;
+}
+
+Result<FleetStatusData> fromWire(const skyroute_msgs_FleetStatus& in) {
+  if (auto e = required(in.request_id, "request_id")) return *e;
+  if (auto e = enumInRange(in.state, skyroute_msgs_STATE_REPLANNED, "state")) return *e;
+  if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_INTERNAL, "error_code")) return *e;
+  if (auto e = finite(in.makespan_s, "makespan_s")) return *e;
+  if (auto e = finite(in.min_separation_m, "min_separation_m")) return *e;
+  if (auto e = finite(in.achieved_separation_m, "achieved_separation_m")) return *e;
+  if (auto e = finite(in.planning_time_s, "planning_time_s")) return *e;
+  FleetStatusData out;
+  out.request_id = in.request_id;
+  out.state = static_cast<PlanState>(static_cast<int>(in.state));
+  out.error_code = static_cast<PlanErrorCode>(static_cast<int>(in.error_code));
+  out.field = text(in.field);
+  out.message = text(in.message);
+  for (uint32_t i = 0; i < in.allocation._length; ++i) {
+    const skyroute_msgs_FleetVehicleAllocation& w = in.allocation._buffer[i];
+    const std::string field = "allocation[" + std::to_string(i) + "]";
+    if (auto e = required(w.vehicle_id, field + ".vehicle_id")) return *e;
+    if (auto e = finite(w.delay_s, field + ".delay_s")) return *e;
+    FleetVehicleAllocationData a;
+    a.vehicle_id = w.vehicle_id;
+    a.tasks.assign(w.tasks._buffer, w.tasks._buffer + w.tasks._length);
+    a.delay_s = w.delay_s;
+    out.allocation.push_back(std::move(a));
+  }
+  out.makespan_steps = in.makespan_steps;
+  out.makespan_s = in.makespan_s;
+  out.min_separation_m = in.min_separation_m;
+  out.achieved_separation_m = in.achieved_separation_m;
+  out.separation_repairs = in.separation_repairs;
+  out.planning_time_s = in.planning_time_s;
+  return out;
+}
+
 }  // namespace skyroute::dds

@@ -56,6 +56,10 @@ Status MissionService::configure(const DaemonConfig& config) {
   if (!statuses.ok()) return statuses.error();
   auto heartbeat = Writer<ServiceStatusData>::create(p);
   if (!heartbeat.ok()) return heartbeat.error();
+  auto fleet_requests = Reader<FleetRequestData>::create(p);
+  if (!fleet_requests.ok()) return fleet_requests.error();
+  auto fleet_statuses = Writer<FleetStatusData>::create(p);
+  if (!fleet_statuses.ok()) return fleet_statuses.error();
   auto loop = WaitLoop::create(p);
   if (!loop.ok()) return loop.error();
 
@@ -69,6 +73,8 @@ Status MissionService::configure(const DaemonConfig& config) {
   trajectories_.emplace(std::move(*trajectories));
   statuses_.emplace(std::move(*statuses));
   heartbeat_.emplace(std::move(*heartbeat));
+  fleet_requests_.emplace(std::move(*fleet_requests));
+  fleet_statuses_.emplace(std::move(*fleet_statuses));
   loop_.emplace(std::move(*loop));
 
   // Handlers only queue or flag: planning happens on the engine's threads.
@@ -93,6 +99,23 @@ Status MissionService::configure(const DaemonConfig& config) {
       [this](const Error& e) {
         ++bad_samples_;
         spdlog::warn("event=bad_obstacle_update field={} message=\"{}\"", e.field, e.message);
+      });
+  if (!added.ok()) return added;
+
+  added = loop_->addWithRejects(
+      *fleet_requests_, [this](FleetRequestData&& request) { engine_->submitFleet(std::move(request)); },
+      [this](const Error& e, const FleetRequestData& identity) {
+        ++bad_samples_;
+        spdlog::warn("event=bad_fleet_request request={} field={} message=\"{}\"", identity.request_id, e.field,
+                     e.message);
+        const PlanError error = toPlanError(e);
+        FleetStatusData status;
+        status.request_id = identity.request_id;
+        status.state = PlanState::kFailed;
+        status.error_code = error.code;
+        status.field = error.field;
+        status.message = error.describe();
+        publishFleetStatus(status);
       });
   if (!added.ok()) return added;
 
@@ -121,6 +144,7 @@ Status MissionService::deactivate() {
   // Flush: reliable readers get what was written before the writers go away.
   const double flush_s = config_.flush_timeout_s;
   (void)statuses_->waitForAcks(flush_s);
+  (void)fleet_statuses_->waitForAcks(flush_s);
   (void)trajectories_->waitForAcks(flush_s);
   state_ = State::kInactive;
   spdlog::info("event=inactive");
@@ -135,6 +159,8 @@ Status MissionService::cleanup() {
   engine_.reset();
   loop_.reset();
   heartbeat_.reset();
+  fleet_statuses_.reset();
+  fleet_requests_.reset();
   statuses_.reset();
   trajectories_.reset();
   obstacles_.reset();
@@ -185,6 +211,12 @@ void MissionService::retractTrajectory(const std::string& vehicle_id) {
   key.vehicle_id = vehicle_id;
   if (Status s = trajectories_->dispose(key); !s.ok()) {
     spdlog::error("event=dispose_failed vehicle={} message=\"{}\"", vehicle_id, s.error().message);
+  }
+}
+
+void MissionService::publishFleetStatus(const FleetStatusData& status) {
+  if (Status s = fleet_statuses_->write(status); !s.ok()) {
+    spdlog::error("event=write_failed topic=fleet_status field={} message=\"{}\"", s.error().field, s.error().message);
   }
 }
 

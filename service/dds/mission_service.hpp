@@ -49,6 +49,7 @@ class MissionService final : public EngineSink {
   void publishStatus(const PlanStatusData& status) override;
   void publishTrajectory(const TrajectoryData& trajectory) override;
   void retractTrajectory(const std::string& vehicle_id) override;
+  void publishFleetStatus(const FleetStatusData& status) override;
 
  private:
   void ddsThread();
@@ -66,6 +67,9 @@ class MissionService final : public EngineSink {
   std::optional<Writer<TrajectoryData>> trajectories_;
   std::optional<Writer<PlanStatusData>> statuses_;
   std::optional<Writer<ServiceStatusData>> heartbeat_;
+  // Fleets (issue 7): FleetRequest in, FleetStatus out (trajectories on the same writer).
+  std::optional<Reader<FleetRequestData>> fleet_requests_;
+  std::optional<Writer<FleetStatusData>> fleet_statuses_;
   std::optional<WaitLoop> loop_;
   std::thread dds_thread_;
   std::atomic<std::uint64_t> bad_samples_{0};

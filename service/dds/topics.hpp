@@ -66,4 +66,12 @@ struct TopicTraits<FleetRequestData> {
   static Qos qos() { return commandQos(); }
 };
 
+template <>
+struct TopicTraits<FleetStatusData> {
+  using Wire = skyroute_msgs_FleetStatus;
+  static constexpr const char* kName = "skyroute_fleet_status";
+  static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_FleetStatus_desc; }
+  static Qos qos() { return commandQos(); }
+};
+
 }  // namespace skyroute::dds

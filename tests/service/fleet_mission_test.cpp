@@ -7,6 +7,7 @@
 #include <limits>
 #include <set>
 
+#include "service/engine.hpp"
 #include "service/fleet_mission.hpp"
 #include "terrain/terrain_world.hpp"
 #include "tests/test_data.hpp"
@@ -209,6 +210,52 @@ TEST_F(FleetMissionTest, BadInputNamesTheField) {
   r = threeByNine();
   r.limits.v_ref_mps = -1.0;
   expectError(r, PlanErrorCode::kLimitsOutOfRange, "limits.v_ref_mps");
+}
+
+// The engine plans a fleet on its planning path: accepted, planning, one trajectory per vehicle,
+// then the fleet status with the allocation; a bad request is refused at once naming the field.
+class RecordingSink : public EngineSink {
+ public:
+  void publishStatus(const PlanStatusData& status) override { statuses.push_back(status); }
+  void publishTrajectory(const TrajectoryData& trajectory) override { trajectories.push_back(trajectory); }
+  void publishFleetStatus(const FleetStatusData& status) override { fleet.push_back(status); }
+  std::vector<PlanStatusData> statuses;
+  std::vector<TrajectoryData> trajectories;
+  std::vector<FleetStatusData> fleet;
+};
+
+TEST_F(FleetMissionTest, EngineAnswersAFleetWithTrajectoriesAndAFleetStatus) {
+  RecordingSink sink;
+  auto engine = Engine::create(world_, EngineOptions{}, sink, [] { return kStartNs; });
+  ASSERT_TRUE(engine.ok()) << engine.error().describe();
+  FleetRequestData bad = threeByNine();
+  bad.vehicle_ids[1] = "uav-a";
+  const auto refused = (*engine)->submitFleet(bad);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->field, "vehicle_ids[1]");
+  ASSERT_EQ(sink.fleet.size(), 1u);
+  EXPECT_EQ(sink.fleet[0].state, PlanState::kFailed);
+  EXPECT_EQ(sink.fleet[0].field, "vehicle_ids[1]");
+  EXPECT_EQ((*engine)->queueLength(), 0u);
+
+  ASSERT_FALSE((*engine)->submitFleet(threeByNine()).has_value());
+  EXPECT_EQ(sink.fleet.back().state, PlanState::kAccepted);
+  EXPECT_EQ((*engine)->queueLength(), 1u);
+  ASSERT_TRUE((*engine)->planNext());
+  ASSERT_EQ(sink.fleet.size(), 4u);
+  EXPECT_EQ(sink.fleet[2].state, PlanState::kPlanning);
+  const FleetStatusData& done = sink.fleet[3];
+  ASSERT_EQ(done.state, PlanState::kSucceeded) << done.message;
+  EXPECT_EQ(done.allocation.size(), 3u);
+  EXPECT_GT(done.planning_time_s, 0.0);
+  ASSERT_EQ(sink.trajectories.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(sink.trajectories[i].vehicle_id, threeByNine().vehicle_ids[i]);
+    EXPECT_EQ(sink.trajectories[i].samples.front().utc_ns,
+              kStartNs + static_cast<std::int64_t>(std::llround(done.allocation[i].delay_s * 1e9)));
+  }
+  EXPECT_TRUE(sink.statuses.empty());  // fleets answer on their own status topic only
+  EXPECT_EQ((*engine)->activeMissions(), 0u);  // fleet vehicles are not replanned
 }
 
 }  // namespace

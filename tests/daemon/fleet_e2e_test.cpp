@@ -1,0 +1,211 @@
+// A fleet over DDS, end to end (issue 7 item 6): skyrouted as a separate process; the test is the
+// ground station, with a FleetRequest writer and a FleetStatus reader of its own next to the
+// common station's topics.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <set>
+
+#include "service/dds/loopback.hpp"
+#include "service/dds/wait_loop.hpp"
+#include "terrain/terrain_world.hpp"
+#include "tests/daemon/daemon_process.hpp"
+#include "tests/daemon/ground_station.hpp"
+#include "tests/test_data.hpp"
+
+namespace skyroute {
+namespace {
+
+using testing::ChildProcess;
+using testing::Station;
+
+constexpr int kDomain = 160;
+
+// Vehicle position at utc_ns from its published samples (linear between samples, held outside).
+Eigen::Vector3d positionAt(const TrajectoryData& t, std::int64_t utc_ns) {
+  const auto& s = t.samples;
+  if (utc_ns <= s.front().utc_ns) return s.front().position_enu_m;
+  if (utc_ns >= s.back().utc_ns) return s.back().position_enu_m;
+  const auto after = std::lower_bound(s.begin(), s.end(), utc_ns,
+                                      [](const TrajectorySampleData& x, std::int64_t u) { return x.utc_ns < u; });
+  const auto before = after - 1;
+  const double w = static_cast<double>(utc_ns - before->utc_ns) / static_cast<double>(after->utc_ns - before->utc_ns);
+  return (1.0 - w) * before->position_enu_m + w * after->position_enu_m;
+}
+
+class FleetE2E : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dds::useLoopbackOnly();
+    CollisionWorldOptions options;
+    options.build_octree = false;
+    auto loaded = loadTerrainWorld(testing::projectDataPath("default_terrain.tif"), options);
+    ASSERT_TRUE(loaded.ok());
+    terrain_ = loaded->heightfield;
+  }
+
+  void SetUp() override {
+    daemon_ = ChildProcess::spawn({SKYROUTED, "--domain", std::to_string(kDomain)}, "skyrouted_fleet");
+    ASSERT_TRUE(daemon_.started());
+    station_ = Station::open(kDomain);
+    ASSERT_TRUE(station_);
+    const dds_entity_t p = station_->participant.get();
+    fleet_requests_.emplace(std::move(dds::Writer<FleetRequestData>::create(p).value()));
+    fleet_statuses_.emplace(std::move(dds::Reader<FleetStatusData>::create(p).value()));
+    ASSERT_TRUE(station_->loop
+                    ->add(*fleet_statuses_, [this](FleetStatusData&& s) { fleet_log_.push_back(std::move(s)); },
+                          [](const Error&) {})
+                    .ok());
+    ASSERT_TRUE(station_->pumpUntil([&] { return station_->heartbeats > 0 || !daemon_.running(); }, 60.0))
+        << daemon_.err();
+    ASSERT_TRUE(daemon_.running()) << daemon_.err();
+    ASSERT_TRUE(fleet_requests_->waitForReaders(1, 20.0).ok());
+    ASSERT_TRUE(fleet_statuses_->waitForWriters(1, 20.0).ok());
+    ASSERT_TRUE(station_->trajectories->waitForWriters(1, 20.0).ok());
+  }
+  void TearDown() override {
+    if (daemon_.running()) {
+      daemon_.signal(SIGTERM);
+      EXPECT_EQ(daemon_.wait(10.0), 0) << daemon_.err();
+    }
+    fleet_statuses_.reset();
+    fleet_requests_.reset();
+  }
+
+  MissionPointData above(double e, double n, double agl_m) const {
+    return MissionPointData::enu(Eigen::Vector3d(e, n, terrain_->heightAt(e, n) + agl_m));
+  }
+  std::optional<FleetStatusData> terminal(const std::string& id) const {
+    for (const auto& s : fleet_log_)
+      if (s.request_id == id && isTerminal(s.state)) return s;
+    return std::nullopt;
+  }
+
+  static inline std::shared_ptr<const Heightfield> terrain_;
+  ChildProcess daemon_;
+  std::unique_ptr<Station> station_;
+  std::optional<dds::Writer<FleetRequestData>> fleet_requests_;
+  std::optional<dds::Reader<FleetStatusData>> fleet_statuses_;
+  std::vector<FleetStatusData> fleet_log_;
+};
+
+TEST_F(FleetE2E, FleetRequestGetsOneSeparatedTrajectoryPerVehicleAndAStatusWithTheAllocation) {
+  FleetRequestData r;
+  r.request_id = "fleet-e2e";
+  r.vehicle_ids = {"f-1", "f-2", "f-3"};
+  r.begins = {above(-4000, -4000, 100), above(4000, -4000, 100), above(-4000, 4000, 100)};
+  r.ends = r.begins;
+  r.tasks = {above(-2500, -1500, 150), above(-1000, -3000, 150), above(1500, -2500, 150),
+             above(3000, -1000, 150),  above(2500, 1500, 150),   above(-3000, 1000, 150),
+             above(-1500, 3000, 150),  above(0, 0, 150),         above(1500, 3500, 150)};
+  ASSERT_TRUE(fleet_requests_->write(r).ok());
+
+  // A bad one too: its status names the field.
+  FleetRequestData bad = r;
+  bad.request_id = "fleet-bad";
+  bad.vehicle_ids[1] = "f-1";
+  ASSERT_TRUE(fleet_requests_->write(bad).ok());
+
+  ASSERT_TRUE(station_->pumpUntil([&] { return terminal("fleet-e2e") && terminal("fleet-bad"); }, 120.0)) << daemon_.err();
+  const FleetStatusData failed = *terminal("fleet-bad");
+  EXPECT_EQ(failed.state, PlanState::kFailed);
+  EXPECT_EQ(failed.error_code, PlanErrorCode::kInvalidArgument);
+  EXPECT_EQ(failed.field, "vehicle_ids[1]");
+
+  const FleetStatusData status = *terminal("fleet-e2e");
+  ASSERT_EQ(status.state, PlanState::kSucceeded) << status.message;
+  EXPECT_GT(status.makespan_steps, 0);
+  EXPECT_GT(status.min_separation_m, 0.0);
+  EXPECT_GE(status.achieved_separation_m, status.min_separation_m);
+  ASSERT_EQ(status.allocation.size(), 3u);
+  std::multiset<std::uint32_t> done;
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(status.allocation[i].vehicle_id, r.vehicle_ids[i]);
+    done.insert(status.allocation[i].tasks.begin(), status.allocation[i].tasks.end());
+  }
+  EXPECT_EQ(done, (std::multiset<std::uint32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8}));
+
+  // One trajectory per vehicle, from this request, visiting its allocated tasks.
+  auto fleetTrajectory = [&](const std::string& vehicle) -> const TrajectoryData* {
+    const TrajectoryData* t = station_->latest(vehicle);
+    return t && t->request_id == r.request_id ? t : nullptr;
+  };
+  ASSERT_TRUE(station_->pumpUntil(
+      [&] { return fleetTrajectory("f-1") && fleetTrajectory("f-2") && fleetTrajectory("f-3"); }, 10.0));
+  std::vector<const TrajectoryData*> flown;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const TrajectoryData* t = fleetTrajectory(r.vehicle_ids[i]);
+    flown.push_back(t);
+    ASSERT_GE(t->samples.size(), 2u);
+    ASSERT_EQ(t->visiting_order.size(), status.allocation[i].tasks.size() + 2);
+    for (std::size_t k = 0; k < status.allocation[i].tasks.size(); ++k) {
+      EXPECT_EQ(t->visiting_order[k + 1], status.allocation[i].tasks[k] + 1);
+    }
+    EXPECT_LT((t->samples.front().position_enu_m - r.begins[i].enu_m).norm(), 0.01);
+    EXPECT_LT((t->samples.back().position_enu_m - r.ends[i].enu_m).norm(), 0.01);
+    for (const TrajectorySampleData& s : t->samples) {
+      EXPECT_GE(s.position_enu_m.z() - terrain_->heightAt(s.position_enu_m.x(), s.position_enu_m.y()),
+                r.limits.min_clearance_agl_m - 1.0);
+    }
+  }
+  // Separation on the published samples (interpolated to common instants every 0.1 s); a linear
+  // interpolation between 0.2 s samples is within a metre of the curve.
+  std::int64_t first = std::numeric_limits<std::int64_t>::max();
+  std::int64_t last = 0;
+  for (const TrajectoryData* t : flown) {
+    first = std::min(first, t->samples.front().utc_ns);
+    last = std::max(last, t->samples.back().utc_ns);
+  }
+  double closest = std::numeric_limits<double>::infinity();
+  for (std::int64_t u = first; u <= last; u += 100'000'000) {
+    for (std::size_t a = 0; a < 3; ++a) {
+      for (std::size_t b = a + 1; b < 3; ++b) {
+        closest = std::min(closest, (positionAt(*flown[a], u) - positionAt(*flown[b], u)).norm());
+      }
+    }
+  }
+  EXPECT_GE(closest, status.min_separation_m - 1.0);
+  std::printf("fleet over DDS: planning %.3f s, makespan %d steps / %.1f s, separation %.0f m (min %.0f), "
+              "repairs %u\n",
+              status.planning_time_s, status.makespan_steps, status.makespan_s, closest, status.min_separation_m,
+              status.separation_repairs);
+}
+
+// The FleetStatus message carries the allocation and timing unchanged; a NaN is refused by name.
+TEST(FleetStatusWire, RoundTripsAndRejectsNonFiniteNumbers) {
+  FleetStatusData in;
+  in.request_id = "fleet-7";
+  in.state = PlanState::kSucceeded;
+  in.allocation = {{"a", {2, 0, 5}, 0.0}, {"b", {}, 12.5}};
+  in.makespan_steps = 42;
+  in.makespan_s = 321.5;
+  in.min_separation_m = 99.0;
+  in.achieved_separation_m = 101.25;
+  in.separation_repairs = 1;
+  in.planning_time_s = 0.25;
+  dds::WireSample<skyroute_msgs_FleetStatus> wire(&skyroute_msgs_FleetStatus_desc);
+  dds::toWire(in, wire.msg());
+  auto out = dds::fromWire(wire.msg());
+  ASSERT_TRUE(out.ok()) << out.error().describe();
+  EXPECT_EQ(out->request_id, "fleet-7");
+  EXPECT_EQ(out->state, PlanState::kSucceeded);
+  ASSERT_EQ(out->allocation.size(), 2u);
+  EXPECT_EQ(out->allocation[0].vehicle_id, "a");
+  EXPECT_EQ(out->allocation[0].tasks, (std::vector<std::uint32_t>{2, 0, 5}));
+  EXPECT_TRUE(out->allocation[1].tasks.empty());
+  EXPECT_DOUBLE_EQ(out->allocation[1].delay_s, 12.5);
+  EXPECT_EQ(out->makespan_steps, 42);
+  EXPECT_DOUBLE_EQ(out->makespan_s, 321.5);
+  EXPECT_DOUBLE_EQ(out->achieved_separation_m, 101.25);
+  EXPECT_EQ(out->separation_repairs, 1u);
+  wire.msg().allocation._buffer[1].delay_s = std::nan("");
+  auto rejected = dds::fromWire(wire.msg());
+  ASSERT_FALSE(rejected.ok());
+  EXPECT_EQ(rejected.error().field, "allocation[1].delay_s");
+}
+
+}  // namespace
+}  // namespace skyroute
