@@ -272,6 +272,25 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
         leg_paths.push_back({p});
       }
     }
+    if (vp.tasks.empty() && (end - begin).norm() < 1e-3) {
+      // Idle: no tasks and home already. The vehicle stays where it is (a constant trajectory
+      // of one sample interval) rather than climbing to the cruise altitude and back.
+      Segment hold;
+      hold.duration_s = o.sample_dt_s;
+      for (int axis = 0; axis < 3; ++axis) {
+        Polynomial7::Coefficients c{};
+        c[0] = begin[axis];
+        hold.axes[static_cast<std::size_t>(axis)] = Polynomial7(c);
+      }
+      out.flown.emplace_back(std::vector<Segment>{hold});
+      TrajectoryData data;
+      data.vehicle_id = r.vehicle_ids[i];
+      data.visiting_order = {0, static_cast<std::uint32_t>(nt + 1)};
+      data.legs.push_back(LegBoundaryData{0, static_cast<std::uint32_t>(nt + 1), 0.0, o.sample_dt_s});
+      out.trajectories.push_back(std::move(data));
+      out.status.allocation.push_back(FleetVehicleAllocationData{r.vehicle_ids[i], {}, 0.0});
+      continue;
+    }
     const Eigen::Vector3d over_end(end.x(), end.y(), cruise_m);
     if (!world->isSegmentValid(leg_paths.back().back(), over_end)) {
       return fail(PlanErrorCode::kUnreachable, indexed("ends", i),
@@ -280,7 +299,6 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
     }
     add(over_end);
     add(end);
-    if (leg_paths.back().size() < 2) add(Eigen::Vector3d(end.x(), end.y(), cruise_m));  // begin == end, no tasks
     points.push_back(end);
     order.push_back(static_cast<std::uint32_t>(nt + 1));
 

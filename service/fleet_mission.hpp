@@ -15,7 +15,8 @@
 // - Depot = the begin point's cell (GMTPA returns every vehicle to its depot, eq. 7). When a
 //   vehicle's end differs from its begin, the vehicle flies on from over its depot straight to
 //   over its end at the cruise altitude and descends there; that segment must be clear (else the
-//   error names "ends[i]").
+//   error names "ends[i]"). A vehicle left without tasks whose end is its begin stays there (its
+//   trajectory holds the begin point for one sample interval).
 //
 // Separation: the trajectory stage re-times the path by the cruise speed, so the grid plan's
 // one-cell-per-step guarantee does not carry over to the flown curves. Before its start a vehicle

@@ -212,6 +212,48 @@ TEST_F(FleetMissionTest, BadInputNamesTheField) {
   expectError(r, PlanErrorCode::kLimitsOutOfRange, "limits.v_ref_mps");
 }
 
+// More vehicles than the tasks need: the idle one stays at its begin point (no climb to the cruise
+// altitude and back) and still gets a trajectory, and nobody comes closer than asked.
+TEST_F(FleetMissionTest, AVehicleWithoutTasksHoldsAtItsBegin) {
+  FleetRequestData r;
+  r.request_id = "idle";
+  r.vehicle_ids = {"near", "far"};
+  r.begins = {enu(-3000, -3000, 100), enu(4000, 4000, 100)};
+  r.ends = r.begins;
+  r.tasks = {enu(-2500, -2000, 150)};
+  const FleetPlanOutput out = planFleetMission(r, *world_, FleetMissionOptions{}, kStartNs);
+  ASSERT_TRUE(out.ok()) << out.status.message;
+  EXPECT_EQ(out.status.allocation[0].tasks, std::vector<std::uint32_t>{0});
+  EXPECT_TRUE(out.status.allocation[1].tasks.empty());
+  ASSERT_EQ(out.trajectories.size(), 2u);
+  EXPECT_EQ(out.trajectories[1].visiting_order, (std::vector<std::uint32_t>{0, 2}));
+  ASSERT_FALSE(out.trajectories[1].samples.empty());
+  for (const TrajectorySampleData& s : out.trajectories[1].samples) {
+    EXPECT_LT((s.position_enu_m - out.begins_m[1]).norm(), 1e-6);
+  }
+  EXPECT_GE(minDistance(out, 0, 1, 0.05), out.status.min_separation_m);
+  EXPECT_DOUBLE_EQ(out.status.min_separation_m, out.cell_size_m);  // the default: one grid cell
+}
+
+// Ends away from the begins: each vehicle comes back over its depot (GMTPA's eq. 7), flies on to
+// over its end at the cruise altitude and descends there.
+TEST_F(FleetMissionTest, EndsAwayFromTheBeginsAreReachedAfterTheDepot) {
+  FleetRequestData r;
+  r.request_id = "ends";
+  r.vehicle_ids = {"a", "b"};
+  r.begins = {enu(-3000, -3000, 100), enu(3000, -3000, 100)};
+  r.ends = {enu(-3000, 0, 120), enu(3000, 0, 120)};
+  r.tasks = {enu(-2000, 2000, 150), enu(2000, 2000, 150), enu(0, -1000, 150)};
+  const FleetPlanOutput out = planFleetMission(r, *world_, FleetMissionOptions{}, kStartNs);
+  ASSERT_TRUE(out.ok()) << out.status.message;
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_LT((out.flown[i].evaluate(out.flown[i].duration_s(), Derivative::kPosition) - out.ends_m[i]).norm(), 1e-3);
+    EXPECT_EQ(out.trajectories[i].visiting_order.back(), 4u);
+    EXPECT_LT((out.trajectories[i].samples.back().position_enu_m - out.ends_m[i]).norm(), 1e-3);
+  }
+  EXPECT_GE(minDistance(out, 0, 1, 0.05), out.status.min_separation_m);
+}
+
 // The engine plans a fleet on its planning path: accepted, planning, one trajectory per vehicle,
 // then the fleet status with the allocation; a bad request is refused at once naming the field.
 class RecordingSink : public EngineSink {
