@@ -6,6 +6,8 @@
 #include <limits>
 #include <set>
 
+#include <spdlog/spdlog.h>
+
 #include "planning/fleet_planner.hpp"
 #include "service/trajectory_data.hpp"
 #include "terrain/grid_from_terrain.hpp"
@@ -299,6 +301,15 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
     }
     add(over_end);
     add(end);
+    // A straight climb from the begin to the first cruise vertex (and descent from the last one
+    // to the end) where it is clear: the vertical climb's right-angle turn into the cruise makes
+    // the spline overshoot near the ground, which the trajectory stage then repairs by slowing.
+    auto straighten = [&](std::vector<Eigen::Vector3d>& path, std::size_t corner) {
+      if (corner == 0 || corner + 1 >= path.size()) return;
+      if (world->isSegmentValid(path[corner - 1], path[corner + 1])) path.erase(path.begin() + static_cast<long>(corner));
+    };
+    straighten(leg_paths.front(), 1);
+    straighten(leg_paths.back(), leg_paths.back().size() - 2);
     points.push_back(end);
     order.push_back(static_cast<std::uint32_t>(nt + 1));
 
@@ -319,6 +330,13 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
       e.message = r.vehicle_ids[i] + ": " + e.message;
       e.field = indexed("vehicle_ids", i);
       return e;
+    }
+    {
+      std::string repairs;
+      for (const std::string& line : route.built.report.repairs) repairs += (repairs.empty() ? "" : "; ") + line;
+      spdlog::debug("event=fleet_trajectory request={} vehicle={} duration_s={:.1f} status={} repairs=\"{}\"",
+                    r.request_id, r.vehicle_ids[i], route.built.trajectory.duration_s(),
+                    to_string(route.built.report.status), repairs);
     }
     out.flown.push_back(route.built.trajectory);
     TrajectoryData data;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <set>
 
 #include "service/engine.hpp"
@@ -128,6 +129,8 @@ TEST_F(FleetMissionTest, ThreeVehiclesNineTasksEveryTaskOnceClearOfTerrainAndSep
   }
   EXPECT_GE(out.status.achieved_separation_m, 150.0);
   EXPECT_DOUBLE_EQ(out.status.min_separation_m, 150.0);
+  // Flown at about the cruise speed: no trajectory slowed down far beyond the grid plan's length.
+  EXPECT_LT(out.status.makespan_s, 2.0 * out.status.makespan_steps * out.cell_size_m / r.limits.v_ref_mps + 600.0);
   std::printf("fleet 3x9: grid cell %.0f m, cruise %.0f m, makespan %d steps / %.1f s, achieved separation %.0f m, "
               "repairs %u, delays %.1f %.1f %.1f s, planning %.3f s\n",
               out.cell_size_m, out.cruise_altitude_m, out.status.makespan_steps, out.status.makespan_s,
@@ -252,6 +255,38 @@ TEST_F(FleetMissionTest, EndsAwayFromTheBeginsAreReachedAfterTheDepot) {
     EXPECT_LT((out.trajectories[i].samples.back().position_enu_m - out.ends_m[i]).norm(), 1e-3);
   }
   EXPECT_GE(minDistance(out, 0, 1, 0.05), out.status.min_separation_m);
+}
+
+// Seeded random tasks (the instance where a vertical descent's right-angle turn once made the
+// trajectory stage stretch a vehicle's trajectory a hundredfold): every vehicle flies at about
+// the cruise speed, every task is done once and the separation holds.
+TEST_F(FleetMissionTest, RandomTasksAreFlownAtCruiseSpeedAndSeparated) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-4200, 4200);
+  FleetRequestData r;
+  r.request_id = "random";
+  for (int i = 0; i < 3; ++i) {
+    r.vehicle_ids.push_back("v" + std::to_string(i));
+    r.begins.push_back(enu(-4200 + 4200.0 * i, -4300, 100));
+  }
+  r.ends = r.begins;
+  for (int j = 0; j < 9; ++j) {
+    const double e = u(rng);
+    const double n = u(rng);
+    r.tasks.push_back(enu(e, n, 150));
+  }
+  const FleetPlanOutput out = planFleetMission(r, *world_, FleetMissionOptions{}, kStartNs);
+  ASSERT_TRUE(out.ok()) << out.status.message;
+  std::multiset<std::uint32_t> done;
+  for (const auto& a : out.status.allocation) done.insert(a.tasks.begin(), a.tasks.end());
+  EXPECT_EQ(done, (std::multiset<std::uint32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8}));
+  for (std::size_t i = 0; i < 3; ++i) {
+    const int steps = out.status.makespan_steps;
+    EXPECT_LT(out.flown[i].duration_s(), 2.0 * steps * out.cell_size_m / r.limits.v_ref_mps + 600.0) << "vehicle " << i;
+  }
+  for (std::size_t a = 0; a < 3; ++a) {
+    for (std::size_t b = a + 1; b < 3; ++b) EXPECT_GE(minDistance(out, a, b, 0.05), out.status.min_separation_m);
+  }
 }
 
 // The engine plans a fleet on its planning path: accepted, planning, one trajectory per vehicle,
