@@ -47,6 +47,8 @@ class TerminationCondition {
     return Reason::kNone;
   }
   bool hasDeadline() const { return deadline_.has_value(); }
+  // The shared cancel flag (nullptr when none), for work outside the planners that must stop too.
+  const std::atomic<bool>* cancelFlag() const { return cancel_.get(); }
 
  private:
   std::optional<Clock::time_point> deadline_;

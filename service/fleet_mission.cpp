@@ -160,6 +160,7 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
   go.cell_size_m = out.cell_size_m;
   go.flight_ceiling_m = cruise_m;
   go.min_clearance_m = wo.min_clearance_m + wo.vehicle_radius_m;
+  go.cancel = stop.cancelFlag();
   auto grid = buildTerrainGrid(terrain, go);
   if (!grid.ok()) return toPlanError(grid.error());
   const double separation_m = o.min_separation_m > 0.0 ? o.min_separation_m : out.cell_size_m;

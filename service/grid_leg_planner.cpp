@@ -52,6 +52,7 @@ Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> wo
       grid_options.cell_size_m = cell_m;
       grid_options.flight_ceiling_m = band_top_m;
       grid_options.min_clearance_m = wo.min_clearance_m + wo.vehicle_radius_m;
+      grid_options.cancel = stop.cancelFlag();
       auto grid = buildTerrainGrid(terrain, grid_options);
       if (!grid.ok()) return grid.error();
       const auto start = grid->cellAt(a.head<2>());

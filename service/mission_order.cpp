@@ -62,7 +62,9 @@ Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::v
     if (r.ok()) r->time_ms = elapsedMs(started);
     return r;
   };
+  grid_options.cancel = stop.cancelFlag();  // a large DEM's grid takes a while: stay cancellable
   auto grid = buildTerrainGrid(terrain, grid_options);
+  if (!grid.ok() && grid.error().code == ErrorCode::kCancelled) return grid.error();
   if (!grid.ok()) return finish(euclideanOrder(points_m, "order grid: " + grid.error().describe()));
 
   std::vector<GridCell> cells;

@@ -35,6 +35,9 @@ Result<GridLayer> buildTerrainGrid(const Heightfield& terrain, const TerrainGrid
   const double limit = options.flight_ceiling_m - options.min_clearance_m;
   std::vector<GridCell> blocked;
   for (int y = 0; y < height; ++y) {
+    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+      return make_error(ErrorCode::kCancelled, "grid", "building the terrain grid was cancelled");
+    }
     for (int x = 0; x < width; ++x) {
       const Eigen::Vector2d c = grid.cellCenter(GridCell{x, y});
       bool is_blocked = false;

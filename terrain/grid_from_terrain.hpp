@@ -4,6 +4,8 @@
 // x grows east, y grows north.
 #pragma once
 
+#include <atomic>
+
 #include "terrain/grid_layer.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/result.hpp"
@@ -15,9 +17,11 @@ struct TerrainGridOptions {
   double flight_ceiling_m = 1500.0;  // top of the flight band (up axis, metres AMSL by default)
   double min_clearance_m = 30.0;     // required height above ground
   int max_cells_per_axis = 4000;     // refuse absurd grids rather than exhaust memory
+  // Set from another thread to stop a long build (checked every row): kCancelled. Not owned.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
-// Errors: kInvalidArgument naming the option (cell size <= 0, grid too large).
+// Errors: kInvalidArgument naming the option (cell size <= 0, grid too large); kCancelled.
 Result<GridLayer> buildTerrainGrid(const Heightfield& terrain, const TerrainGridOptions& options);
 
 }  // namespace skyroute

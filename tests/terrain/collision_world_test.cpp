@@ -393,6 +393,11 @@ TEST(TerrainGrid, BlockedCellsMatchBruteForce) {
   EXPECT_EQ(buildTerrainGrid(*hf, options).error().field, "cell_size_m");
   options.cell_size_m = 0.5;  // a 25000-cell-wide grid
   EXPECT_EQ(buildTerrainGrid(*hf, options).error().field, "cell_size_m");
+  // A cancelled build stops with kCancelled (the engine cancels in-flight plans this way).
+  const std::atomic<bool> cancelled{true};
+  options.cell_size_m = 200.0;
+  options.cancel = &cancelled;
+  EXPECT_EQ(buildTerrainGrid(*hf, options).error().code, ErrorCode::kCancelled);
 }
 
 }  // namespace
