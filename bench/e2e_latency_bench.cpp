@@ -6,6 +6,7 @@
 // With ../shared/data, the one-vehicle obstacle case also runs on N44W072 with seed 003's vehicle
 // (V_ref 50 m/s) between the seed-003 scenario's start and goal. Prints p50/p90/p99/max (ms).
 // Compare with Cyclone's own round trip: ddsperf ping/pong (docs/benchmarks/dds.md).
+// Usage: e2e_latency_bench [--rounds N] [--config skyrouted.toml]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -51,6 +52,7 @@ double msSince(Clock::time_point t0, Clock::time_point t1) {
 
 struct Setup {
   std::string dem;
+  std::string config;  // skyrouted --config, "" = none
   std::shared_ptr<const Heightfield> terrain;
   int domain = 150;
 };
@@ -114,8 +116,12 @@ struct Run {
 Run measure(const Setup& setup, int vehicles, int request_rounds, int obstacle_updates,
             const std::function<MissionRequestData(int vehicle, const std::string& id)>& mission_of) {
   Run run;
-  testing::ChildProcess daemon = testing::ChildProcess::spawn(
-      {SKYROUTED, "--domain", std::to_string(setup.domain), "--dem", setup.dem, "--log-level", "warn"}, "bench_daemon");
+  std::vector<std::string> argv{SKYROUTED, "--domain", std::to_string(setup.domain), "--dem", setup.dem, "--log-level", "warn"};
+  if (!setup.config.empty()) {
+    argv.push_back("--config");
+    argv.push_back(setup.config);
+  }
+  testing::ChildProcess daemon = testing::ChildProcess::spawn(argv, "bench_daemon");
   auto station = testing::Station::open(setup.domain);
   if (!station || !station->pumpUntil([&] { return station->heartbeats > 0; }, 120.0)) {
     std::fprintf(stderr, "daemon did not come up: %s\n", daemon.err().c_str());
@@ -199,11 +205,13 @@ Run measure(const Setup& setup, int vehicles, int request_rounds, int obstacle_u
 
 int main(int argc, char** argv) {
   int rounds = 20;
-  for (int i = 1; i + 1 < argc; ++i)
+  Setup setup;
+  for (int i = 1; i + 1 < argc; ++i) {
     if (std::strcmp(argv[i], "--rounds") == 0) rounds = std::atoi(argv[i + 1]);
+    if (std::strcmp(argv[i], "--config") == 0) setup.config = argv[i + 1];  // passed to skyrouted
+  }
   dds::useLoopbackOnly();
 
-  Setup setup;
   setup.dem = std::string(SKYROUTE_DATA_DIR) + "/default_terrain.tif";
   CollisionWorldOptions options;
   options.build_octree = false;

@@ -28,7 +28,8 @@ struct Key {
 
 // Integer fields are kept in these while parsing, then copied to their typed homes.
 struct IntegerShadow {
-  std::int64_t domain, seed, threads, max_queue, max_points, leg_max_iterations, order_cells, max_attempts;
+  std::int64_t domain, seed, threads, max_queue, max_points, leg_max_iterations, order_cells, max_attempts,
+      replan_leg_iterations;
 };
 
 IntegerShadow shadowOf(const DaemonConfig& c) {
@@ -39,7 +40,8 @@ IntegerShadow shadowOf(const DaemonConfig& c) {
                        static_cast<std::int64_t>(c.engine.bounds.max_points),
                        static_cast<std::int64_t>(c.engine.replan.route.leg_max_iterations),
                        c.engine.order.max_cells_per_axis,
-                       c.engine.replan.max_attempts};
+                       c.engine.replan.max_attempts,
+                       static_cast<std::int64_t>(c.engine.replan.replan_leg_max_iterations)};
 }
 
 void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
@@ -51,6 +53,7 @@ void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
   c.engine.replan.route.leg_max_iterations = static_cast<std::uint64_t>(s.leg_max_iterations);
   c.engine.order.max_cells_per_axis = static_cast<int>(s.order_cells);
   c.engine.replan.max_attempts = static_cast<int>(s.max_attempts);
+  c.engine.replan.replan_leg_max_iterations = static_cast<std::uint64_t>(s.replan_leg_iterations);
 }
 
 std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
@@ -93,6 +96,8 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"replanning", "window_s", "a moving obstacle blocks the stretch it covers in this long, seconds",
        &e.replan.window_s, 0, 3600},
       {"replanning", "max_attempts", "candidates tried per replan", &s.max_attempts, 1, 100},
+      {"replanning", "leg_max_iterations", "RRT* iterations per leg when replanning (0 = planning.leg_max_iterations)",
+       &s.replan_leg_iterations, 0, 1e9},
       {"replanning", "budget_ms", "wall-time budget of one replan (the first candidate is always finished), milliseconds",
        &e.replan.replan_budget_ms, 0, 60000},
       {"log", "level", "log level", &c.log_level, -kInf, kInf, {"trace", "debug", "info", "warn", "error"}},
