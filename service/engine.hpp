@@ -36,8 +36,9 @@ namespace skyroute {
 
 inline constexpr const char* kDefaultPlanner = "rrtstar_lospo";
 
-// The engine's leg pipeline: RRT* on an iteration budget (3000 per leg, no deadline), so a plan
-// is reproducible from the seed on any machine; the replanning loop as seed 003 (t_ref = 0.1 s).
+// The engine's leg pipeline: RRT* on an iteration budget (3000 per leg, no deadline), so a first
+// plan is reproducible from the seed on any machine; the replanning loop as seed 003 (t_ref =
+// 0.1 s) with FlightReplanner's per-replan deadline (replans are timing-dependent, by design).
 // Every planner a request may name: RRT* + LOSPO (the default), and HAB-PP / Improved HAB-PP on
 // the flight band's grid (replans then use RRT* + LOSPO: the ant colonies take seconds).
 inline MissionRequestBounds engineRequestBounds() {
@@ -50,6 +51,10 @@ inline ReplanOptions engineReplanDefaults() {
   ReplanOptions o;
   o.route.leg_budget_ms = 0.0;
   o.route.leg_max_iterations = 3000;
+  // A replan must come back within a cycle: its first candidate always runs to the end (the
+  // deadline only cuts later attempts), so its RRT* gets a smaller budget per leg (informed
+  // sampling around the current path finds a detour in a few hundred iterations).
+  o.replan_leg_max_iterations = 400;
   return o;
 }
 
