@@ -41,17 +41,6 @@ std::string pointName(int index, int count) {
   return "points[" + std::to_string(index - 1) + "]";
 }
 
-VehicleLimits toVehicleLimits(const VehicleLimitsData& d) {
-  VehicleLimits l;
-  l.v_ref_mps = d.v_ref_mps;
-  l.max_speed_mps = d.max_speed_mps;
-  l.max_accel_mps2 = d.max_accel_mps2;
-  l.max_climb_mps = d.max_climb_rate_mps;
-  l.max_descent_mps = d.max_descent_rate_mps;
-  l.min_turn_radius_m = d.min_turn_radius_m;
-  return l;
-}
-
 // The trajectory stage names its limits after VehicleLimits; the request after the IDL.
 std::string requestLimitField(const std::string& field) {
   if (field == "limits.max_climb_mps") return "limits.max_climb_rate_mps";
@@ -126,22 +115,23 @@ void Engine::status(const MissionRequestData& request, PlanState state, double p
   sink_.publishStatus(s);
 }
 
-std::optional<PlanError> Engine::submit(MissionRequestData request) {
-  std::optional<PlanError> problem;
-  {
-    std::lock_guard lock(mutex_);
-    problem = validateMissionRequest(request, options_.bounds);
-    if (!problem && stopping_) problem = PlanError{PlanErrorCode::kBusy, "", "the service is shutting down"};
-    if (!problem && queue_.size() >= options_.max_queue) {
-      problem = PlanError{PlanErrorCode::kBusy, "",
-                          "the planning queue is full (" + std::to_string(options_.max_queue) + " requests); retry later"};
-    }
-    if (!problem) {
-      auto job = std::make_unique<Job>();
-      job->request = request;
-      queue_.push_back(std::move(job));
-    }
+std::optional<PlanError> Engine::enqueue(std::unique_ptr<Job> job, const Validator& validate) {
+  std::lock_guard lock(mutex_);
+  std::optional<PlanError> problem = validate(options_);
+  if (!problem && stopping_) problem = PlanError{PlanErrorCode::kBusy, "", "the service is shutting down"};
+  if (!problem && queue_.size() >= options_.max_queue) {
+    problem = PlanError{PlanErrorCode::kBusy, "",
+                        "the planning queue is full (" + std::to_string(options_.max_queue) + " requests); retry later"};
   }
+  if (!problem) queue_.push_back(std::move(job));
+  return problem;
+}
+
+std::optional<PlanError> Engine::submit(MissionRequestData request) {
+  auto job = std::make_unique<Job>();
+  job->request = request;
+  const std::optional<PlanError> problem = enqueue(
+      std::move(job), [&](const EngineOptions& o) { return validateMissionRequest(request, o.bounds); });
   if (problem) {
     spdlog::warn("event=request_rejected request={} vehicle={} code={} field={} message=\"{}\"", request.request_id,
                  request.vehicle_id, to_string(problem->code), problem->field, problem->message);
@@ -176,21 +166,10 @@ FleetStatusData fleetFailed(const std::string& request_id, const PlanError& erro
 }  // namespace
 
 std::optional<PlanError> Engine::submitFleet(FleetRequestData request) {
-  std::optional<PlanError> problem;
-  {
-    std::lock_guard lock(mutex_);
-    problem = validateFleetRequest(request, options_.fleet);
-    if (!problem && stopping_) problem = PlanError{PlanErrorCode::kBusy, "", "the service is shutting down"};
-    if (!problem && queue_.size() >= options_.max_queue) {
-      problem = PlanError{PlanErrorCode::kBusy, "",
-                          "the planning queue is full (" + std::to_string(options_.max_queue) + " requests); retry later"};
-    }
-    if (!problem) {
-      auto job = std::make_unique<Job>();
-      job->fleet = request;
-      queue_.push_back(std::move(job));
-    }
-  }
+  auto job = std::make_unique<Job>();
+  job->fleet = request;
+  const std::optional<PlanError> problem = enqueue(
+      std::move(job), [&](const EngineOptions& o) { return validateFleetRequest(request, o.fleet); });
   if (problem) {
     spdlog::warn("event=fleet_rejected request={} code={} field={} message=\"{}\"", request.request_id,
                  to_string(problem->code), problem->field, problem->message);

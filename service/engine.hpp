@@ -133,6 +133,10 @@ class Engine {
   struct Job;
   struct Mission;
   Engine(std::shared_ptr<WorldModel> world, const EngineOptions& options, EngineSink& sink, Clock clock);
+  // Checks a request with `validate` (under the lock: it reads the options), refuses it when the
+  // engine stops or the queue is full (kBusy), else queues the job. Returns the refusal.
+  using Validator = std::function<std::optional<PlanError>(const EngineOptions&)>;
+  std::optional<PlanError> enqueue(std::unique_ptr<Job> job, const Validator& validate);
   void plan(Job& job);
   void planFleetJob(Job& job);
   // The mission for a job, or nullptr with `error` set (the reply's code and field).

@@ -36,17 +36,6 @@ std::optional<PlanError> checkPoint(const MissionPointData& p, const std::string
   return std::nullopt;
 }
 
-VehicleLimits toLimits(const VehicleLimitsData& d) {
-  VehicleLimits l;
-  l.v_ref_mps = d.v_ref_mps;
-  l.max_speed_mps = d.max_speed_mps;
-  l.max_accel_mps2 = d.max_accel_mps2;
-  l.max_climb_mps = d.max_climb_rate_mps;
-  l.max_descent_mps = d.max_descent_rate_mps;
-  l.min_turn_radius_m = d.min_turn_radius_m;
-  return l;
-}
-
 // GMTPA names items "vehicle <id>" / "task <id>" (optionally with a suffix); the ids are the
 // request's field names, so the reply names "begins[i]" or "tasks[j]".
 std::string requestField(const std::string& field) {
@@ -103,7 +92,7 @@ std::optional<PlanError> validateFleetRequest(const FleetRequestData& r, const F
   for (std::size_t j = 0; j < r.tasks.size(); ++j) {
     if (auto e = checkPoint(r.tasks[j], indexed("tasks", j))) return e;
   }
-  if (Status ok = toLimits(r.limits).validate(); !ok.ok()) {
+  if (Status ok = toVehicleLimits(r.limits).validate(); !ok.ok()) {
     std::string field = ok.error().field;
     if (field == "limits.max_climb_mps") field = "limits.max_climb_rate_mps";
     if (field == "limits.max_descent_mps") field = "limits.max_descent_rate_mps";
@@ -204,7 +193,7 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
   out.status.makespan_steps = plan->makespan();
 
   // Each vehicle's route in 3D through the trajectory stage.
-  const VehicleLimits limits = toLimits(r.limits);
+  const VehicleLimits limits = toVehicleLimits(r.limits);
   for (std::size_t i = 0; i < nv; ++i) {
     if (stop.shouldStop()) return fail(PlanErrorCode::kCancelled, "", "stopped while building trajectories");
     const VehiclePlan& vp = plan->paths.vehicles[i];

@@ -67,6 +67,17 @@ std::string PlanError::describe() const {
   return field + ": " + message;
 }
 
+VehicleLimits toVehicleLimits(const VehicleLimitsData& d) {
+  VehicleLimits l;
+  l.v_ref_mps = d.v_ref_mps;
+  l.max_speed_mps = d.max_speed_mps;
+  l.max_accel_mps2 = d.max_accel_mps2;
+  l.max_climb_mps = d.max_climb_rate_mps;
+  l.max_descent_mps = d.max_descent_rate_mps;
+  l.min_turn_radius_m = d.min_turn_radius_m;
+  return l;
+}
+
 PlanError toPlanError(const Error& error) {
   PlanErrorCode code = PlanErrorCode::kInternal;
   switch (error.code) {

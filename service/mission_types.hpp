@@ -15,6 +15,7 @@
 #include "terrain/local_frame.hpp"
 #include "terrain/obstacle.hpp"
 #include "terrain/result.hpp"
+#include "trajectory/vehicle_limits.hpp"
 
 namespace skyroute {
 
@@ -43,6 +44,9 @@ struct VehicleLimitsData {
   double min_clearance_agl_m = 30.0;   // minimum height above ground
   double ceiling_amsl_m = 5000.0;      // maximum altitude AMSL
 };
+
+// The trajectory stage's limits for a request's (same values; climb and descent renamed).
+VehicleLimits toVehicleLimits(const VehicleLimitsData& limits);
 
 struct MissionRequestData {
   std::string request_id;
