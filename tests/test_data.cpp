@@ -5,6 +5,8 @@
 #include <cpl_conv.h>
 #include <ogr_srs_api.h>
 
+#include "terrain/terrain_world.hpp"
+
 namespace skyroute::testing {
 
 std::string sharedDataPath(const std::string& relative) {
@@ -25,6 +27,13 @@ std::string epsgWkt(int epsg) {
   CPLFree(wkt);
   OSRDestroySpatialReference(srs);
   return out;
+}
+
+std::shared_ptr<const Heightfield> defaultTerrainHeightfield() {
+  CollisionWorldOptions options;
+  options.build_octree = false;
+  auto loaded = loadTerrainWorld(projectDataPath("default_terrain.tif"), options);
+  return loaded.ok() ? loaded->heightfield : nullptr;
 }
 
 }  // namespace skyroute::testing

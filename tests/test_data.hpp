@@ -2,9 +2,14 @@
 // clone may not: tests that need it call SKYROUTE_REQUIRE_SHARED and skip with a message).
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
+
+namespace skyroute {
+class Heightfield;
+}
 
 namespace skyroute::testing {
 
@@ -13,6 +18,8 @@ std::string sharedDataPath(const std::string& relative);
 std::string projectDataPath(const std::string& relative);
 // WKT of an EPSG coordinate reference system (for synthetic DEMs in tests).
 std::string epsgWkt(int epsg);
+// The embedded default terrain (data/default_terrain.tif) as a heightfield; null if it fails to load.
+std::shared_ptr<const Heightfield> defaultTerrainHeightfield();
 
 }  // namespace skyroute::testing
 

@@ -40,11 +40,8 @@ class FleetE2E : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dds::useLoopbackOnly();
-    CollisionWorldOptions options;
-    options.build_octree = false;
-    auto loaded = loadTerrainWorld(testing::projectDataPath("default_terrain.tif"), options);
-    ASSERT_TRUE(loaded.ok());
-    terrain_ = loaded->heightfield;
+    terrain_ = testing::defaultTerrainHeightfield();
+    ASSERT_TRUE(terrain_) << "data/default_terrain.tif did not load";
   }
 
   void SetUp() override {

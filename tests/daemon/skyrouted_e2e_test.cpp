@@ -38,11 +38,8 @@ class SkyroutedE2E : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dds::useLoopbackOnly();  // the daemon and tools inherit it
-    CollisionWorldOptions options;
-    options.build_octree = false;
-    auto loaded = loadTerrainWorld(testing::projectDataPath("default_terrain.tif"), options);
-    ASSERT_TRUE(loaded.ok());
-    terrain_ = loaded->heightfield;
+    terrain_ = testing::defaultTerrainHeightfield();
+    ASSERT_TRUE(terrain_) << "data/default_terrain.tif did not load";
   }
 
   // Starts skyrouted on `domain` and waits until it serves (heartbeat heard, topics matched).

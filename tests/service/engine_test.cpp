@@ -73,11 +73,8 @@ struct ManualClock {
 class EngineTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    CollisionWorldOptions options;
-    options.build_octree = false;
-    auto loaded = loadTerrainWorld(testing::projectDataPath("default_terrain.tif"), options);
-    ASSERT_TRUE(loaded.ok()) << loaded.error().describe();
-    heightfield_ = loaded->heightfield;
+    heightfield_ = testing::defaultTerrainHeightfield();
+    ASSERT_TRUE(heightfield_) << "data/default_terrain.tif did not load";
   }
 
   void SetUp() override {

@@ -21,11 +21,8 @@ constexpr std::int64_t kStartNs = 1'800'000'000'000'000'000LL;
 class FleetMissionTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    CollisionWorldOptions options;
-    options.build_octree = false;
-    auto loaded = loadTerrainWorld(testing::projectDataPath("default_terrain.tif"), options);
-    ASSERT_TRUE(loaded.ok()) << loaded.error().describe();
-    heightfield_ = loaded->heightfield;
+    heightfield_ = testing::defaultTerrainHeightfield();
+    ASSERT_TRUE(heightfield_) << "data/default_terrain.tif did not load";
   }
   void SetUp() override {
     auto model = WorldModel::create(heightfield_, WorldModelOptions{}, "default_terrain");
