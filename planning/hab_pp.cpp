@@ -149,18 +149,35 @@ int sightRadius(const GridFields& fields, GridCell at, int base_radius, bool exp
 
 std::vector<GridCell> candidates(const GridFields& fields, GridCell at, int radius,
                                  const std::vector<std::uint8_t>& visited) {
+  std::vector<GridCell> out;
+  candidates(fields, at, radius, visited, out);
+  return out;
+}
+
+void candidates(const GridFields& fields, GridCell at, int radius, const std::vector<std::uint8_t>& visited,
+                std::vector<GridCell>& out) {
   const GridLayer& grid = fields.grid();
   const GridCell goal = fields.goal();
+  out.clear();
   if (std::max(std::abs(goal.x - at.x), std::abs(goal.y - at.y)) <= radius && grid.lineOfSight(at, goal)) {
-    return {goal};
+    out.push_back(goal);
+    return;
   }
-  std::vector<GridCell> out;
   for (int r = radius; r >= 1; --r) {
     // A free window makes every border point visible (the segment stays inside the free square).
     const bool window_free = fields.windowFree(at, r);
+    // Radius 1 (the simple ants, most of the colony): the segment to a side neighbour touches only
+    // the two cells, to a diagonal one also the two cells beside the corner, so lineOfSight
+    // reduces to those tests.
+    auto visible = [&](GridCell c) {
+      if (window_free) return true;
+      if (r > 1) return grid.lineOfSight(at, c);
+      return c.x == at.x || c.y == at.y ||
+             (grid.passable(GridCell{c.x, at.y}) && grid.passable(GridCell{at.x, c.y}));
+    };
     auto consider = [&](GridCell c) {
       if (grid.blocked(c) || visited[grid.index(c)] != 0) return;
-      if (window_free || grid.lineOfSight(at, c)) out.push_back(c);
+      if (visible(c)) out.push_back(c);
     };
     for (int dx = -r; dx <= r; ++dx) {
       consider(GridCell{at.x + dx, at.y - r});
@@ -170,9 +187,8 @@ std::vector<GridCell> candidates(const GridFields& fields, GridCell at, int radi
       consider(GridCell{at.x - r, at.y + dy});
       consider(GridCell{at.x + r, at.y + dy});
     }
-    if (!out.empty()) return out;
+    if (!out.empty()) return;
   }
-  return out;
 }
 
 double angleFactor(double heading_x, double heading_y, GridCell at, GridCell to, double floor) {
@@ -350,12 +366,17 @@ std::vector<double> evaluate(const std::vector<Path>& paths, const HabPpParamete
 }
 
 PheromoneField::PheromoneField(const GridFields& fields, const HabPpParameters& params)
-    : fields_(&fields), params_(params), tau_(fields.grid().cellCount()), stamp_(fields.grid().cellCount(), 0) {
+    : fields_(&fields), params_(params), tau_(fields.grid().cellCount()), stamp_(fields.grid().cellCount(), 0),
+      in_active_(fields.grid().cellCount(), 0) {
   const GridLayer& grid = fields.grid();
   for (std::size_t i = 0; i < tau_.size(); ++i) {
     const GridCell c = grid.cellOf(i);
     tau_[i] = std::clamp(fields.visibility(c), params.pheromone_min, params.pheromone_max);
     if (grid.passable(c)) free_cells_.push_back(i);
+    if (tau_[i] > params.pheromone_min) {
+      in_active_[i] = 1;
+      active_.push_back(static_cast<std::uint32_t>(i));
+    }
   }
 }
 
@@ -391,29 +412,58 @@ void PheromoneField::update(const std::vector<Path>& ranked, const std::vector<d
 
 void PheromoneField::updateCells(const std::vector<std::vector<std::uint32_t>>& ranked_cells,
                                  const std::vector<double>& evaluation) {
-  for (double& t : tau_) t *= (1.0 - params_.rho);
+  const double keep = 1.0 - params_.rho;
+  for (std::uint32_t i : active_) tau_[i] *= keep;
   for (std::size_t k = 0; k < ranked_cells.size(); ++k) {
     const double deposit = params_.rho * evaluation[k];
-    for (std::uint32_t i : ranked_cells[k]) tau_[i] += deposit;
+    for (std::uint32_t i : ranked_cells[k]) {
+      if (in_active_[i] == 0) {  // at the floor: evaporate it here, as the full pass would have
+        in_active_[i] = 1;
+        active_.push_back(i);
+        tau_[i] *= keep;
+      }
+      tau_[i] += deposit;
+    }
   }
-  for (double& t : tau_) t = std::clamp(t, params_.pheromone_min, params_.pheromone_max);
-  cumulative_stale_ = true;
+  std::size_t kept = 0;
+  for (std::uint32_t i : active_) {
+    tau_[i] = std::clamp(tau_[i], params_.pheromone_min, params_.pheromone_max);
+    if (tau_[i] > params_.pheromone_min) {
+      active_[kept++] = i;
+    } else {
+      in_active_[i] = 0;
+    }
+  }
+  active_.resize(kept);
+  excess_stale_ = true;
 }
 
 GridCell PheromoneField::sample(Rng& rng) const {
-  if (cumulative_stale_) {
-    cumulative_.resize(free_cells_.size());
+  const GridLayer& grid = fields_->grid();
+  const double floor_weight = powExponent(params_.pheromone_min, params_.alpha);
+  if (excess_stale_) {
+    excess_cells_.clear();
+    excess_cumulative_.clear();
     double sum = 0.0;
-    for (std::size_t k = 0; k < free_cells_.size(); ++k) {
-      sum += powExponent(tau_[free_cells_[k]], params_.alpha);
-      cumulative_[k] = sum;
+    for (std::uint32_t i : active_) {
+      if (grid.blocked(grid.cellOf(i))) continue;
+      sum += powExponent(tau_[i], params_.alpha) - floor_weight;
+      excess_cells_.push_back(i);
+      excess_cumulative_.push_back(sum);
     }
-    cumulative_stale_ = false;
+    excess_stale_ = false;
   }
-  const double r = std::uniform_real_distribution<double>(0.0, cumulative_.back())(rng);
-  const auto it = std::upper_bound(cumulative_.begin(), cumulative_.end(), r);
-  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - cumulative_.begin()), free_cells_.size() - 1);
-  return fields_->grid().cellOf(free_cells_[k]);
+  const double excess = excess_cumulative_.empty() ? 0.0 : excess_cumulative_.back();
+  const double floor_total = floor_weight * static_cast<double>(free_cells_.size());
+  const double r = std::uniform_real_distribution<double>(0.0, excess + floor_total)(rng);
+  if (r < excess) {
+    const auto it = std::upper_bound(excess_cumulative_.begin(), excess_cumulative_.end(), r);
+    const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - excess_cumulative_.begin()),
+                                                excess_cells_.size() - 1);
+    return grid.cellOf(excess_cells_[k]);
+  }
+  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>((r - excess) / floor_weight), free_cells_.size() - 1);
+  return grid.cellOf(free_cells_[k]);
 }
 
 // ---- the colony ----------------------------------------------------------------------------------
@@ -431,9 +481,13 @@ struct Ant {
 
 class Colony {
  public:
-  Colony(const GridLayer& grid, GridCell start, GridCell goal, const HabPpParameters& params)
+  // Choice: the RRT* species draws from its own random stream (derived from the plan's seed), so
+  // the ants of HAB-PP and of Improved HAB-PP with the same seed draw the same numbers and walk the
+  // same way until the first RRT* path enters the ranked list: the two planners are compared on
+  // common random numbers, and what differs is what the trees contribute.
+  Colony(const GridLayer& grid, GridCell start, GridCell goal, const HabPpParameters& params, std::uint64_t seed)
       : grid_(grid), start_(start), goal_(goal), params_(params), fields_(grid, goal, params),
-        pheromone_(fields_, params) {
+        pheromone_(fields_, params), rrt_rng_(seed ^ 0x9e3779b97f4a7c15ULL) {
     max_steps_ = params.max_ant_steps > 0 ? params.max_ant_steps : 2 * (grid.width() + grid.height());
     auto add = [&](int count, int radius, bool expanding) {
       for (int i = 0; i < count; ++i) {
@@ -463,7 +517,7 @@ class Colony {
       }
     }
     for (RrtAnt& tree : rrt_) {
-      if (std::optional<Path> p = tree.step(pheromone_, rng)) {
+      if (std::optional<Path> p = tree.step(pheromone_, rrt_rng_)) {
         arrivals.push_back(tightenPath(grid_, *p, params_.tighten_passes));
         ++stats.rrt_arrivals;
       }
@@ -509,7 +563,8 @@ class Colony {
   std::optional<Path> step(Ant& ant, Rng& rng) {
     const GridCell at = ant.path.back();
     const int radius = sightRadius(fields_, at, ant.base_radius, ant.expanding, params_.sight_max_radius);
-    const std::vector<GridCell> c = candidates(fields_, at, radius, ant.visited);
+    std::vector<GridCell>& c = candidates_;
+    candidates(fields_, at, radius, ant.visited, c);
     if (c.empty() || ant.steps >= max_steps_) {  // Choice: a stuck or lost ant starts over
       restart(ant);
       return std::nullopt;
@@ -582,6 +637,8 @@ class Colony {
   std::vector<double> ranked_eval_;
   std::vector<std::vector<std::uint32_t>> ranked_cells_;  // pheromone cells of each ranked path
   std::vector<double> weights_;
+  std::vector<GridCell> candidates_;  // reused by every ant step
+  Rng rrt_rng_;
 };
 
 // 8-connected flood fill without corner cutting: exactly the cells an any-angle path can reach,
@@ -644,7 +701,7 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
   }
 
   habpp::Rng rng(seed);
-  habpp::Colony colony(grid, start, goal, params);
+  habpp::Colony colony(grid, start, goal, params, seed);
   int unchanged = 0;
   int unchanged_with_arrivals = 0;
   for (;;) {

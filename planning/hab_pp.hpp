@@ -160,6 +160,9 @@ int sightRadius(const GridFields& fields, GridCell at, int base_radius, bool exp
 // window and is in sight, it is the only candidate. Empty: the ant is stuck.
 std::vector<GridCell> candidates(const GridFields& fields, GridCell at, int radius,
                                  const std::vector<std::uint8_t>& visited);
+// The same into a caller's buffer (cleared first), so the ants' steps allocate nothing.
+void candidates(const GridFields& fields, GridCell at, int radius, const std::vector<std::uint8_t>& visited,
+                std::vector<GridCell>& out);
 
 // Angle-change factor xi of eq. (1), Choice: (1 + cos theta) / 2, theta the angle between the
 // ant's heading and the step at -> to, floored at `floor`. No heading (zero vector): 1.
@@ -208,9 +211,13 @@ class PheromoneField {
   // The indices of the cells the path's segments touch (Fig. 3), each once, in path order.
   std::vector<std::uint32_t> pathCells(const Path& path);
   // Roulette-wheel choice of a free cell with probability proportional to tau^alpha (the RRT*
-  // species' sampling): a binary search in the cumulative tau^alpha of the free cells, rebuilt on
-  // the first draw after each update (once per iteration, only when an RRT* ant samples).
+  // species' sampling). Most cells sit at the floor pheromone_min, so the wheel has two parts: the
+  // floor (every free cell, pheromone_min^alpha each: a uniform draw) and the excess
+  // tau^alpha - pheromone_min^alpha of the cells above it, a cumulative table over those cells only,
+  // rebuilt on the first draw after each update. One random number picks the part and the cell.
   GridCell sample(Rng& rng) const;
+  // Cells above the floor now (the rest hold exactly pheromone_min). Exposed for the tests.
+  std::size_t activeCount() const { return active_.size(); }
 
  private:
   const GridFields* fields_;
@@ -219,8 +226,14 @@ class PheromoneField {
   std::vector<std::size_t> free_cells_;
   std::vector<std::uint32_t> stamp_;  // per-cell marker, so each path deposits once per cell
   std::uint32_t stamp_now_ = 0;
-  mutable std::vector<double> cumulative_;  // running sum of tau^alpha over free_cells_
-  mutable bool cumulative_stale_ = true;
+  // The update touches only the cells above the floor and the deposited ones (a cell at the floor
+  // that gets nothing stays at the floor: (1 - rho) * min clamps back to min), with the same
+  // arithmetic, in the same order per cell, as a pass over every cell.
+  std::vector<std::uint32_t> active_;   // cells with tau > pheromone_min
+  std::vector<std::uint8_t> in_active_;
+  mutable std::vector<double> excess_cumulative_;   // running sum of the excess over excess_cells_
+  mutable std::vector<std::uint32_t> excess_cells_;  // free active cells, in active_ order
+  mutable bool excess_stale_ = true;
   void nextStamp();
 };
 

@@ -7,7 +7,12 @@
 namespace skyroute::habpp {
 
 namespace {
-double dist(GridCell a, GridCell b) { return std::hypot(double(a.x - b.x), double(a.y - b.y)); }
+long long dist2(GridCell a, GridCell b) {
+  const long long dx = a.x - b.x, dy = a.y - b.y;
+  return dx * dx + dy * dy;
+}
+double dist(GridCell a, GridCell b) { return std::sqrt(static_cast<double>(dist2(a, b))); }
+int coord(GridCell c, int depth) { return (depth & 1) == 0 ? c.x : c.y; }
 }  // namespace
 
 RrtAnt::RrtAnt(const GridLayer& grid, GridCell start, GridCell goal, const HabPpParameters& params)
@@ -18,84 +23,98 @@ RrtAnt::RrtAnt(const GridLayer& grid, GridCell start, GridCell goal, const HabPp
       near_radius_cells_(params.rrt_near_radius_cells),
       nodes_after_solution_(params.rrt_nodes_after_solution),
       node_at_(grid.cellCount(), -1) {
-  buckets_x_ = (grid.width() + kBucketCells - 1) / kBucketCells;
-  buckets_y_ = (grid.height() + kBucketCells - 1) / kBucketCells;
-  buckets_.resize(static_cast<std::size_t>(buckets_x_) * buckets_y_);
   reset();
 }
 
 void RrtAnt::reset() {
-  for (const Node& n : nodes_) {
-    node_at_[grid_->index(n.cell)] = -1;
-    buckets_[bucketOf(n.cell)].clear();
-  }
+  for (const Node& n : nodes_) node_at_[grid_->index(n.cell)] = -1;
   nodes_.clear();
-  nodes_.push_back(Node{start_, -1, 0.0, {}});
+  kd_.clear();
+  nodes_.push_back(Node{start_, -1, 0.0});
+  kd_.push_back(KdLinks{});
   node_at_[grid_->index(start_)] = 0;
-  buckets_[bucketOf(start_)].push_back(0);
   goal_node_ = -1;
   reported_goal_cost_ = std::numeric_limits<double>::infinity();
   nodes_since_solution_ = 0;
 }
 
-int RrtAnt::nearest(GridCell c) const {
-  // Rings of buckets around c's bucket; a node in ring R + 1 or beyond is more than R buckets'
-  // width away, so the search stops once the best distance is within that. Ties go to the lowest
-  // index, as in a scan of every node.
-  int best = -1;
-  double best_d = std::numeric_limits<double>::infinity();
-  const int bx = c.x / kBucketCells, by = c.y / kBucketCells;
-  const int rings = std::max(buckets_x_, buckets_y_);
-  for (int r = 0; r <= rings; ++r) {
-    for (int y = by - r; y <= by + r; ++y) {
-      if (y < 0 || y >= buckets_y_) continue;
-      for (int x = bx - r; x <= bx + r; ++x) {
-        if (x < 0 || x >= buckets_x_ || (std::abs(x - bx) != r && std::abs(y - by) != r)) continue;
-        for (int i : buckets_[static_cast<std::size_t>(y) * buckets_x_ + x]) {
-          const double d = dist(nodes_[i].cell, c);
-          if (d < best_d || (d == best_d && i < best)) {
-            best_d = d;
-            best = i;
-          }
-        }
-      }
+void RrtAnt::kdInsert(int node) {
+  const GridCell c = nodes_[node].cell;
+  int at = 0;
+  for (int depth = 0;; ++depth) {
+    int& next = coord(c, depth) < coord(nodes_[at].cell, depth) ? kd_[at].left : kd_[at].right;
+    if (next < 0) {
+      next = node;
+      return;
     }
-    if (best >= 0 && best_d <= static_cast<double>(r) * kBucketCells) break;
+    at = next;
+  }
+}
+
+int RrtAnt::nearest(GridCell c) const {
+  int best = -1;
+  long long best_d2 = std::numeric_limits<long long>::max();
+  kd_stack_.clear();
+  kd_stack_.push_back(KdVisit{0, 0, 0});
+  while (!kd_stack_.empty()) {
+    const KdVisit v = kd_stack_.back();
+    kd_stack_.pop_back();
+    if (v.bound_d2 > best_d2) continue;  // ">" keeps equal-distance nodes for the index tie-break
+    const long long d2 = dist2(nodes_[v.node].cell, c);
+    if (d2 < best_d2 || (d2 == best_d2 && v.node < best)) {
+      best_d2 = d2;
+      best = v.node;
+    }
+    const long long diff = coord(c, v.depth) - coord(nodes_[v.node].cell, v.depth);
+    const int near_side = diff < 0 ? kd_[v.node].left : kd_[v.node].right;
+    const int far_side = diff < 0 ? kd_[v.node].right : kd_[v.node].left;
+    // The far side lies across the splitting line, at least |diff| away; pushed first, so the near
+    // side (popped first) usually tightens best_d2 before the far side is looked at.
+    if (far_side >= 0) kd_stack_.push_back(KdVisit{far_side, v.depth + 1, std::max(v.bound_d2, diff * diff)});
+    if (near_side >= 0) kd_stack_.push_back(KdVisit{near_side, v.depth + 1, v.bound_d2});
   }
   return best;
 }
 
-std::vector<int> RrtAnt::near(GridCell c) const {
-  std::vector<int> out;
-  const int reach = static_cast<int>(std::ceil(near_radius_cells_));
-  const int x0 = std::max(0, (c.x - reach) / kBucketCells), x1 = std::min(buckets_x_ - 1, (c.x + reach) / kBucketCells);
-  const int y0 = std::max(0, (c.y - reach) / kBucketCells), y1 = std::min(buckets_y_ - 1, (c.y + reach) / kBucketCells);
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) {
-      for (int i : buckets_[static_cast<std::size_t>(y) * buckets_x_ + x]) {
-        if (dist(nodes_[i].cell, c) <= near_radius_cells_) out.push_back(i);
-      }
-    }
+void RrtAnt::near(GridCell c, std::vector<int>& out) const {
+  out.clear();
+  const double r = near_radius_cells_;
+  kd_stack_.clear();
+  kd_stack_.push_back(KdVisit{0, 0, 0});
+  while (!kd_stack_.empty()) {
+    const KdVisit v = kd_stack_.back();
+    kd_stack_.pop_back();
+    if (static_cast<double>(v.bound_d2) > r * r + 1e-9) continue;
+    if (dist(nodes_[v.node].cell, c) <= r) out.push_back(v.node);
+    const long long diff = coord(c, v.depth) - coord(nodes_[v.node].cell, v.depth);
+    const int near_side = diff < 0 ? kd_[v.node].left : kd_[v.node].right;
+    const int far_side = diff < 0 ? kd_[v.node].right : kd_[v.node].left;
+    if (far_side >= 0) kd_stack_.push_back(KdVisit{far_side, v.depth + 1, std::max(v.bound_d2, diff * diff)});
+    if (near_side >= 0) kd_stack_.push_back(KdVisit{near_side, v.depth + 1, v.bound_d2});
   }
   std::sort(out.begin(), out.end());  // index order, as a scan of every node gives
-  return out;
 }
 
 void RrtAnt::setParent(int node, int parent) {
   Node& n = nodes_[node];
-  if (n.parent >= 0) {
-    auto& siblings = nodes_[n.parent].children;
-    siblings.erase(std::find(siblings.begin(), siblings.end(), node));
+  if (n.parent >= 0) {  // unlink from the old parent's children
+    if (n.prev_sibling >= 0) nodes_[n.prev_sibling].next_sibling = n.next_sibling;
+    else nodes_[n.parent].first_child = n.next_sibling;
+    if (n.next_sibling >= 0) nodes_[n.next_sibling].prev_sibling = n.prev_sibling;
   }
   n.parent = parent;
-  nodes_[parent].children.push_back(node);
+  n.prev_sibling = -1;
+  n.next_sibling = nodes_[parent].first_child;
+  if (n.next_sibling >= 0) nodes_[n.next_sibling].prev_sibling = node;
+  nodes_[parent].first_child = node;
   // The new cost flows down the subtree (Table 3 leaves this implicit in Cost(x, V)).
-  std::vector<int> stack{node};
-  while (!stack.empty()) {
-    const int i = stack.back();
-    stack.pop_back();
+  subtree_stack_.clear();
+  subtree_stack_.push_back(node);
+  while (!subtree_stack_.empty()) {
+    const int i = subtree_stack_.back();
+    subtree_stack_.pop_back();
     nodes_[i].cost = nodes_[nodes_[i].parent].cost + dist(nodes_[nodes_[i].parent].cell, nodes_[i].cell);
-    for (int ch : nodes_[i].children) stack.push_back(ch);
+    for (int ch = nodes_[i].first_child; ch >= 0; ch = nodes_[ch].next_sibling) subtree_stack_.push_back(ch);
   }
 }
 
@@ -118,9 +137,10 @@ int RrtAnt::addNode(GridCell cell, const std::vector<int>& near_nodes, int fallb
     }
   }
   const int id = static_cast<int>(nodes_.size());
-  nodes_.push_back(Node{cell, -1, 0.0, {}});
+  nodes_.push_back(Node{cell, -1, 0.0});
+  kd_.push_back(KdLinks{});
+  kdInsert(id);
   node_at_[grid_->index(cell)] = id;
-  buckets_[bucketOf(cell)].push_back(id);
   setParent(id, parent);
   return id;
 }
@@ -167,9 +187,9 @@ std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
     reach *= 0.5;
   }
   if (node_at_[grid_->index(target)] >= 0) return std::nullopt;
-  std::vector<int> near_nodes = near(target);
-  const int id = addNode(target, near_nodes, from);
-  rewire(id, near_nodes);
+  near(target, near_nodes_);
+  const int id = addNode(target, near_nodes_, from);
+  rewire(id, near_nodes_);
   if (goal_node_ >= 0) ++nodes_since_solution_;
 
   // Connect the goal when it is within one extension and in sight; afterwards it is an ordinary
@@ -177,7 +197,8 @@ std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
   if (target == goal_) {
     goal_node_ = id;
   } else if (goal_node_ < 0 && dist(target, goal_) <= step_cells_ && grid_->lineOfSight(target, goal_)) {
-    goal_node_ = addNode(goal_, near(goal_), id);
+    near(goal_, goal_near_);
+    goal_node_ = addNode(goal_, goal_near_, id);
   }
   if (goal_node_ >= 0 && nodes_[goal_node_].cost + 1e-9 < reported_goal_cost_) {
     reported_goal_cost_ = nodes_[goal_node_].cost;

@@ -33,11 +33,15 @@ class RrtAnt {
     GridCell cell;
     int parent = -1;
     double cost = 0.0;  // path length from the start, cells
-    std::vector<int> children;
+    // Children as an intrusive doubly linked list (no per-node allocation).
+    int first_child = -1;
+    int next_sibling = -1;
+    int prev_sibling = -1;
   };
   void reset();
   int nearest(GridCell c) const;
-  std::vector<int> near(GridCell c) const;
+  // Nodes within r_RRT of c, in index order, into out.
+  void near(GridCell c, std::vector<int>& out) const;
   int addNode(GridCell cell, const std::vector<int>& near_nodes, int fallback_parent);
   void rewire(int node, const std::vector<int>& near_nodes);
   void setParent(int node, int parent);
@@ -49,19 +53,31 @@ class RrtAnt {
   double step_cells_;
   double near_radius_cells_;
   int nodes_after_solution_;
-  std::size_t bucketOf(GridCell c) const {
-    return static_cast<std::size_t>(c.y / kBucketCells) * buckets_x_ + static_cast<std::size_t>(c.x / kBucketCells);
-  }
 
-  // Nodes are binned in square buckets of kBucketCells cells so nearest() and near() look only at
-  // the buckets that can hold an answer (the results equal a scan of every node).
-  static constexpr int kBucketCells = 8;
+  // Nodes also form a 2D k-d tree (insertion order, splitting on x at even depths and y at odd
+  // ones; node i of the RRT* is k-d node i), so nearest() and near() visit O(log n) nodes on
+  // average instead of scanning the tree or rings of buckets (a sample far from the tree, as the
+  // pheromone field gives near the goal, made a ring search scan most of the map). Squared
+  // distances are exact integers; ties go to the lowest index, as in a scan of every node.
+  struct KdLinks {
+    int left = -1;
+    int right = -1;
+  };
+  void kdInsert(int node);
   std::vector<Node> nodes_;
+  std::vector<KdLinks> kd_;
   std::vector<int> node_at_;  // node index of each grid cell, -1 if none
-  std::vector<std::vector<int>> buckets_;
-  int buckets_x_ = 0;
-  int buckets_y_ = 0;
+  // Reused buffers, so a step allocates nothing once they have grown.
+  struct KdVisit {
+    int node;
+    int depth;
+    long long bound_d2;  // lower bound of the squared distance to anything in this subtree
+  };
+  mutable std::vector<KdVisit> kd_stack_;
   mutable std::vector<std::pair<double, int>> scratch_;
+  std::vector<int> near_nodes_;
+  std::vector<int> goal_near_;
+  std::vector<int> subtree_stack_;
   int goal_node_ = -1;
   double reported_goal_cost_ = 0.0;  // goal cost last handed to the colony (infinity: none yet)
   int nodes_since_solution_ = 0;

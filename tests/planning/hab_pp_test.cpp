@@ -4,6 +4,7 @@
 // Every path is checked with a geometric line-of-sight test independent of GridLayer.
 #include "planning/hab_pp.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -277,6 +278,45 @@ TEST(HabPpPheromone, UpdateFollowsEquationsThreeAndFourWithInterpolation) {
   EXPECT_DOUBLE_EQ(tau.at(GridCell{2, 5}), p.pheromone_min) << "lower limit";
   for (int i = 0; i < 200; ++i) tau.update({path, path}, {1.0, 1.0});
   EXPECT_DOUBLE_EQ(tau.at(GridCell{4, 2}), p.pheromone_max) << "upper limit";
+}
+
+// The update touches only the cells above the floor and the deposited ones: it must equal a pass
+// over every cell (evaporate, deposit, clamp) exactly, while cells fall to the floor and rise again.
+TEST(HabPpPheromone, SparseUpdateEqualsAFullPassOverEveryCell) {
+  const GridLayer g = gridFromText({"..........", "...##.....", "...##.....", "..........", ".........."});
+  HabPpParameters p;
+  const habpp::GridFields f(g, GridCell{9, 4}, p);
+  habpp::PheromoneField tau(f, p);
+  std::vector<double> ref(g.cellCount());
+  for (std::size_t i = 0; i < ref.size(); ++i) ref[i] = tau.at(g.cellOf(i));
+  const std::vector<Path> paths = {{{0, 0}, {9, 4}}, {{0, 4}, {9, 0}}, {{2, 0}, {2, 4}, {9, 4}}};
+  std::size_t most_active = 0, least_active = g.cellCount();
+  for (int it = 0; it < 120; ++it) {
+    // Deposits for 15 iterations, none for 45, and again: cells fall to the floor and come back.
+    std::vector<Path> ranked;
+    std::vector<double> eval;
+    if (it % 60 < 15) {
+      ranked = {paths[it % 3], paths[(it + 1) % 3]};
+      eval = {1.0, 0.4};
+    }
+    tau.update(ranked, eval);
+    for (double& t : ref) t *= 1.0 - p.rho;
+    for (std::size_t k = 0; k < ranked.size(); ++k) {
+      std::set<std::size_t> cells;
+      for (std::size_t s = 0; s + 1 < ranked[k].size(); ++s) {
+        for (GridCell c : habpp::segmentCells(ranked[k][s], ranked[k][s + 1])) cells.insert(g.index(c));
+      }
+      for (std::size_t i : cells) ref[i] += p.rho * eval[k];
+    }
+    for (double& t : ref) t = std::clamp(t, p.pheromone_min, p.pheromone_max);
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      ASSERT_DOUBLE_EQ(tau.at(g.cellOf(i)), ref[i]) << "cell " << i << " iteration " << it;
+    }
+    most_active = std::max(most_active, tau.activeCount());
+    least_active = std::min(least_active, tau.activeCount());
+  }
+  EXPECT_EQ(least_active, 0u) << "every cell reached the floor in the quiet iterations";
+  EXPECT_GT(most_active, 20u);
 }
 
 TEST(HabPpPheromone, SamplingIsProportionalToTauToTheAlpha) {
