@@ -5,8 +5,11 @@
 // Each planner's length is divided by the best length any planner found for that pair.
 //
 // Usage: rrt_star_bench [--pairs N] [--long-ms MS] [--csv FILE] [--dem hgt|tif|both] [--spacing M]
-//                       [--max-vertices N] [--passes N] [--plan-share F]
+//                       [--max-vertices N] [--passes N] [--plan-share F] [--refine 0|1]
+//                       [--refine-min-step M] [--refine-shortcuts N] [--budgets MS,MS,...] [--ompl 0|1]
 // Prints one typed row per run to the CSV and a summary table (median / p90 ratio) on stdout.
+// Ours is RRT* -> LOSPO -> refinePath, all inside the budget; the row "skyroute RRT* LOSPO only"
+// is the same run's path before refinePath (what the pipeline gives without the extra stage).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,6 +19,7 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -33,6 +37,7 @@
 #include <ompl/util/RandomNumbers.h>
 
 #include "planning/lospo.hpp"
+#include "planning/path_refinement.hpp"
 #include "planning/rrt_star.hpp"
 #include "planning/world_motion_validator.hpp"
 #include "terrain/terrain_world.hpp"
@@ -87,8 +92,10 @@ struct Run {
   bool solved = false;
   double plan_s = 0;
   double length_m = NAN;             // planner's own path
-  double simplified_m = NAN;         // after LOSPO (ours) or simplifyMax (OMPL)
+  double simplified_m = NAN;         // after LOSPO + refinement (ours) or simplifyMax (OMPL)
   double simplify_s = 0;
+  double lospo_m = NAN;              // ours after LOSPO, before the refinement
+  double refine_s = 0;
   std::size_t tree_size = 0;
 };
 
@@ -96,10 +103,21 @@ struct Pair {
   Eigen::Vector3d start, goal;
 };
 
-// Our budget covers both steps: RRT* gets plan_share of it, LOSPO the rest (it stops at the
-// deadline with the valid path it has so far).
+struct OurOptions {
+  double spacing_m = 100.0;
+  int max_vertices = 60;
+  int passes = 2;
+  double plan_share = 0.8;
+  bool refine = true;
+  skyroute::PathRefinementOptions refinement;
+};
+
+// Our budget covers every step: RRT* gets plan_share of it, LOSPO and the refinement the rest
+// (each stops at the deadline with the valid path it has so far).
 Run runOurs(const MotionValidator& v, const Pair& p, double budget_ms, std::uint64_t seed, double step_m,
-            double spacing_m, int max_vertices, int passes, double plan_share) {
+            const OurOptions& ours) {
+  const double spacing_m = ours.spacing_m, plan_share = ours.plan_share;
+  const int max_vertices = ours.max_vertices, passes = ours.passes;
   Run run;
   run.planner = "skyroute RRT*";
   run.budget_ms = budget_ms;
@@ -117,8 +135,15 @@ Run runOurs(const MotionValidator& v, const Pair& p, double budget_ms, std::uint
   run.tree_size = r->tree_size;
   const auto t1 = Clock::now();
   auto opt = skyroute::lospo(v, r->path_m, skyroute::LospoOptions{.spacing_m = spacing_m, .max_vertices = max_vertices, .max_passes = passes}, lospo_stop);
-  run.simplify_s = std::chrono::duration<double>(Clock::now() - t1).count();
   run.simplified_m = opt.ok() ? opt->length_m : r->length_m;
+  run.lospo_m = run.simplified_m;
+  if (opt.ok() && ours.refine) {
+    const auto t2 = Clock::now();
+    auto refined = skyroute::refinePath(v, opt->path_m, ours.refinement, lospo_stop);
+    run.refine_s = std::chrono::duration<double>(Clock::now() - t2).count();
+    if (refined.ok()) run.simplified_m = refined->length_m;
+  }
+  run.simplify_s = std::chrono::duration<double>(Clock::now() - t1).count();
   return run;
 }
 
@@ -243,20 +268,28 @@ int main(int argc, char** argv) {
   double long_ms = 1000.0;
   std::string csv_path = "rrt_star_bench.csv";
   std::string which = "both";
-  double spacing_m = 100.0;
-  int passes = 2;
-  int max_vertices = 60;
-  double plan_share = 0.8;
+  OurOptions ours;
+  bool with_ompl = true;
+  std::vector<double> budgets{10.0, 50.0, 100.0};
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--pairs") pairs_per_dem = std::atoi(argv[i + 1]);
     else if (a == "--long-ms") long_ms = std::atof(argv[i + 1]);
     else if (a == "--csv") csv_path = argv[i + 1];
     else if (a == "--dem") which = argv[i + 1];
-    else if (a == "--spacing") spacing_m = std::atof(argv[i + 1]);
-    else if (a == "--passes") passes = std::atoi(argv[i + 1]);
-    else if (a == "--max-vertices") max_vertices = std::atoi(argv[i + 1]);
-    else if (a == "--plan-share") plan_share = std::atof(argv[i + 1]);
+    else if (a == "--spacing") ours.spacing_m = std::atof(argv[i + 1]);
+    else if (a == "--passes") ours.passes = std::atoi(argv[i + 1]);
+    else if (a == "--max-vertices") ours.max_vertices = std::atoi(argv[i + 1]);
+    else if (a == "--plan-share") ours.plan_share = std::atof(argv[i + 1]);
+    else if (a == "--refine") ours.refine = std::atoi(argv[i + 1]) != 0;
+    else if (a == "--refine-min-step") ours.refinement.min_step_m = std::atof(argv[i + 1]);
+    else if (a == "--refine-shortcuts") ours.refinement.shortcut_attempts = std::atoi(argv[i + 1]);
+    else if (a == "--ompl") with_ompl = std::atoi(argv[i + 1]) != 0;  // 0: ours only (tuning runs)
+    else if (a == "--budgets") {  // comma-separated, replaces 10,50,100 (the long one is added)
+      budgets.clear();
+      std::stringstream list(argv[i + 1]);
+      for (std::string item; std::getline(list, item, ',');) budgets.push_back(std::atof(item.c_str()));
+    }
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
@@ -268,11 +301,12 @@ int main(int argc, char** argv) {
   std::vector<DemCase> cases;
   if (which != "tif") cases.push_back({"N44W072", dir + "/dem/N44W072.hgt", 900.0, 8000.0, 15000.0});
   if (which != "hgt") cases.push_back({"davosdorf", dir + "/dem/davosdorf.tif", 2500.0, 4000.0, 8000.0});
-  const std::vector<double> budgets{10.0, 50.0, 100.0, long_ms};
-  const std::vector<std::string> ompl_planners{"RRTstar", "InformedRRTstar", "BITstar"};
+  if (long_ms > 0) budgets.push_back(long_ms);
+  std::vector<std::string> ompl_planners{"RRTstar", "InformedRRTstar", "BITstar"};
+  if (!with_ompl) ompl_planners.clear();
 
   std::ofstream csv(csv_path);
-  csv << "dem,pair,planner,budget_ms,solved,plan_s,length_m,simplified_m,simplify_s,tree_size,best_m\n";
+  csv << "dem,pair,planner,budget_ms,solved,plan_s,length_m,simplified_m,simplify_s,tree_size,best_m,lospo_m,refine_s\n";
   // (planner, budget, simplified?) -> ratios
   std::map<std::tuple<std::string, double, bool>, std::vector<double>> ratios;
   std::map<std::tuple<std::string, double>, std::vector<double>> simplify_times;
@@ -297,7 +331,7 @@ int main(int argc, char** argv) {
       const double step_m = 0.2 * v.samplingBounds().diagonal().norm();
       std::vector<Run> runs;
       for (double b : budgets) {
-        runs.push_back(runOurs(v, pairs[k], b, 1000 + k, step_m, spacing_m, max_vertices, passes, plan_share));
+        runs.push_back(runOurs(v, pairs[k], b, 1000 + k, step_m, ours));
         for (const auto& name : ompl_planners) runs.push_back(runOmpl(name, v, pairs[k], b, step_m));
       }
       double best = INFINITY;
@@ -309,12 +343,19 @@ int main(int argc, char** argv) {
         r.pair = static_cast<int>(k);
         csv << r.dem << ',' << r.pair << ',' << r.planner << ',' << r.budget_ms << ',' << r.solved << ',' << r.plan_s
             << ',' << r.length_m << ',' << r.simplified_m << ',' << r.simplify_s << ',' << r.tree_size << ','
-            << best << '\n';
+            << best << ',' << r.lospo_m << ',' << r.refine_s << '\n';
         // Unsolved runs count as infinitely long (they push medians up, as they should).
         ratios[{r.planner, r.budget_ms, false}].push_back(r.solved ? r.length_m / best : INFINITY);
         ratios[{r.planner, r.budget_ms, true}].push_back(r.solved ? r.simplified_m / best : INFINITY);
         simplify_times[{r.planner, r.budget_ms}].push_back(r.simplify_s * 1000);
         solved_count[{r.planner, r.budget_ms}] += r.solved ? 1 : 0;
+        if (r.planner == "skyroute RRT*") {  // the same run before the refinement
+          const std::string before = "skyroute RRT* LOSPO only";
+          ratios[{before, r.budget_ms, false}].push_back(r.solved ? r.length_m / best : INFINITY);
+          ratios[{before, r.budget_ms, true}].push_back(r.solved ? r.lospo_m / best : INFINITY);
+          simplify_times[{before, r.budget_ms}].push_back((r.simplify_s - r.refine_s) * 1000);
+          solved_count[{before, r.budget_ms}] += r.solved ? 1 : 0;
+        }
       }
       ++total_pairs;
       std::printf("  pair %2zu: %.0f m straight, best %.0f m\n", k, (pairs[k].goal - pairs[k].start).norm(), best);
@@ -322,11 +363,12 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("\n%d pairs. Ratio = length / best length any planner found for the pair (all budgets).\n", total_pairs);
-  std::printf("post = LOSPO (skyroute, %.0f m spacing, at most %d vertices, up to %d passes, RRT* gets %.0f%% of the budget and LOSPO the "
-              "rest) or simplifyMax (OMPL, after its full budget, untimed)\n\n", spacing_m, max_vertices, passes, 100 * plan_share);
+  std::printf("post = LOSPO + refinePath %s (skyroute, %.0f m spacing, at most %d vertices, up to %d passes, RRT* gets %.0f%% of the budget "
+              "and LOSPO + refinement the rest) or simplifyMax (OMPL, after its full budget, untimed)\n\n",
+              ours.refine ? "on" : "off", ours.spacing_m, ours.max_vertices, ours.passes, 100 * ours.plan_share);
   std::printf("| planner | budget ms | solved | median raw | p90 raw | median post | p90 post | median post ms |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
-  std::vector<std::string> names{"skyroute RRT*"};
+  std::vector<std::string> names{"skyroute RRT*", "skyroute RRT* LOSPO only"};
   for (const auto& n : ompl_planners) names.push_back("OMPL " + n);
   for (double b : budgets) {
     for (const auto& n : names) {
