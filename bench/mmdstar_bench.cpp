@@ -2,7 +2,10 @@
 // with 20 mission points on a 1000 x 1000 grid derived from a real DEM.
 //
 //   build-mmd/bench/mmdstar_bench [--runs 100] [--max-n 5] [--seed 1] [--moves paper|paper-cut|sqrt2]
-//                                 [--scale-only | --no-scale] [--dem PATH] [--threads-note]
+//                                 [--scale-only | --no-scale] [--dem PATH] [--threads N] [--diag]
+//
+// --threads N: the scale run with N threads only (default: once with 1, once with 2).
+// --diag: where MMD*L's replanning saves on per-pair D* Lite (cells whose g changed, see Diag).
 //
 // Paper experiment: 110 x 110 grid, 20 % random obstacles, B (40,40), E (70,70), n random mission
 // points, obstacles unknown to the planner in 10 % of the free cells, 8-neighbour sensing while the
@@ -22,6 +25,8 @@
 
 #include "planning/grid_search.hpp"
 #include "planning/mission_planner.hpp"
+#include "planning/mmdstar_lite.hpp"
+#include "planning/pairwise_dstar_lite.hpp"
 #include "terrain/dem.hpp"
 #include "terrain/grid_from_terrain.hpp"
 #include "terrain/heightfield.hpp"
@@ -58,6 +63,65 @@ struct Sample {
 struct Cell {
   Sample pre_exp, pre_ms, re_exp, re_ms;
 };
+
+// --diag: per replanning step, the cells whose g changed, summed over the goals: in MMD*L's shared
+// maps, in the union of the per-pair maps of each goal, and summed over all pairs. If MMD*L's count
+// is the union's, its maps do no repair the per-pair baseline does not need for some start.
+bool g_diag = false;
+struct Diag {
+  double mmd = 0, uni = 0, sum = 0;
+};
+Diag g_diag_total;
+
+struct Snapshot {
+  std::vector<int> goals;
+  std::vector<std::vector<double>> mmd;                 // per goal
+  std::vector<std::vector<std::vector<double>>> pairs;  // per goal, per start
+  std::vector<std::vector<int>> starts;
+};
+std::vector<double> gValues(const DStarGoalField& f) {
+  std::vector<double> v(f.grid().cellCount());
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = f.g(i);
+  return v;
+}
+Snapshot snapshot(const MissionSearch& dsl, const MissionSearch& mmd) {
+  const auto& pw = dynamic_cast<const PairwiseDStarLite&>(dsl);
+  const auto& mm = dynamic_cast<const MmdStarLite&>(mmd);
+  Snapshot s;
+  for (int goal : mm.remainingGoals()) {
+    if (mm.field(goal) == nullptr) continue;
+    s.goals.push_back(goal);
+    s.mmd.push_back(gValues(*mm.field(goal)));
+    s.starts.emplace_back();
+    s.pairs.emplace_back();
+    for (int st : mm.startsFor(goal))
+      if (pw.field(st, goal) != nullptr) {
+        s.starts.back().push_back(st);
+        s.pairs.back().push_back(gValues(*pw.field(st, goal)));
+      }
+  }
+  return s;
+}
+void diagCompare(const Snapshot& a, const Snapshot& b) {
+  auto differs = [](double x, double y) { return !(x == y || std::abs(x - y) <= 1e-9); };
+  for (std::size_t k = 0; k < a.goals.size(); ++k) {
+    const std::size_t kb = static_cast<std::size_t>(std::find(b.goals.begin(), b.goals.end(), a.goals[k]) - b.goals.begin());
+    if (kb == b.goals.size()) continue;
+    for (std::size_t i = 0; i < a.mmd[k].size(); ++i) {
+      if (differs(a.mmd[k][i], b.mmd[kb][i])) g_diag_total.mmd += 1;
+      bool any = false;
+      for (std::size_t j = 0; j < a.starts[k].size(); ++j) {
+        const auto it = std::find(b.starts[kb].begin(), b.starts[kb].end(), a.starts[k][j]);
+        if (it == b.starts[kb].end()) continue;
+        if (differs(a.pairs[k][j][i], b.pairs[kb][static_cast<std::size_t>(it - b.starts[kb].begin())][i])) {
+          g_diag_total.sum += 1;
+          any = true;
+        }
+      }
+      if (any) g_diag_total.uni += 1;
+    }
+  }
+}
 
 struct Run {
   bool ok = false;
@@ -157,8 +221,11 @@ Run runPaperOnce(int n, std::uint32_t seed, const GridMoves& moves) {
         }
       if (!sensed.empty()) {
         const auto changed = known.setStaticBlocked(sensed, true);
+        Snapshot before;
+        if (g_diag) before = snapshot(dsl->search(), mmd->search());
         auto r0 = dsl->replan(changed);
         auto r1 = mmd->replan(changed);
+        if (g_diag) diagCompare(before, snapshot(dsl->search(), mmd->search()));
         if (!r0.ok() || !r1.ok()) {
           failed = true;
           break;
@@ -193,6 +260,7 @@ void paperExperiment(int runs, int max_n, std::uint32_t seed, const GridMoves& m
   std::size_t mismatches = 0, failed = 0;
   double replans = 0, steps = 0;
   for (int n = 1; n <= max_n; ++n) {
+    g_diag_total = Diag{};
     for (int r = 0; r < runs; ++r) {
       const Run run = runPaperOnce(n, seed * 1000003u + static_cast<std::uint32_t>(n * 10007 + r), moves);
       if (!run.ok) {
@@ -208,6 +276,20 @@ void paperExperiment(int runs, int max_n, std::uint32_t seed, const GridMoves& m
         cells[a][n - 1].re_exp.add(run.re_exp[a]);
         cells[a][n - 1].re_ms.add(run.re_ms[a]);
       }
+    }
+    if (g_diag) {
+      // A cell lowered by a change is expanded once; a raised one twice (under, then over). A trace
+      // of every expansion showed no cell expanded more than twice in one step and no expansion
+      // that leaves g as it was, so expansions - changed cells = cells expanded twice (raised).
+      const double runs_n = static_cast<double>(cells[1][n - 1].re_exp.v.size());
+      const double exp_mmd = cells[1][n - 1].re_exp.mean() * runs_n, exp_dsl = cells[0][n - 1].re_exp.mean() * runs_n;
+      std::printf("diag n=%d: cells whose g changed in replanning: MMD*L maps %.0f, union of the per-pair maps per goal %.0f, "
+                  "sum over pairs %.0f (MMD*L/sum %.3f, union/sum %.3f); raised (expanded twice): MMD*L %.0f, pairs %.0f "
+                  "(%.3f); lowered (once): MMD*L %.0f, pairs %.0f (%.3f)\n",
+                  n, g_diag_total.mmd, g_diag_total.uni, g_diag_total.sum, g_diag_total.mmd / g_diag_total.sum,
+                  g_diag_total.uni / g_diag_total.sum, exp_mmd - g_diag_total.mmd, exp_dsl - g_diag_total.sum,
+                  (exp_mmd - g_diag_total.mmd) / (exp_dsl - g_diag_total.sum), 2 * g_diag_total.mmd - exp_mmd,
+                  2 * g_diag_total.sum - exp_dsl, (2 * g_diag_total.mmd - exp_mmd) / (2 * g_diag_total.sum - exp_dsl));
     }
   }
   const char* names[2] = {"D* Lite", "MMD*L"};
@@ -248,7 +330,9 @@ void paperExperiment(int runs, int max_n, std::uint32_t seed, const GridMoves& m
               steps / std::max<double>(1.0, runs * max_n - failed));
 }
 
-void scaleRun(const std::string& dem_path, std::uint32_t seed) {
+void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& pts, GridCell end, int threads);
+
+void scaleRun(const std::string& dem_path, std::uint32_t seed, const std::vector<int>& thread_counts) {
   std::printf("## Scale: n = 20 mission points on a 1000 x 1000 grid from %s\n\n", dem_path.c_str());
   auto dem = Dem::load(dem_path);
   if (!dem.ok()) {
@@ -300,7 +384,18 @@ void scaleRun(const std::string& dem_path, std::uint32_t seed) {
   }
   const GridCell end = pts.back();
   pts.pop_back();
-  auto planner = MissionPlanner::create(grid, begin, pts, end);
+  const GridLayer initial = grid;
+  for (int threads : thread_counts) {
+    grid = initial;  // the rounds below block cells
+    std::printf("\n### %d thread%s\n", threads, threads == 1 ? "" : "s");
+    scaleMission(grid, begin, pts, end, threads);
+  }
+}
+
+void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& pts, GridCell end, int threads) {
+  MissionOptions options;
+  options.threads = threads;
+  auto planner = MissionPlanner::create(grid, begin, pts, end, options);
   if (!planner.ok()) {
     std::printf("error: %s\n", planner.error().describe().c_str());
     return;
@@ -351,8 +446,9 @@ void scaleRun(const std::string& dem_path, std::uint32_t seed) {
                 static_cast<unsigned long long>(re->search.queue_pushes + re->search.queue_pops),
                 planner->search().costMapCount(), re->cost);
   }
-  std::printf("\nTSP: %s; replanning mean %.1f CPU ms over %zu local changes\n\n",
-              plan->tsp.exact ? "exact" : "heuristic (2-opt + Or-opt)", re_ms.mean(), re_ms.v.size());
+  std::printf("\nTSP: %s; replanning mean %.1f CPU ms over %zu local changes; %d thread%s\n",
+              plan->tsp.exact ? "exact" : "heuristic (2-opt + Or-opt)", re_ms.mean(), re_ms.v.size(), threads,
+              threads == 1 ? "" : "s");
 }
 
 }  // namespace
@@ -361,6 +457,7 @@ int main(int argc, char** argv) {
   int runs = 100, max_n = 5;
   std::uint32_t seed = 1;
   bool scale = true, paper = true;
+  std::vector<int> thread_counts{1, 2};  // the scale run, once per count
   std::string moves_name = "paper";
   std::string dem = std::string(SKYROUTE_SHARED_DATA_DIR) + "/dem/N44W072.hgt";
   for (int i = 1; i < argc; ++i) {
@@ -372,6 +469,8 @@ int main(int argc, char** argv) {
     else if (a == "--moves") moves_name = next();
     else if (a == "--scale-only") paper = false;
     else if (a == "--no-scale") scale = false;
+    else if (a == "--diag") g_diag = true;
+    else if (a == "--threads") thread_counts = {std::stoi(next())};
     else if (a == "--dem") dem = next();
     else {
       std::fprintf(stderr, "unknown argument %s\n", a.c_str());
@@ -384,6 +483,6 @@ int main(int argc, char** argv) {
                             : moves_name == "paper-cut" ? "1.4 + Chebyshev, corner cutting allowed (the seed's rule)"
                                                         : "1.4 + Chebyshev, no corner cutting";
   if (paper) paperExperiment(runs, max_n, seed, moves, moves_title);
-  if (scale) scaleRun(dem, seed);
+  if (scale) scaleRun(dem, seed, thread_counts);
   return 0;
 }

@@ -72,6 +72,26 @@ void DStarQueue::siftDown(std::size_t i, Entry e) {
   heap_[i] = e;
 }
 
+void DStarQueue::removeTop() {
+  const Entry last = heap_.back();
+  heap_.pop_back();
+  const std::size_t n = heap_.size();
+  if (n == 0) return;
+  std::size_t i = 0;
+  for (;;) {
+    const std::size_t first = i * kArity + 1;
+    if (first >= n) break;
+    const std::size_t end = std::min(first + kArity, n);
+    std::size_t best = first;
+    for (std::size_t c = first + 1; c < end; ++c)
+      if (heap_[c].key < heap_[best].key) best = c;
+    heap_[i] = heap_[best];
+    i = best;
+  }
+  heap_[i] = last;
+  siftUp(i);
+}
+
 void DStarQueue::adapt(const DStarGoalField& field, SearchStats& stats) {
   std::size_t out = 0;
   for (const Entry& e : heap_)

@@ -196,11 +196,10 @@ class DStarQueue {
   static constexpr std::size_t kArity = 4;  // shallower than binary, children share a cache line
   void siftUp(std::size_t i);
   void siftDown(std::size_t i, Entry e);
-  void removeTop() {
-    const Entry last = heap_.back();
-    heap_.pop_back();
-    if (!heap_.empty()) siftDown(0, last);
-  }
+  // Pops the root bottom-up (Floyd): the hole walks down the smaller children to a leaf and the
+  // last entry, usually among the largest, sifts up from there; this saves the comparison with it
+  // at every level, and the removals are most of the queue's time.
+  void removeTop();
 
   GridCell start_;
   double km_ = 0.0;

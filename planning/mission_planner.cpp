@@ -79,7 +79,7 @@ Result<MissionPlanner> MissionPlanner::create(const GridLayer& grid, GridCell be
   points.push_back(end);
   std::unique_ptr<MissionSearch> search;
   if (options.algorithm == MissionAlgorithm::kMmdStarLite)
-    search = std::make_unique<MmdStarLite>(grid, std::move(points), options.moves);
+    search = std::make_unique<MmdStarLite>(grid, std::move(points), options.moves, options.threads);
   else
     search = std::make_unique<PairwiseDStarLite>(grid, std::move(points), options.moves);
   return MissionPlanner(std::move(search), options);

@@ -25,6 +25,9 @@ struct MissionOptions {
   GridMoves moves;
   MissionAlgorithm algorithm = MissionAlgorithm::kMmdStarLite;
   OpenTspOptions tsp;
+  // MMD*L plans its goals (independent maps) on this many threads, the caller's included. 1 keeps
+  // all work on the caller's thread (the engine already plans requests on its own workers).
+  int threads = 1;
 };
 
 struct MissionLeg {

@@ -1,6 +1,8 @@
 #include "planning/mmdstar_lite.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <thread>
 
 namespace skyroute {
 
@@ -20,8 +22,28 @@ SearchStatus SharedGoalSearch::solveFrom(GridCell start, const TerminationCondit
   return dstarComputeShortestPath(field_, queue_, stats_, stop);
 }
 
-MmdStarLite::MmdStarLite(const GridLayer& grid, std::vector<GridCell> points, const GridMoves& moves)
-    : MissionSearch(grid, std::move(points), moves) {}
+MmdStarLite::MmdStarLite(const GridLayer& grid, std::vector<GridCell> points, const GridMoves& moves, int threads)
+    : MissionSearch(grid, std::move(points), moves), threads_(std::max(1, threads)) {}
+
+template <class Work>
+SearchStatus MmdStarLite::forEachGoal(Work&& work) {
+  // Goals are taken in order from a shared counter: their costs differ a lot (a change near one goal
+  // can cost more than all others together), so a fixed split would leave a thread idle.
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> stopped{false};
+  const std::size_t helpers = std::min<std::size_t>(static_cast<std::size_t>(threads_), goals_.size());
+  std::vector<SearchStats> stats(std::max<std::size_t>(helpers, 1));
+  auto loop = [&](std::size_t t) {
+    for (std::size_t i = next++; i < goals_.size() && !stopped.load(std::memory_order_relaxed); i = next++)
+      if (work(goals_[i], stats[t]) == SearchStatus::kStopped) stopped = true;
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < helpers; ++t) pool.emplace_back(loop, t);
+  loop(0);
+  for (std::thread& th : pool) th.join();
+  for (const SearchStats& s : stats) stats_ += s;
+  return stopped ? SearchStatus::kStopped : SearchStatus::kFound;
+}
 
 MmdStarLite::GoalSlot* MmdStarLite::slot(int goal_point) {
   for (GoalSlot& g : goals_)
@@ -40,66 +62,76 @@ const DStarGoalField* MmdStarLite::field(int goal_point) const {
   return g ? g->field.get() : nullptr;
 }
 
+SearchStatus MmdStarLite::preplanGoal(GoalSlot& goal, SearchStats& stats, const TerminationCondition& stop) const {
+  const std::vector<int> starts = startsFor(goal.point);
+  // One U carried from start to start (lines 34-38).
+  DStarQueue carried(startCell(starts.front()), 0.0);
+  dstarInitialize(*goal.field, carried, stats);  // line 34
+  for (int start_point : starts) {               // line 35
+    carried.setStart(startCell(start_point));
+    carried.setKm(0.0);
+    carried.adapt(*goal.field, stats);  // line 37
+    if (dstarComputeShortestPath(*goal.field, carried, stats, stop) == SearchStatus::kStopped)  // line 38
+      return SearchStatus::kStopped;
+  }
+  // Lines 39-41: every start keeps the final U adapted to itself.
+  for (int start_point : starts) {
+    StartSlot st{start_point, carried};
+    st.queue.setStart(startCell(start_point));
+    st.queue.setKm(start_point == vehicle_point_ ? km_ : 0.0);
+    st.queue.adapt(*goal.field, stats);
+    goal.starts.push_back(std::move(st));
+  }
+  // From now on the starts share their insertions through the field (lines 20-30).
+  goal.field->setLogging(true);
+  return SearchStatus::kFound;
+}
+
 SearchStatus MmdStarLite::preplan(const TerminationCondition& stop) {
   goals_.clear();
   table_ = std::make_shared<GridMoveTable>(*grid_, moves_);
-  SearchStatus status = SearchStatus::kFound;
   for (int goal_point : remainingGoals()) {  // line 33
+    if (startsFor(goal_point).empty()) continue;
     GoalSlot goal;
     goal.point = goal_point;
-    goal.field = std::make_unique<DStarGoalField>(table_, points_[goal_point]);
-    const std::vector<int> starts = startsFor(goal_point);
-    if (starts.empty()) continue;
-    // One U carried from start to start (lines 34-38).
-    DStarQueue carried(startCell(starts.front()), 0.0);
-    dstarInitialize(*goal.field, carried, stats_);  // line 34
-    for (int start_point : starts) {                // line 35
-      carried.setStart(startCell(start_point));
-      carried.setKm(0.0);
-      carried.adapt(*goal.field, stats_);  // line 37
-      const SearchStatus s = dstarComputeShortestPath(*goal.field, carried, stats_, stop);  // line 38
-      if (s == SearchStatus::kStopped) status = s;
-      if (status == SearchStatus::kStopped) break;
-    }
-    // Lines 39-41: every start keeps the final U adapted to itself.
-    for (int start_point : starts) {
-      StartSlot st{start_point, carried};
-      st.queue.setStart(startCell(start_point));
-      st.queue.setKm(start_point == vehicle_point_ ? km_ : 0.0);
-      st.queue.adapt(*goal.field, stats_);
-      goal.starts.push_back(std::move(st));
-    }
-    // From now on the starts share their insertions through the field (lines 20-30).
-    goal.field->setLogging(true);
     goals_.push_back(std::move(goal));
-    if (status == SearchStatus::kStopped) break;
   }
+  const SearchStatus status = forEachGoal([&](GoalSlot& goal, SearchStats& stats) {
+    // Made by the goal's thread: filling 16 bytes a cell is a good part of a large map's cost.
+    goal.field = std::make_unique<DStarGoalField>(table_, points_[goal.point]);
+    return preplanGoal(goal, stats, stop);
+  });
+  // After a stop, goals never started hold no map.
+  std::erase_if(goals_, [](const GoalSlot& g) { return g.field == nullptr; });
   return status;
+}
+
+SearchStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> changed, SearchStats& stats,
+                                     const TerminationCondition& stop) {
+  std::vector<DStarQueue*> queues;
+  for (StartSlot& st : goal.starts) {
+    // Lines 60-61 / 67-68: the vehicle's queue uses its k_m; unreached mission points use 0.
+    const bool is_vehicle = st.point == vehicle_point_;
+    st.queue.setKm(is_vehicle ? km_ : 0.0);
+    st.queue.setStart(startCell(st.point));
+    queues.push_back(&st.queue);
+  }
+  dstarTrimLog(*goal.field, queues);
+  // Lines 58-65: rhs repaired once per goal; the insertions reach each queue when it is loaded.
+  dstarUpdateChangedCells(*goal.field, changed, {}, stats);
+  for (DStarQueue* q : queues) {  // lines 66-70
+    dstarSyncQueue(*goal.field, *q, stats);  // line 69: load U with what the others inserted
+    if (dstarComputeShortestPath(*goal.field, *q, stats, stop) == SearchStatus::kStopped) return SearchStatus::kStopped;
+  }
+  return SearchStatus::kFound;
 }
 
 SearchStatus MmdStarLite::applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop) {
   if (changed.empty()) return SearchStatus::kFound;
   accumulateKm();  // lines 52-54
-  SearchStatus status = SearchStatus::kFound;
-  for (GoalSlot& goal : goals_) {  // line 56
-    std::vector<DStarQueue*> queues;
-    for (StartSlot& st : goal.starts) {
-      // Lines 60-61 / 67-68: the vehicle's queue uses its k_m; unreached mission points use 0.
-      const bool is_vehicle = st.point == vehicle_point_;
-      st.queue.setKm(is_vehicle ? km_ : 0.0);
-      st.queue.setStart(startCell(st.point));
-      queues.push_back(&st.queue);
-    }
-    dstarTrimLog(*goal.field, queues);
-    // Lines 58-65: rhs repaired once per goal; the insertions reach each queue when it is loaded.
-    dstarUpdateChangedCells(*goal.field, changed, {}, stats_);
-    for (DStarQueue* q : queues) {  // lines 66-70
-      dstarSyncQueue(*goal.field, *q, stats_);  // line 69: load U with what the others inserted
-      const SearchStatus s = dstarComputeShortestPath(*goal.field, *q, stats_, stop);
-      if (s == SearchStatus::kStopped) return s;
-    }
-  }
-  return status;
+  // The shared move table follows the change here, once, before the goals' threads read it.
+  if (table_) table_->update(changed);
+  return forEachGoal([&](GoalSlot& goal, SearchStats& stats) { return replanGoal(goal, changed, stats, stop); });
 }
 
 double MmdStarLite::cost(int from_point, int to_point) const {

@@ -47,7 +47,10 @@ class SharedGoalSearch {
 class MmdStarLite final : public MissionSearch {
  public:
   // points: [B, M1..Mn, E]; every point must be inside and passable (the caller validates).
-  MmdStarLite(const GridLayer& grid, std::vector<GridCell> points, const GridMoves& moves = {});
+  // threads: goals planned at once (each goal's map, queues and searches belong to one thread; the
+  // move table is updated before they start and only read by them). Results and counters do not
+  // depend on it.
+  MmdStarLite(const GridLayer& grid, std::vector<GridCell> points, const GridMoves& moves = {}, int threads = 1);
 
   std::string_view name() const override { return "mmdstar"; }
   SearchStatus preplan(const TerminationCondition& stop = {}) override;
@@ -74,10 +77,19 @@ class MmdStarLite final : public MissionSearch {
   };
 
   GoalSlot* slot(int goal_point);
+  // Lines 34-42 for one goal whose field exists.
+  SearchStatus preplanGoal(GoalSlot& goal, SearchStats& stats, const TerminationCondition& stop) const;
+  // Lines 57-71 for one goal (the move table already follows `changed`).
+  SearchStatus replanGoal(GoalSlot& goal, std::span<const GridCell> changed, SearchStats& stats,
+                          const TerminationCondition& stop);
+  // Runs work(goal, stats) for every goal on up to threads_ threads; kStopped if any stopped.
+  template <class Work>
+  SearchStatus forEachGoal(Work&& work);
   const GoalSlot* slot(int goal_point) const;
 
   std::shared_ptr<GridMoveTable> table_;  // shared by every field
   std::vector<GoalSlot> goals_;
+  int threads_ = 1;
 };
 
 }  // namespace skyroute

@@ -25,6 +25,12 @@ class PairwiseDStarLite final : public MissionSearch {
   void moveVehicle(GridCell cell) override;
   void arriveAt(int point) override;
 
+  // The map of a planned pair (nullptr otherwise); for diagnostics and tests.
+  const DStarGoalField* field(int from_point, int to_point) const {
+    const auto it = pairs_.find({from_point, to_point});
+    return it == pairs_.end() ? nullptr : &it->second->field();
+  }
+
  private:
   SearchStatus run(DStarLite& search, const TerminationCondition& stop);
 

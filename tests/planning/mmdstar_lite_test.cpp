@@ -63,6 +63,15 @@ void expectMatrixMatchesDijkstra(const MissionSearch& search, const std::string&
   }
 }
 
+// Identical cost matrix and counters (the goals' work does not depend on the thread that runs it).
+void expectSameSearch(const MissionSearch& a, const MissionSearch& b, const std::string& when) {
+  for (int from = 0; from < a.pointCount(); ++from)
+    for (int to = 0; to < a.pointCount(); ++to) ASSERT_EQ(a.cost(from, to), b.cost(from, to)) << when;
+  EXPECT_EQ(a.stats().expansions, b.stats().expansions) << when;
+  EXPECT_EQ(a.stats().queue_pushes, b.stats().queue_pushes) << when;
+  EXPECT_EQ(a.stats().queue_pops, b.stats().queue_pops) << when;
+}
+
 TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
   for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
     std::mt19937 rng(2024);
@@ -71,8 +80,12 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
       const int n = 1 + trial;  // mission points
       std::vector<GridCell> points = connectedPoints(grid, n + 2, rng);
       MmdStarLite mmd(grid, points, moves);
+      // The same planner with its goals on two threads: same matrix, same counters, every step.
+      MmdStarLite threaded(grid, points, moves, 2);
       PairwiseDStarLite pairwise(grid, points, moves);
       ASSERT_EQ(mmd.preplan(), SearchStatus::kFound);
+      ASSERT_EQ(threaded.preplan(), SearchStatus::kFound);
+      expectSameSearch(threaded, mmd, "preplanning");
       ASSERT_EQ(pairwise.preplan(), SearchStatus::kFound);
       expectMatrixMatchesDijkstra(mmd, "preplanning");
       EXPECT_EQ(mmd.costMapCount(), static_cast<std::size_t>(n + 1));
@@ -88,11 +101,13 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
         const GridCell next = mmd.nextCell(target);
         if (next == mmd.vehicleCell()) break;  // cut off: stop this trial's flight
         mmd.moveVehicle(next);
+        threaded.moveVehicle(next);
         pairwise.moveVehicle(next);
         ++step;
         if (next == points[target]) {
           if (target == mmd.endPoint()) break;
           mmd.arriveAt(target);
+          threaded.arriveAt(target);
           pairwise.arriveAt(target);
           expectMatrixMatchesDijkstra(mmd, "after arrival");
         }
@@ -106,7 +121,9 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
           for (const GridCell& d : grid.setStaticBlocked(one, !grid.staticBlocked(c))) changed.push_back(d);
         }
         ASSERT_EQ(mmd.applyChanges(changed), SearchStatus::kFound);
+        ASSERT_EQ(threaded.applyChanges(changed), SearchStatus::kFound);
         ASSERT_EQ(pairwise.applyChanges(changed), SearchStatus::kFound);
+        expectSameSearch(threaded, mmd, "replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(mmd, "replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(pairwise, "pairwise replanning step " + std::to_string(step));
       }
