@@ -7,10 +7,12 @@
 #include <deque>
 #include <limits>
 #include <optional>
+#include <queue>
 #include <string>
 #include <unordered_map>
 
 #include "planning/any_angle_search.hpp"
+#include "planning/hab_pp_output.hpp"
 #include "planning/hab_pp_rrt.hpp"
 
 namespace skyroute {
@@ -69,6 +71,7 @@ Status HabPpParameters::validate() const {
   if (!(angle_eval_epsilon_rad > 0.0) || !std::isfinite(angle_eval_epsilon_rad)) {
     return bad("angle_eval_epsilon_rad", "must be > 0");
   }
+  if (output_corridor_cells < -1) return bad("output_corridor_cells", "must be >= -1");
   if (stable_iterations < 1) return bad("stable_iterations", "must be >= 1");
   if (rrt_nodes_after_solution < 1) return bad("rrt_nodes_after_solution", "must be >= 1");
   return Status::success();
@@ -97,6 +100,39 @@ std::vector<GridCell> segmentCells(GridCell a, GridCell b) { return GridLayer::s
 
 // ---- fields --------------------------------------------------------------------------------------
 
+namespace {
+// Shortest 8-connected distances (1 and sqrt 2, no corner cutting) from goal to every free cell;
+// infinity for blocked and unreachable cells.
+std::vector<double> geodesicDistances(const GridLayer& grid, GridCell goal) {
+  std::vector<double> d(grid.cellCount(), std::numeric_limits<double>::infinity());
+  using Entry = std::pair<double, std::size_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+  d[grid.index(goal)] = 0.0;
+  open.emplace(0.0, grid.index(goal));
+  while (!open.empty()) {
+    const auto [dc, i] = open.top();
+    open.pop();
+    if (dc > d[i]) continue;
+    const GridCell c = grid.cellOf(i);
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const GridCell n{c.x + dx, c.y + dy};
+        if ((dx == 0 && dy == 0) || grid.blocked(n)) continue;
+        if (dx != 0 && dy != 0 && (grid.blocked(GridCell{c.x + dx, c.y}) || grid.blocked(GridCell{c.x, c.y + dy}))) {
+          continue;
+        }
+        const double nd = dc + (dx != 0 && dy != 0 ? std::sqrt(2.0) : 1.0);
+        if (nd < d[grid.index(n)]) {
+          d[grid.index(n)] = nd;
+          open.emplace(nd, grid.index(n));
+        }
+      }
+    }
+  }
+  return d;
+}
+}  // namespace
+
 GridFields::GridFields(const GridLayer& grid, GridCell goal, const HabPpParameters& params)
     : grid_(&grid), goal_(goal), visibility_(grid.cellCount(), 0.0) {
   const int w = grid.width();
@@ -110,14 +146,24 @@ GridFields::GridFields(const GridLayer& grid, GridCell goal, const HabPpParamete
     }
   }
   double far = 1.0;
-  for (GridCell corner : {GridCell{0, 0}, GridCell{w - 1, 0}, GridCell{0, h - 1}, GridCell{w - 1, h - 1}}) {
-    far = std::max(far, std::hypot(double(corner.x - goal.x), double(corner.y - goal.y)));
+  std::vector<double> to_goal;
+  if (params.geodesic_visibility) {
+    to_goal = geodesicDistances(grid, goal);
+    for (double d : to_goal) {
+      if (std::isfinite(d)) far = std::max(far, d);
+    }
+  } else {
+    for (GridCell corner : {GridCell{0, 0}, GridCell{w - 1, 0}, GridCell{0, h - 1}, GridCell{w - 1, h - 1}}) {
+      far = std::max(far, std::hypot(double(corner.x - goal.x), double(corner.y - goal.y)));
+    }
   }
   const int reach = static_cast<int>(std::ceil(params.d0_cells));
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const GridCell c{x, y};
-      const double closeness = 1.0 - std::hypot(double(x - goal.x), double(y - goal.y)) / far;
+      const double to_goal_cells = params.geodesic_visibility ? std::min(to_goal[grid.index(c)], far)
+                                                              : std::hypot(double(x - goal.x), double(y - goal.y));
+      const double closeness = 1.0 - to_goal_cells / far;
       // Distance to the nearest blocked cell centre, exact up to d_0 (only that range matters).
       double nearest = params.d0_cells;
       for (int oy = -reach; oy <= reach; ++oy) {
@@ -718,6 +764,7 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
       result.first_path_time_s = seconds();
       result.first_path_cpu_s = cpu_seconds();
       result.first_path_iteration = result.iterations;
+      result.first_path_by_rrt = result.rrt_arrivals > 0;
     }
     // Table 2's termination: the ranked list stops changing. Choice: unchanged for
     // stable_iterations iterations once it holds N_R paths; while it holds fewer (a small map may
@@ -734,7 +781,10 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
     }
   }
   if (!colony.ranked().empty()) {
-    result.path = colony.ranked().front();
+    result.ranked_length_cells = polylineLength(colony.ranked().front());
+    result.path = params.output_corridor_cells >= 0
+                      ? habpp::tautPath(grid, colony.ranked().front(), params.output_corridor_cells, params.tighten_passes)
+                      : colony.ranked().front();
     result.length_cells = polylineLength(result.path);
     result.angle_change_rad = polylineAngleChange(result.path);
   } else {

@@ -67,6 +67,13 @@ struct HabPpParameters {
   int rrt_nodes_after_solution = 150;  // an RRT* tree restarts after this many nodes past its first path
   // Passes of vertex relocation in the arrival pruning (see habpp::tightenPath); 0: greedy pruning only.
   int tighten_passes = 64;
+  // Output stage (planning/hab_pp_output.hpp): the best ranked path is made taut in a corridor of
+  // this many cells around its route once the colony stops; -1: the stage is off (the output is
+  // the best ranked path as it is), 0: greedy shortcut and vertex relaxation only.
+  int output_corridor_cells = 2;
+  // Goal closeness in the visibility field eta (see GridFields::visibility): false, the straight-line
+  // distance to the goal; true, the shortest 8-connected grid distance around the obstacles.
+  bool geodesic_visibility = false;
 
   // The improved planner of seed 004: the same colony plus N_RA = 5 RRT* ants.
   static HabPpParameters improved() {
@@ -97,8 +104,9 @@ inline bool hasPath(HabPpStatus s) { return s == HabPpStatus::kConverged || s ==
 struct HabPpResult {
   HabPpStatus status = HabPpStatus::kStoppedWithoutPath;
   std::string message;               // why it failed, naming the field, when it did
-  std::vector<GridCell> path;        // best ranked path, start first, any-angle segments
+  std::vector<GridCell> path;        // best ranked path after the output stage, start first, any-angle segments
   double length_cells = 0.0;         // Euclidean length of path, in cell edges
+  double ranked_length_cells = 0.0;  // length of the best ranked path before the output stage
   double angle_change_rad = 0.0;     // sum of turning angles of path
   double first_path_time_s = -1.0;   // time until the first path entered the ranked list; -1 if none
   double total_time_s = 0.0;
@@ -108,6 +116,7 @@ struct HabPpResult {
   double total_cpu_s = 0.0;
   std::uint64_t iterations = 0;      // n_I
   std::uint64_t first_path_iteration = 0;
+  bool first_path_by_rrt = false;    // an RRT* tree brought a path in the first path's iteration
   std::uint64_t ant_arrivals = 0;    // paths brought by the ants
   std::uint64_t rrt_arrivals = 0;    // paths brought by the RRT* species
   std::uint64_t crossover_children = 0;  // valid paths made by the path crossover

@@ -92,7 +92,7 @@ void RrtAnt::near(GridCell c, std::vector<int>& out) const {
     if (far_side >= 0) kd_stack_.push_back(KdVisit{far_side, v.depth + 1, std::max(v.bound_d2, diff * diff)});
     if (near_side >= 0) kd_stack_.push_back(KdVisit{near_side, v.depth + 1, v.bound_d2});
   }
-  std::sort(out.begin(), out.end());  // index order, as a scan of every node gives
+  // The traversal order depends only on the tree, so it is deterministic; no sort needed.
 }
 
 void RrtAnt::setParent(int node, int parent) {
@@ -161,32 +161,42 @@ Path RrtAnt::pathTo(int node) const {
   return p;
 }
 
-std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
-  if (goal_node_ >= 0 && nodes_since_solution_ >= nodes_after_solution_) {
-    reset();
-    ++restarts_;
-  }
-  const GridCell rand = pheromone.sample(rng);
-  const int from = nearest(rand);
-  const GridCell base = nodes_[from].cell;
+std::optional<GridCell> RrtAnt::steer(GridCell base, GridCell rand) const {
   // Steer on integer coordinates: at most s_RRT cells towards the sample, rounded to a cell centre.
   // Choice: when that point is blocked or out of sight, the step is halved until it is free and
   // visible (down to one cell), so the long s_RRT still lets the tree through doors and corridors.
   const double d = dist(base, rand);
   double reach = std::min(step_cells_, d);
-  GridCell target = base;
   for (;;) {
     const double f = d > 0.0 ? reach / d : 0.0;
     const GridCell t{base.x + static_cast<int>(std::lround((rand.x - base.x) * f)),
                      base.y + static_cast<int>(std::lround((rand.y - base.y) * f))};
     if (t == base) return std::nullopt;
-    if (!grid_->blocked(t) && grid_->lineOfSight(base, t)) {
-      target = t;
-      break;
-    }
+    if (!grid_->blocked(t) && grid_->lineOfSight(base, t)) return t;
     reach *= 0.5;
   }
-  if (node_at_[grid_->index(target)] >= 0) return std::nullopt;
+}
+
+std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
+  if (goal_node_ >= 0 && nodes_since_solution_ >= nodes_after_solution_) {
+    reset();
+    ++restarts_;
+  }
+  // Choice: a draw that cannot grow the tree (the sample, or the steered point, is already a node,
+  // as most draws are once the pheromone concentrates on the ranked paths the tree has covered) is
+  // redrawn, up to kDrawsPerStep times, so each step adds a node as section 4 intends.
+  int from = -1;
+  GridCell target{};
+  for (int draw = 0; draw < kDrawsPerStep && from < 0; ++draw) {
+    const GridCell rand = pheromone.sample(rng);
+    if (node_at_[grid_->index(rand)] >= 0) continue;
+    const int n = nearest(rand);
+    if (std::optional<GridCell> t = steer(nodes_[n].cell, rand); t && node_at_[grid_->index(*t)] < 0) {
+      from = n;
+      target = *t;
+    }
+  }
+  if (from < 0) return std::nullopt;
   near(target, near_nodes_);
   const int id = addNode(target, near_nodes_, from);
   rewire(id, near_nodes_);

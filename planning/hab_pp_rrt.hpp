@@ -40,7 +40,10 @@ class RrtAnt {
   };
   void reset();
   int nearest(GridCell c) const;
-  // Nodes within r_RRT of c, in index order, into out.
+  // The point a step from base towards rand reaches; nothing when it cannot leave base.
+  std::optional<GridCell> steer(GridCell base, GridCell rand) const;
+  static constexpr int kDrawsPerStep = 8;
+  // Nodes within r_RRT of c, in k-d traversal order (deterministic), into out.
   void near(GridCell c, std::vector<int>& out) const;
   int addNode(GridCell cell, const std::vector<int>& near_nodes, int fallback_parent);
   void rewire(int node, const std::vector<int>& near_nodes);

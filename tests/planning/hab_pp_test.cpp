@@ -84,6 +84,29 @@ TEST(HabPpVisibilityField, MixesGoalClosenessAndObstacleClearance) {
   EXPECT_NEAR(f.visibility(GridCell{5, 2}), 0.8 * (1.0 - std::hypot(5.0, 2.0) / far) + 0.2 * std::sqrt(2.0) / 2.0, 1e-12);
 }
 
+// Option: goal closeness by the grid distance around obstacles instead of the straight line.
+TEST(HabPpVisibilityField, GeodesicClosenessGoesAroundWalls) {
+  const GridLayer g = gridFromText({
+      "..........",
+      "..........",
+      "#########.",
+      "..........",
+  });
+  HabPpParameters p;
+  p.geodesic_visibility = true;
+  p.k_mix = 1.0;  // closeness only
+  const habpp::GridFields f(g, GridCell{0, 3}, p);
+  // (0, 1) is 2 cells from the goal in a straight line but 9 + 9 + ~2 around the wall's free end;
+  // (9, 3) is 9 away both ways. Geodesically (9, 3) is closer; in a straight line (0, 1) is.
+  EXPECT_GT(f.visibility(GridCell{9, 3}), f.visibility(GridCell{0, 1}));
+  EXPECT_NEAR(f.visibility(GridCell{0, 3}), 1.0, 1e-12);
+  // Along row 3 the grid distance is the column: closeness falls linearly, 5 and 9 cells.
+  EXPECT_NEAR((1.0 - f.visibility(GridCell{5, 3})) / 5.0, (1.0 - f.visibility(GridCell{9, 3})) / 9.0, 1e-12);
+  p.geodesic_visibility = false;
+  const habpp::GridFields straight(g, GridCell{0, 3}, p);
+  EXPECT_LT(straight.visibility(GridCell{9, 3}), straight.visibility(GridCell{0, 1}));
+}
+
 // Choice: dynamic sight expansion grows the window while it stays free, up to sight_max_radius.
 TEST(HabPpSightWindow, ExpandsInTheOpenAndNotNearWalls) {
   GridLayer g = GridLayer(41, 41);

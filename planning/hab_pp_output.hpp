@@ -1,0 +1,27 @@
+// The output stage of HAB-PP and Improved HAB-PP: after the colony stops, the best ranked path is
+// made taut within its route. The colony chooses the route (which doors, which side of each
+// obstacle); this stage only removes the slack the ants' discrete steps leave in it, so the output
+// approaches the any-angle optimum of that route.
+#pragma once
+
+#include "planning/hab_pp.hpp"
+
+namespace skyroute::habpp {
+
+// Shortest any-angle path found in the corridor of the route: the cells within corridor_cells
+// (Chebyshev) of the cells the path's segments touch. Steps, Choice:
+//   1. Theta* (planning/any_angle_search) on a copy of the grid in which every cell outside the
+//      corridor is blocked, so it can only follow the route (a door or gap farther than
+//      corridor_cells from the route is closed to it);
+//   2. the greedy farthest-visible shortcut and the vertex relaxation towards the obstacle corners
+//      of tightenPath on that result and on the input;
+//   3. the shorter of the two, the input when neither is shorter.
+// The corridor keeps the route where the path stays more than corridor_cells from any door or gap
+// it does not use; where it runs right past one (along the other side of a thin wall), the
+// corridor holds that gap too and the output may take it when shorter (a local change of route).
+// The result has the same endpoints, every segment passes GridLayer::lineOfSight on the original
+// grid (the corridor only removes free cells), and it is never longer than the input.
+// corridor_cells <= 0: step 2 on the input only.
+Path tautPath(const GridLayer& grid, const Path& path, int corridor_cells, int tighten_passes);
+
+}  // namespace skyroute::habpp

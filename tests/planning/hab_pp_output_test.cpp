@@ -1,0 +1,114 @@
+// The output stage of HAB-PP (planning/hab_pp_output): the best ranked path made taut within its
+// route. Checked: every output segment passes an independent geometric line-of-sight test, the
+// output is never longer than the input, it reaches the any-angle optimum when the input follows
+// the optimum's route, and it keeps the input's route (a shorter door outside the corridor stays
+// closed to it).
+#include "planning/hab_pp_output.hpp"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "planning/any_angle_search.hpp"
+#include "tests/planning/any_angle_reference.hpp"
+#include "tests/planning/hab_maps.hpp"
+
+namespace skyroute {
+namespace {
+
+using habpp::Path;
+using testing::gridFromText;
+using testing::pathProblem;
+
+TEST(HabPpOutput, EightConnectedPathsBecomeTautWithinOnePercentOfTheOptimum) {
+  for (const auto& m : testing::knownMaps()) {
+    SCOPED_TRACE(m.name);
+    const AnyAngleResult grid_path = gridAStar8(m.grid, m.start, m.goal, TerminationCondition{});
+    ASSERT_EQ(grid_path.status, AnyAngleStatus::kExact);
+    const double optimum = testing::visibilityGraphOptimum(m.grid, m.start, m.goal);
+    const Path out = habpp::tautPath(m.grid, grid_path.path, 2, 64);
+    EXPECT_EQ(pathProblem(m.grid, out, m.start, m.goal), "");
+    EXPECT_GE(polylineLength(out), optimum - 1e-9);
+    // The optimum bends at obstacle corners, cell-centre paths one cell off them (single wall:
+    // +1.3 %), so the yardstick is Theta* on the whole grid: the output matches it.
+    const AnyAngleResult theta = thetaStar(m.grid, m.start, m.goal);
+    EXPECT_LE(polylineLength(out), polylineLength(theta.path) * 1.001);
+    EXPECT_LE(polylineLength(out), optimum * 1.015);
+    EXPECT_LE(polylineLength(out), polylineLength(habpp::tightenPath(m.grid, grid_path.path, 64)) + 1e-9);
+  }
+}
+
+// Random walls and random valid polylines (random walks of visible hops): never longer, always valid.
+TEST(HabPpOutput, NeverLongerAndAlwaysValidOnRandomMaps) {
+  std::mt19937_64 rng(17);
+  int shortened = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    GridLayer g(30, 24);
+    std::vector<GridCell> walls;
+    for (int i = 0; i < 140; ++i) {
+      walls.push_back(GridCell{static_cast<int>(rng() % 30), static_cast<int>(rng() % 24)});
+    }
+    g.setStaticBlocked(walls, true);
+    const GridCell start{0, 0}, goal{29, 23};
+    g.setStaticBlocked(std::vector<GridCell>{start, goal}, false);
+    // A wandering valid path: hops to random visible cells, then on to the goal by Theta*.
+    Path p{start};
+    for (int hop = 0; hop < 6; ++hop) {
+      const GridCell c{static_cast<int>(rng() % 30), static_cast<int>(rng() % 24)};
+      if (g.passable(c) && !(c == p.back()) && g.lineOfSight(p.back(), c)) p.push_back(c);
+    }
+    const AnyAngleResult rest = thetaStar(g, p.back(), goal);
+    if (rest.status != AnyAngleStatus::kExact) continue;
+    p.insert(p.end(), rest.path.begin() + 1, rest.path.end());
+    ASSERT_EQ(pathProblem(g, p, start, goal), "");
+    for (int corridor : {0, 1, 3}) {
+      const Path out = habpp::tautPath(g, p, corridor, 64);
+      EXPECT_EQ(pathProblem(g, out, start, goal), "") << "trial " << trial << " corridor " << corridor;
+      EXPECT_LE(polylineLength(out), polylineLength(p) + 1e-9);
+      if (polylineLength(out) < polylineLength(p) - 1e-6) ++shortened;
+    }
+  }
+  EXPECT_GT(shortened, 40) << "the wandering paths do get shorter";
+}
+
+// One door (x = 2) in the upper wall, two (x = 5 and x = 18) in the lower; the input goes through the far one. The output pulls taut through the same door
+// (the near door lies outside the corridor), so the route stays the colony's choice.
+TEST(HabPpOutput, KeepsTheRouteOfTheInput) {
+  const GridLayer g = gridFromText({
+      "....................",
+      "....................",
+      "....................",
+      "##.#################",
+      "....................",
+      "....................",
+      "....................",
+      "....................",
+      "....................",
+      "#####.############.#",
+      "....................",
+      "....................",
+      "....................",
+      "....................",
+      "....................",
+  });
+  // The lower leg runs 3 rows below the wall, so the near door lies outside the corridor (2 cells);
+  // a path that ran along the wall right past that door would have it in its corridor (see
+  // hab_pp_output.hpp).
+  const GridCell start{2, 1}, goal{2, 14};
+  // Down through the door of row 3, across, and through the door at x = 18 of row 9.
+  const Path via_far_door{start, {2, 3}, {3, 5}, {8, 6}, {14, 7}, {18, 8}, {18, 12}, goal};
+  ASSERT_EQ(pathProblem(g, via_far_door, start, goal), "");
+  const Path out = habpp::tautPath(g, via_far_door, 2, 64);
+  EXPECT_EQ(pathProblem(g, out, start, goal), "");
+  EXPECT_LT(polylineLength(out), polylineLength(via_far_door) - 1.0);
+  bool through_far_door = false;
+  for (std::size_t s = 0; s + 1 < out.size(); ++s) {
+    for (GridCell c : GridLayer::segmentCells(out[s], out[s + 1])) through_far_door |= (c == GridCell{18, 9});
+  }
+  EXPECT_TRUE(through_far_door);
+  // Through the far door the route is over 30 cells; through the near one (x = 5) about 14.
+  EXPECT_GT(polylineLength(out), 30.0);
+}
+
+}  // namespace
+}  // namespace skyroute
