@@ -53,6 +53,9 @@ Result<FleetPlan> planFleet(const GridLayer& grid, const FleetProblem& problem, 
   }();
   if (!allocation) return allocation.error();
   plan.allocation = std::move(allocation).value();
+  if (options.allocator == FleetAllocator::kGreedy) {
+    plan.allocation = improveAllocation(problem, table, plan.allocation, options.improvement, &plan.improvement);
+  }
 
   plan.paths = buildFleetPaths(grid, problem, table, plan.allocation, options.paths, stop);
   if (plan.paths.status == FleetPathStatus::kStopped) {

@@ -1,6 +1,8 @@
 // GMTPA end to end (seed 002): validate the problem, travel times from breadth-first searches,
-// allocate (greedy Algorithm 1, the GA baseline or the exact solver), build collision-free paths
-// (section 3.3) and verify them with the independent checker. A plan is returned only when the
+// allocate (greedy Algorithm 1, the GA baseline or the exact solver), for greedy then the
+// improvement stage of planning/fleet_local_search.hpp (ours, not the paper's; switch it off with
+// improvement.enabled = false to run the pure Algorithm 1), build collision-free paths (section
+// 3.3) and verify them with the independent checker. A plan is returned only when the
 // checker finds it conflict-free and complete.
 #pragma once
 
@@ -11,6 +13,7 @@
 #include "planning/fleet_conflict_checker.hpp"
 #include "planning/fleet_exact.hpp"
 #include "planning/fleet_ga.hpp"
+#include "planning/fleet_local_search.hpp"
 #include "planning/fleet_paths.hpp"
 #include "planning/fleet_problem.hpp"
 #include "planning/termination.hpp"
@@ -26,11 +29,13 @@ struct FleetPlannerOptions {
   FleetAllocator allocator = FleetAllocator::kGreedy;
   FleetGaOptions ga;
   FleetExactOptions exact;
+  FleetImprovementOptions improvement;  // after the greedy construction only
   FleetPathOptions paths;
 };
 
 struct FleetPlan {
   FleetAllocation allocation;   // what the allocator planned (makespan without collisions)
+  FleetImprovementReport improvement;  // greedy: what the improvement stage did (start = Algorithm 1)
   FleetPaths paths;             // the collision-free, time-stamped paths
   FleetCheckReport check;       // the independent checker's verdict (ok() on every returned plan)
   double table_time_s = 0.0;    // breadth-first travel times

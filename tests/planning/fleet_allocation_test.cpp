@@ -1,6 +1,7 @@
 // Allocation stage: the exact solver against brute force over every split and order, the greedy
 // Algorithm 1 and the GA never better than exact (and greedy equal to it on the paper's obvious
-// 5 x 5 example), seeded determinism.
+// 5 x 5 example), seeded determinism; the improvement stage after Algorithm 1 never worse than
+// its input, complete, within capacities, deterministic, and switchable off.
 #include <algorithm>
 #include <deque>
 #include <random>
@@ -9,6 +10,8 @@
 
 #include "planning/fleet_exact.hpp"
 #include "planning/fleet_ga.hpp"
+#include "planning/fleet_local_search.hpp"
+#include "planning/fleet_planner.hpp"
 #include "planning/gmtpa.hpp"
 
 namespace skyroute {
@@ -218,6 +221,122 @@ TEST(FleetAllocation, GeneticAlgorithmIsSeeded) {
   const auto exact = allocateExact(in.problem, table);
   ASSERT_TRUE(exact.ok());
   EXPECT_GE(a->makespan_steps, exact->makespan_steps);
+}
+
+// Every task exactly once, capacities kept, and the reported costs are the sequences' own.
+void expectValidAllocation(const FleetProblem& p, const TravelTimeTable& table, const FleetAllocation& a) {
+  ASSERT_EQ(a.sequences.size(), p.vehicles.size());
+  std::vector<int> seen(p.tasks.size(), 0);
+  for (std::size_t i = 0; i < a.sequences.size(); ++i) {
+    EXPECT_LE(static_cast<int>(a.sequences[i].size()), p.capacity(static_cast<int>(i)));
+    for (int j : a.sequences[i]) ++seen[static_cast<std::size_t>(j)];
+  }
+  for (int s : seen) EXPECT_EQ(s, 1);
+  FleetAllocation copy = a;
+  refreshAllocationCosts(table, copy);
+  EXPECT_EQ(copy.makespan_steps, a.makespan_steps);
+  EXPECT_EQ(copy.sum_of_steps, a.sum_of_steps);
+}
+
+TEST(FleetImprovement, NeverWorseCompleteWithinCapacitiesAndDeterministic) {
+  std::mt19937_64 rng(20261122);
+  int greedy_total = 0;
+  int improved_total = 0;
+  int exact_total = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const int vehicles = 2 + trial % 4;
+    const int tasks = 3 * vehicles - trial % 3;
+    Instance in = randomInstance(rng, 12, 11, vehicles, tasks, 0.15);
+    if (trial % 5 == 0) in.problem.vehicles[0].max_tasks = 1;
+    if (trial % 7 == 0) in.problem.vehicles[1].max_tasks = 2;
+    if (!validateFleetProblem(in.grid, in.problem).ok()) continue;
+    const TravelTimeTable table = TravelTimeTable::build(in.grid, in.problem);
+    const auto greedy = allocateGreedy(in.problem, table);
+    ASSERT_TRUE(greedy.ok()) << greedy.error().describe();
+    FleetImprovementReport report;
+    const FleetAllocation improved = improveAllocation(in.problem, table, *greedy, {}, &report);
+    expectValidAllocation(in.problem, table, improved);
+    EXPECT_EQ(report.start_makespan_steps, greedy->makespan_steps);
+    EXPECT_LE(improved.makespan_steps, greedy->makespan_steps) << "trial " << trial;
+    if (improved.makespan_steps == greedy->makespan_steps) {
+      EXPECT_LE(improved.sum_of_steps, greedy->sum_of_steps) << "trial " << trial;
+    }
+    // Same input, same options: the same allocation, move for move.
+    const FleetAllocation again = improveAllocation(in.problem, table, *greedy);
+    EXPECT_EQ(again.sequences, improved.sequences) << "trial " << trial;
+    if (tasks <= 12) {
+      const auto exact = allocateExact(in.problem, table);
+      ASSERT_TRUE(exact.ok());
+      EXPECT_GE(improved.makespan_steps, exact->makespan_steps) << "trial " << trial;
+      greedy_total += greedy->makespan_steps;
+      improved_total += improved.makespan_steps;
+      exact_total += exact->makespan_steps;
+    }
+  }
+  // The stage earns its keep: on these instances it closes most of the greedy's gap to the optimum.
+  ASSERT_GT(greedy_total, exact_total);
+  EXPECT_LT(improved_total - exact_total, (greedy_total - exact_total) / 4)
+      << "greedy " << greedy_total << ", improved " << improved_total << ", exact " << exact_total;
+}
+
+TEST(FleetImprovement, KeepsTheOptimumOnThePapersFiveByFiveAndCanBeSwitchedOff) {
+  const GridLayer g = gridFrom({
+      ".....",
+      ".#...",
+      "...#.",
+      ".....",
+      ".....",
+  });
+  FleetProblem p;
+  p.vehicles = {{"1", {0, 0}, 0}, {"2", {4, 4}, 0}};
+  p.tasks = {{"1", {0, 2}}, {"2", {2, 0}}, {"3", {4, 2}}, {"4", {2, 4}}};
+  const TravelTimeTable table = TravelTimeTable::build(g, p);
+  const auto greedy = allocateGreedy(p, table);
+  const auto exact = allocateExact(p, table);
+  ASSERT_TRUE(greedy.ok());
+  ASSERT_TRUE(exact.ok());
+  const FleetAllocation improved = improveAllocation(p, table, *greedy);
+  EXPECT_EQ(improved.makespan_steps, exact->makespan_steps);
+  EXPECT_EQ(improved.sequences, greedy->sequences);  // already optimal: nothing to change
+
+  // Through the planner: on by default, and off gives Algorithm 1's allocation untouched.
+  FleetPlannerOptions off;
+  off.improvement.enabled = false;
+  const auto pure = planFleet(g, p, off);
+  const auto with = planFleet(g, p);
+  ASSERT_TRUE(pure.ok());
+  ASSERT_TRUE(with.ok());
+  EXPECT_EQ(pure->allocation.sequences, greedy->sequences);
+  EXPECT_EQ(pure->allocation.algorithm, "greedy");
+  EXPECT_EQ(with->allocation.algorithm, "greedy+improvement");
+  EXPECT_EQ(with->allocation.makespan_steps, exact->makespan_steps);
+}
+
+TEST(FleetImprovement, MovesATaskOffTheMakespanVehicle) {
+  // An empty 7 x 7 grid, depots at two corners of the west edge. Algorithm 1 gives the middle
+  // task (3,3) to the north vehicle early on, when that was cheapest, and the far task (6,2) to it
+  // later: 18 steps. Moving (3,3) to the south vehicle gives the optimum of 16.
+  const GridLayer g(7, 7);
+  FleetProblem p;
+  p.vehicles = {{"north", {0, 0}, 0}, {"south", {0, 6}, 0}};
+  p.tasks = {{"t0", {3, 0}}, {"t1", {0, 2}}, {"t2", {3, 3}}, {"t3", {6, 2}}, {"t4", {4, 6}}};
+  const TravelTimeTable table = TravelTimeTable::build(g, p);
+  const auto greedy = allocateGreedy(p, table);
+  const auto exact = allocateExact(p, table);
+  ASSERT_TRUE(greedy.ok());
+  ASSERT_TRUE(exact.ok());
+  ASSERT_EQ(greedy->makespan_steps, 18);
+  ASSERT_EQ(exact->makespan_steps, 16);
+  FleetImprovementReport report;
+  const FleetAllocation improved = improveAllocation(p, table, *greedy, {}, &report);
+  expectValidAllocation(p, table, improved);
+  EXPECT_EQ(improved.makespan_steps, 16);
+  EXPECT_GE(report.moves, 1);
+  EXPECT_EQ(std::count(improved.sequences[1].begin(), improved.sequences[1].end(), 2), 1);  // (3,3) went south
+  // With the stage off, the same call hands Algorithm 1's allocation back unchanged.
+  FleetImprovementOptions off;
+  off.enabled = false;
+  EXPECT_EQ(improveAllocation(p, table, *greedy, off).sequences, greedy->sequences);
 }
 
 TEST(FleetAllocation, ExactRefusesLargeInstances) {
