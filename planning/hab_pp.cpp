@@ -186,6 +186,42 @@ bool GridFields::windowFree(GridCell c, int r) const {
   return at(x1, y1) - at(x0, y1) - at(x1, y0) + at(x0, y0) == 0;
 }
 
+namespace {
+// The points of the border of the window of radius r around at, in candidates()' order.
+template <class Visit>
+void forBorder(GridCell at, int r, Visit&& visit) {
+  for (int dx = -r; dx <= r; ++dx) {
+    visit(GridCell{at.x + dx, at.y - r});
+    visit(GridCell{at.x + dx, at.y + r});
+  }
+  for (int dy = -r + 1; dy <= r - 1; ++dy) {
+    visit(GridCell{at.x - r, at.y + dy});
+    visit(GridCell{at.x + r, at.y + dy});
+  }
+}
+}  // namespace
+
+std::uint32_t GridFields::borderSight(GridCell c, int r) const {
+  const std::size_t slot = grid_->index(c) * (kMaxCachedRadius - 1) + static_cast<std::size_t>(r - 2);
+  const std::uint8_t bit = static_cast<std::uint8_t>(1u << (r - 2));
+  if (border_sight_.empty()) {
+    border_sight_.assign(grid_->cellCount() * (kMaxCachedRadius - 1), 0);
+    border_known_.assign(grid_->cellCount(), 0);
+  }
+  std::uint8_t& known = border_known_[grid_->index(c)];
+  if ((known & bit) == 0) {
+    std::uint32_t mask = 0;
+    int k = 0;
+    forBorder(c, r, [&](GridCell q) {
+      if (grid_->passable(q) && grid_->lineOfSight(c, q)) mask |= 1u << k;
+      ++k;
+    });
+    border_sight_[slot] = mask;
+    known |= bit;
+  }
+  return border_sight_[slot];
+}
+
 int sightRadius(const GridFields& fields, GridCell at, int base_radius, bool expanding, int max_radius) {
   int r = base_radius;
   if (!expanding) return r;
@@ -215,24 +251,21 @@ void candidates(const GridFields& fields, GridCell at, int radius, const std::ve
     // Radius 1 (the simple ants, most of the colony): the segment to a side neighbour touches only
     // the two cells, to a diagonal one also the two cells beside the corner, so lineOfSight
     // reduces to those tests.
+    // Radii 2 to 4 read the cached border mask (GridFields::borderSight).
+    const bool cached = !window_free && r >= 2 && r <= GridFields::kMaxCachedRadius;
+    const std::uint32_t mask = cached ? fields.borderSight(at, r) : 0;
+    int k = 0;
     auto visible = [&](GridCell c) {
       if (window_free) return true;
+      if (cached) return ((mask >> k) & 1u) != 0;
       if (r > 1) return grid.lineOfSight(at, c);
       return c.x == at.x || c.y == at.y ||
              (grid.passable(GridCell{c.x, at.y}) && grid.passable(GridCell{at.x, c.y}));
     };
-    auto consider = [&](GridCell c) {
-      if (grid.blocked(c) || visited[grid.index(c)] != 0) return;
-      if (visible(c)) out.push_back(c);
-    };
-    for (int dx = -r; dx <= r; ++dx) {
-      consider(GridCell{at.x + dx, at.y - r});
-      consider(GridCell{at.x + dx, at.y + r});
-    }
-    for (int dy = -r + 1; dy <= r - 1; ++dy) {
-      consider(GridCell{at.x - r, at.y + dy});
-      consider(GridCell{at.x + r, at.y + dy});
-    }
+    forBorder(at, r, [&](GridCell c) {
+      if (!grid.blocked(c) && visited[grid.index(c)] == 0 && visible(c)) out.push_back(c);
+      ++k;
+    });
     if (!out.empty()) return;
   }
 }
@@ -284,8 +317,19 @@ Path prunePath(const GridLayer& grid, const Path& path) {
   return out;
 }
 
+namespace {
+// tightenPath after its greedy pruning, for paths that are already pruned (prunePath is
+// idempotent: after a pass no kept point sees a later one beyond its successor), such as the
+// crossover's children.
+Path relaxPruned(const GridLayer& grid, Path p, int max_passes);
+}  // namespace
+
 Path tightenPath(const GridLayer& grid, const Path& path, int max_passes) {
-  Path p = prunePath(grid, path);
+  return relaxPruned(grid, prunePath(grid, path), max_passes);
+}
+
+namespace {
+Path relaxPruned(const GridLayer& grid, Path p, int max_passes) {
   struct Move {
     double length;
     GridCell to;
@@ -319,7 +363,10 @@ Path tightenPath(const GridLayer& grid, const Path& path, int max_passes) {
         for (int j = k; j > 0 && before(moves[j], moves[j - 1]); --j) std::swap(moves[j], moves[j - 1]);
       }
       for (int k = 0; k < n; ++k) {
-        if (grid.lineOfSight(a, moves[k].to) && grid.lineOfSight(moves[k].to, b)) {
+        // From the moved vertex outwards: a move that fails is blocked next to the vertex (by the
+        // corner it bends round), so the walk stops after a few cells instead of crossing the whole
+        // segment first (lineOfSight is symmetric, so the answer is the same).
+        if (grid.lineOfSight(moves[k].to, a) && grid.lineOfSight(moves[k].to, b)) {
           p[i] = moves[k].to;
           changed = true;
           break;
@@ -330,6 +377,7 @@ Path tightenPath(const GridLayer& grid, const Path& path, int max_passes) {
   }
   return p;
 }
+}  // namespace
 
 namespace {
 
@@ -575,7 +623,7 @@ class Colony {
       for (std::size_t r = 0; r < parents; ++r) {
         for (const Path& a : arrivals) {
           for (Path& child : crossover(grid_, ranked_[r], a, params_.crossover_points)) {
-            pool.push_back(tightenPath(grid_, child, params_.tighten_passes));
+            pool.push_back(relaxPruned(grid_, std::move(child), params_.tighten_passes));  // children come pruned
             ++stats.crossover_children;
           }
         }

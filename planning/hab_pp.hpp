@@ -150,10 +150,20 @@ class GridFields {
   double visibility(GridCell c) const { return visibility_[grid_->index(c)]; }
   // True when every cell of the (2r+1)^2 window around c is inside the grid and free (O(1)).
   bool windowFree(GridCell c, int r) const;
+  // Line of sight from c to each point of the border of its window of radius r (2 to
+  // kMaxCachedRadius), one bit per point in candidates()' order (rows -r and +r by x, then columns
+  // -r and +r by y); a point outside the grid or blocked has bit 0. Computed once per cell and
+  // radius and cached: the ants stand on the same cells again and again, so candidates() reads a
+  // mask instead of repeating lineOfSight. The cache makes GridFields unsafe to share between
+  // threads (each plan builds its own).
+  static constexpr int kMaxCachedRadius = 4;
+  std::uint32_t borderSight(GridCell c, int r) const;
 
  private:
   const GridLayer* grid_;
   GridCell goal_;
+  mutable std::vector<std::uint32_t> border_sight_;  // kMaxCachedRadius - 1 masks per cell
+  mutable std::vector<std::uint8_t> border_known_;   // bit r - 2: that mask is computed
   std::vector<double> visibility_;
   std::vector<int> blocked_prefix_;  // summed-area table of blocked cells, (w+1) x (h+1)
 };
