@@ -51,6 +51,208 @@ bool nearlyEqual2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return (
 
 }  // namespace
 
+namespace {
+
+// Bound of |dp/dtau| over tau in [0, 1] for one axis: the derivative (degree 6) in Bernstein form;
+// a polynomial lies within the hull of its Bernstein coefficients.
+double derivativeBoundTau(const Polynomial7& p) {
+  constexpr int kDegree = Polynomial7::kDegree - 1;
+  const auto& c = p.coefficients();
+  double power[kDegree + 1];
+  for (int m = 0; m <= kDegree; ++m) power[m] = (m + 1) * c[static_cast<std::size_t>(m + 1)];
+  auto binomial = [](int n, int k) {
+    double b = 1.0;
+    for (int i = 1; i <= k; ++i) b = b * (n - k + i) / i;
+    return b;
+  };
+  double bound = 0.0;
+  for (int i = 0; i <= kDegree; ++i) {
+    double b = 0.0;
+    for (int m = 0; m <= i; ++m) b += binomial(i, m) / binomial(kDegree, m) * power[m];
+    bound = std::max(bound, std::abs(b));
+  }
+  return bound;
+}
+
+double segmentSpeedBound(const Segment& segment) {
+  if (!(segment.duration_s > 0.0)) return 0.0;
+  double sum = 0.0;
+  for (const Polynomial7& axis : segment.axes) {
+    const double b = derivativeBoundTau(axis);
+    sum += b * b;
+  }
+  return std::sqrt(sum) / segment.duration_s;
+}
+
+// The largest of `bounds` (one per segment) over the segments overlapping [from_s, to_s].
+double boundOver(const Trajectory& t, const std::vector<double>& bounds, double from_s, double to_s) {
+  const double lo = std::max(from_s, 0.0);
+  const double hi = std::min(to_s, t.duration_s());
+  if (t.empty() || hi < lo) return 0.0;  // holding still before the start or after the end
+  const std::vector<double>& knots = t.knotTimes();
+  const auto after = std::upper_bound(knots.begin(), knots.end(), lo);
+  // One segment earlier than needed when lo sits on a knot: a larger bound is still a bound.
+  std::size_t s = after == knots.begin() ? 0 : static_cast<std::size_t>(after - knots.begin()) - 1;
+  if (s > 0) --s;
+  double bound = 0.0;
+  for (; s < bounds.size() && knots[s] <= hi; ++s) bound = std::max(bound, bounds[s]);
+  return bound;
+}
+
+// Positions sampled once per vehicle on its own clock; a delay of whole samples is an index shift.
+class SeparationChecker {
+ public:
+  SeparationChecker(const std::vector<Trajectory>& flown, const SeparationCheckOptions& options)
+      : flown_(flown), o_(options), samples_(flown.size()), bounds_(flown.size()), shift_(flown.size(), 0),
+        offset_s_(flown.size(), 0.0) {
+    for (std::size_t i = 0; i < flown.size(); ++i) {
+      const double duration = flown[i].duration_s();
+      const long n = static_cast<long>(std::ceil(duration / o_.sample_dt_s)) + 1;
+      samples_[i].reserve(static_cast<std::size_t>(n));
+      for (long k = 0; k < n; ++k) {
+        samples_[i].push_back(flown[i].evaluate(std::min(k * o_.sample_dt_s, duration), Derivative::kPosition));
+      }
+      for (const Segment& segment : flown[i].segments()) bounds_[i].push_back(segmentSpeedBound(segment));
+    }
+  }
+
+  // Delay of vehicle i: whole samples use the cached positions, any other delay evaluates.
+  void setDelay(std::size_t i, double delay_s) {
+    shift_[i] = std::lround(delay_s / o_.sample_dt_s);
+    offset_s_[i] = delay_s - static_cast<double>(shift_[i]) * o_.sample_dt_s;
+  }
+  void setShift(std::size_t i, long samples) {
+    shift_[i] = samples;
+    offset_s_[i] = 0.0;
+  }
+  long shift(std::size_t i) const { return shift_[i]; }
+  double delay(std::size_t i) const { return static_cast<double>(shift_[i]) * o_.sample_dt_s + offset_s_[i]; }
+
+  // The first mission time at which a and b are (or cannot be proven not to be) closer than the
+  // separation; nullopt when proven clear at every instant. `closest` and `refinements` accumulate.
+  std::optional<double> firstLoss(std::size_t a, std::size_t b, double& closest, std::size_t& refinements) const {
+    const double dt = o_.sample_dt_s;
+    const long last = std::max(horizon(a), horizon(b));  // after it both hold still
+    double before = distanceAtSample(a, b, 0);
+    closest = std::min(closest, before);
+    if (before < o_.separation_m) return 0.0;
+    for (long g = 1; g <= last; ++g) {
+      const double here = distanceAtSample(a, b, g);
+      closest = std::min(closest, here);
+      if (here < o_.separation_m) return static_cast<double>(g) * dt;
+      if (auto loss = lossBetween(a, b, static_cast<double>(g - 1) * dt, static_cast<double>(g) * dt, before, here,
+                                  closest, refinements)) {
+        return loss;
+      }
+      before = here;
+    }
+    return std::nullopt;
+  }
+
+ private:
+  long horizon(std::size_t i) const {
+    return shift_[i] + static_cast<long>(samples_[i].size()) + (offset_s_[i] != 0.0 ? 1 : 0);
+  }
+
+  Eigen::Vector3d positionAt(std::size_t i, double t_s) const {
+    return flown_[i].evaluate(t_s - delay(i), Derivative::kPosition);  // clamped: holding before and after
+  }
+  Eigen::Vector3d positionAtSample(std::size_t i, long g) const {
+    if (offset_s_[i] != 0.0) return positionAt(i, static_cast<double>(g) * o_.sample_dt_s);
+    const long k = std::clamp(g - shift_[i], 0L, static_cast<long>(samples_[i].size()) - 1);
+    return samples_[i][static_cast<std::size_t>(k)];
+  }
+  double distanceAtSample(std::size_t a, std::size_t b, long g) const {
+    return (positionAtSample(a, g) - positionAtSample(b, g)).norm();
+  }
+
+  // Over [t0, t1] with distances d0, d1 at its ends: the distance changes at most at the relative
+  // speed v (both vehicles' bounds there), so it is at least (d0 + d1 - v (t1 - t0)) / 2 inside.
+  std::optional<double> lossBetween(std::size_t a, std::size_t b, double t0, double t1, double d0, double d1,
+                                    double& closest, std::size_t& refinements) const {
+    const double v = boundOver(flown_[a], bounds_[a], t0 - delay(a), t1 - delay(a)) +
+                     boundOver(flown_[b], bounds_[b], t0 - delay(b), t1 - delay(b));
+    if (0.5 * (d0 + d1 - v * (t1 - t0)) >= o_.separation_m) return std::nullopt;
+    const double mid = 0.5 * (t0 + t1);
+    if (t1 - t0 <= o_.min_interval_s) return mid;  // not provable at this resolution: too close
+    const double dm = (positionAt(a, mid) - positionAt(b, mid)).norm();
+    ++refinements;
+    closest = std::min(closest, dm);
+    if (dm < o_.separation_m) return mid;
+    if (auto loss = lossBetween(a, b, t0, mid, d0, dm, closest, refinements)) return loss;
+    return lossBetween(a, b, mid, t1, dm, d1, closest, refinements);
+  }
+
+  const std::vector<Trajectory>& flown_;
+  SeparationCheckOptions o_;
+  std::vector<std::vector<Eigen::Vector3d>> samples_;
+  std::vector<std::vector<double>> bounds_;  // per vehicle, per segment: speed bound (m/s)
+  std::vector<long> shift_;                  // per vehicle: delay in whole samples
+  std::vector<double> offset_s_;             // per vehicle: the rest of the delay (0 when whole)
+};
+
+}  // namespace
+
+double speedBoundMps(const Trajectory& trajectory, double from_s, double to_s) {
+  std::vector<double> bounds;
+  for (const Segment& segment : trajectory.segments()) bounds.push_back(segmentSpeedBound(segment));
+  return boundOver(trajectory, bounds, from_s, to_s);
+}
+
+SeparationVerdict checkFleetSeparation(const std::vector<Trajectory>& flown, const std::vector<double>& delays_s,
+                                       const SeparationCheckOptions& options) {
+  SeparationVerdict verdict;
+  SeparationChecker checker(flown, options);
+  for (std::size_t i = 0; i < flown.size() && i < delays_s.size(); ++i) checker.setDelay(i, delays_s[i]);
+  for (std::size_t b = 1; b < flown.size(); ++b) {
+    for (std::size_t a = 0; a < b; ++a) {
+      const auto loss = checker.firstLoss(a, b, verdict.closest_m, verdict.refinements);
+      if (loss && verdict.clear) {
+        verdict.clear = false;
+        verdict.vehicle_a = a;
+        verdict.vehicle_b = b;
+        verdict.time_s = *loss;
+      }
+    }
+  }
+  return verdict;
+}
+
+SeparationRepair repairFleetSeparation(const std::vector<Trajectory>& flown, const SeparationCheckOptions& options,
+                                       double delay_step_s, double max_delay_s, const TerminationCondition& stop) {
+  SeparationRepair out;
+  SeparationChecker checker(flown, options);
+  const long step_samples = std::max(1L, std::lround(delay_step_s / options.sample_dt_s));
+  const long max_shift = std::lround(max_delay_s / options.sample_dt_s);
+  std::size_t refinements = 0;
+  for (std::size_t i = 1; i < flown.size(); ++i) {
+    while (true) {
+      bool lost = false;
+      for (std::size_t k = 0; k < i && !lost; ++k) {
+        double closest = std::numeric_limits<double>::infinity();
+        lost = checker.firstLoss(i, k, closest, refinements).has_value();
+      }
+      if (!lost) break;
+      if (stop.shouldStop()) {
+        out.stopped = true;
+        return out;
+      }
+      checker.setShift(i, checker.shift(i) + step_samples);
+      if (checker.shift(i) > max_shift) {
+        out.failed_vehicle = i;
+        return out;
+      }
+    }
+    if (checker.shift(i) > 0) ++out.repaired;
+  }
+  // The final schedule, every pair once more: the least distance met (all pairs proven clear).
+  for (std::size_t b = 1; b < flown.size(); ++b) {
+    for (std::size_t a = 0; a < b; ++a) checker.firstLoss(a, b, out.closest_m, refinements);
+  }
+  for (std::size_t i = 0; i < flown.size(); ++i) out.delays_s.push_back(checker.delay(i));
+  return out;
+}
+
 Eigen::Vector3d FleetPlanOutput::positionAt(std::size_t i, double t_s) const {
   const double local = t_s - delays_s[i];
   if (local <= 0.0) return flown[i].evaluate(0.0, Derivative::kPosition);
@@ -112,7 +314,7 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
                                   std::int64_t start_utc_ns, const TerminationCondition& stop, FleetPlanOutput& out) {
   if (auto e = validateFleetRequest(r, o)) return e;
   if (!(o.separation_dt_s > 0.0) || !(o.delay_step_s > 0.0) || !(o.sample_dt_s > 0.0) || o.max_cells_per_axis < 4 ||
-      !(o.min_separation_m >= 0.0)) {
+      !(o.min_separation_m >= 0.0) || !(o.separation_min_interval_s > 0.0)) {
     return fail(PlanErrorCode::kInternal, "options", "fleet options out of range");
   }
   auto world_r = world_model.worldFor(r.limits.min_clearance_agl_m, r.limits.ceiling_amsl_m);
@@ -342,68 +544,25 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
     out.status.allocation.push_back(std::move(a));
   }
 
-  // Separation: every vehicle sampled once on its own clock; a delay of whole samples is an index
-  // shift. Two vehicles at their speed limit close at most 2 v_max, so between samples (half an
-  // interval from the nearer one) the distance drops by at most v_max * dt below the sampled one.
-  const double dt = o.separation_dt_s;
-  const double required_m = separation_m + limits.max_speed_mps * dt;
-  const long step_samples = std::max(1L, std::lround(o.delay_step_s / dt));
-  const long max_shift = std::lround(o.max_delay_s / dt);
-  std::vector<std::vector<Eigen::Vector3d>> samples(nv);
-  for (std::size_t i = 0; i < nv; ++i) {
-    const long n = static_cast<long>(std::ceil(out.flown[i].duration_s() / dt)) + 1;
-    samples[i].reserve(static_cast<std::size_t>(n));
-    for (long k = 0; k < n; ++k) {
-      samples[i].push_back(out.flown[i].evaluate(std::min(k * dt, out.flown[i].duration_s()), Derivative::kPosition));
-    }
+  // Separation over continuous time, repaired by delaying starts (see the header).
+  SeparationCheckOptions so;
+  so.separation_m = separation_m;
+  so.sample_dt_s = o.separation_dt_s;
+  so.min_interval_s = o.separation_min_interval_s;
+  const SeparationRepair repair = repairFleetSeparation(out.flown, so, o.delay_step_s, o.max_delay_s, stop);
+  if (repair.stopped) return fail(PlanErrorCode::kCancelled, "", "stopped during the separation repair");
+  if (repair.failed_vehicle) {
+    const std::size_t i = *repair.failed_vehicle;
+    return fail(PlanErrorCode::kUnreachable, indexed("vehicle_ids", i),
+                r.vehicle_ids[i] + " cannot keep " + std::to_string(static_cast<int>(separation_m)) +
+                    " m from the vehicles before it within a delay of " + std::to_string(static_cast<int>(o.max_delay_s)) +
+                    " s (its route passes too close to a point where another holds)");
   }
-  std::vector<long> shift(nv, 0);
-  auto at = [&](std::size_t i, long g) {  // position at global sample g
-    const long k = g - shift[i];
-    if (k <= 0) return samples[i].front();
-    if (k >= static_cast<long>(samples[i].size())) return samples[i].back();
-    return samples[i][static_cast<std::size_t>(k)];
-  };
-  auto horizon = [&](std::size_t i) { return shift[i] + static_cast<long>(samples[i].size()); };
-  // The first global sample at which vehicle i comes within `required` of an earlier vehicle.
-  auto firstConflict = [&](std::size_t i, double& closest_m) -> std::optional<long> {
-    closest_m = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < i; ++k) {
-      const long last = std::max(horizon(i), horizon(k));
-      for (long g = 0; g <= last; ++g) {
-        const double d = (at(i, g) - at(k, g)).norm();
-        closest_m = std::min(closest_m, d);
-        if (d < required_m) return g;
-      }
-    }
-    return std::nullopt;
-  };
-  for (std::size_t i = 1; i < nv; ++i) {
-    double closest = 0.0;
-    while (firstConflict(i, closest)) {
-      if (stop.shouldStop()) return fail(PlanErrorCode::kCancelled, "", "stopped during the separation repair");
-      shift[i] += step_samples;
-      if (shift[i] > max_shift) {
-        return fail(PlanErrorCode::kUnreachable, indexed("vehicle_ids", i),
-                    r.vehicle_ids[i] + " cannot keep " + std::to_string(static_cast<int>(separation_m)) +
-                        " m from the vehicles before it within a delay of " + std::to_string(static_cast<int>(o.max_delay_s)) +
-                        " s (its route passes too close to a point where another holds)");
-      }
-    }
-    if (shift[i] > 0) ++out.status.separation_repairs;
-  }
-  // The achieved separation over the final schedule (all pairs, sampled).
-  double achieved = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < nv; ++i) {
-    for (std::size_t k = 0; k < i; ++k) {
-      const long last = std::max(horizon(i), horizon(k));
-      for (long g = 0; g <= last; ++g) achieved = std::min(achieved, (at(i, g) - at(k, g)).norm());
-    }
-  }
-  out.status.achieved_separation_m = nv > 1 ? achieved : 0.0;
+  out.status.separation_repairs = static_cast<std::uint32_t>(repair.repaired);
+  out.status.achieved_separation_m = nv > 1 ? repair.closest_m : 0.0;
 
   for (std::size_t i = 0; i < nv; ++i) {
-    const double delay_s = static_cast<double>(shift[i]) * dt;
+    const double delay_s = repair.delays_s[i];
     out.delays_s.push_back(delay_s);
     out.status.allocation[i].delay_s = delay_s;
     out.status.makespan_s = std::max(out.status.makespan_s, delay_s + out.flown[i].duration_s());
