@@ -5,6 +5,7 @@
 //                                 [--scale-only | --no-scale] [--dem PATH] [--threads N] [--diag]
 //
 // --threads N: the scale run with N threads only (default: once with 1, once with 2).
+// --fresh F: the scale run with MissionOptions::fresh_plan_fraction F only (default: 0, then 0.25).
 // --diag: where MMD*L's replanning saves on per-pair D* Lite (cells whose g changed, see Diag).
 //
 // Paper experiment: 110 x 110 grid, 20 % random obstacles, B (40,40), E (70,70), n random mission
@@ -330,9 +331,11 @@ void paperExperiment(int runs, int max_n, std::uint32_t seed, const GridMoves& m
               steps / std::max<double>(1.0, runs * max_n - failed));
 }
 
-void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& pts, GridCell end, int threads);
+void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& pts, GridCell end, int threads,
+                  double fresh);
 
-void scaleRun(const std::string& dem_path, std::uint32_t seed, const std::vector<int>& thread_counts) {
+void scaleRun(const std::string& dem_path, std::uint32_t seed, const std::vector<int>& thread_counts,
+              const std::vector<double>& fresh_fractions) {
   std::printf("## Scale: n = 20 mission points on a 1000 x 1000 grid from %s\n\n", dem_path.c_str());
   auto dem = Dem::load(dem_path);
   if (!dem.ok()) {
@@ -385,16 +388,20 @@ void scaleRun(const std::string& dem_path, std::uint32_t seed, const std::vector
   const GridCell end = pts.back();
   pts.pop_back();
   const GridLayer initial = grid;
-  for (int threads : thread_counts) {
-    grid = initial;  // the rounds below block cells
-    std::printf("\n### %d thread%s\n", threads, threads == 1 ? "" : "s");
-    scaleMission(grid, begin, pts, end, threads);
-  }
+  for (int threads : thread_counts)
+    for (double fresh : fresh_fractions) {
+      grid = initial;  // the rounds below block cells
+      std::printf("\n### %d thread%s, fresh-plan fraction %.2f%s\n", threads, threads == 1 ? "" : "s", fresh,
+                  fresh > 0 ? "" : " (the seed's repair only)");
+      scaleMission(grid, begin, pts, end, threads, fresh);
+    }
 }
 
-void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& pts, GridCell end, int threads) {
+void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& pts, GridCell end, int threads,
+                  double fresh) {
   MissionOptions options;
   options.threads = threads;
+  options.fresh_plan_fraction = fresh;
   auto planner = MissionPlanner::create(grid, begin, pts, end, options);
   if (!planner.ok()) {
     std::printf("error: %s\n", planner.error().describe().c_str());
@@ -446,9 +453,10 @@ void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& 
                 static_cast<unsigned long long>(re->search.queue_pushes + re->search.queue_pops),
                 planner->search().costMapCount(), re->cost);
   }
-  std::printf("\nTSP: %s; replanning mean %.1f CPU ms over %zu local changes; %d thread%s\n",
+  const auto* mmd = dynamic_cast<const MmdStarLite*>(&planner->search());
+  std::printf("\nTSP: %s; replanning mean %.1f CPU ms over %zu local changes; %d thread%s; goals planned afresh %zu\n",
               plan->tsp.exact ? "exact" : "heuristic (2-opt + Or-opt)", re_ms.mean(), re_ms.v.size(), threads,
-              threads == 1 ? "" : "s");
+              threads == 1 ? "" : "s", mmd ? mmd->freshPlans() : std::size_t{0});
 }
 
 }  // namespace
@@ -457,7 +465,8 @@ int main(int argc, char** argv) {
   int runs = 100, max_n = 5;
   std::uint32_t seed = 1;
   bool scale = true, paper = true;
-  std::vector<int> thread_counts{1, 2};  // the scale run, once per count
+  std::vector<int> thread_counts{1, 2};     // the scale run, once per count
+  std::vector<double> fresh_fractions{0.0, 0.25};  // and per fresh-plan fraction (0: off)
   std::string moves_name = "paper";
   std::string dem = std::string(SKYROUTE_SHARED_DATA_DIR) + "/dem/N44W072.hgt";
   for (int i = 1; i < argc; ++i) {
@@ -471,6 +480,7 @@ int main(int argc, char** argv) {
     else if (a == "--no-scale") scale = false;
     else if (a == "--diag") g_diag = true;
     else if (a == "--threads") thread_counts = {std::stoi(next())};
+    else if (a == "--fresh") fresh_fractions = {std::stod(next())};
     else if (a == "--dem") dem = next();
     else {
       std::fprintf(stderr, "unknown argument %s\n", a.c_str());
@@ -483,6 +493,6 @@ int main(int argc, char** argv) {
                             : moves_name == "paper-cut" ? "1.4 + Chebyshev, corner cutting allowed (the seed's rule)"
                                                         : "1.4 + Chebyshev, no corner cutting";
   if (paper) paperExperiment(runs, max_n, seed, moves, moves_title);
-  if (scale) scaleRun(dem, seed, thread_counts);
+  if (scale) scaleRun(dem, seed, thread_counts, fresh_fractions);
   return 0;
 }

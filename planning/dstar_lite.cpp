@@ -92,16 +92,47 @@ void DStarQueue::removeTop() {
   siftUp(i);
 }
 
+void DStarQueue::loadBucket() {
+  std::vector<Entry>& bucket = far_[first_far_];
+  far_count_ -= bucket.size();
+  limit_ = first_far_ + 1;
+  const bool rebuild = bucket.size() > heap_.size();
+  heap_.insert(heap_.end(), bucket.begin(), bucket.end());
+  if (rebuild) {
+    // Floyd's heap construction: linear, cheaper than one sift-up per entry for a large bucket.
+    const std::size_t n = heap_.size();
+    if (n > 1)
+      for (std::size_t i = (n - 2) / kArity + 1; i-- > 0;) siftDown(i, heap_[i]);
+  } else {
+    for (std::size_t i = heap_.size() - bucket.size(); i < heap_.size(); ++i) siftUp(i);
+  }
+  bucket.clear();
+  if (far_count_ != 0)
+    while (far_[first_far_].empty() || first_far_ < limit_) {
+      // Entries never sit below the limit, so the next non-empty bucket is above the loaded one.
+      ++first_far_;
+    }
+}
+
 void DStarQueue::adapt(const DStarGoalField& field, SearchStats& stats) {
-  std::size_t out = 0;
-  for (const Entry& e : heap_)
+  std::vector<Entry> live;
+  live.reserve(size());
+  auto keep = [&](const Entry& e) {
     if (!field.consistent(e.cell) && costEqual(e.key.k2, field.minCost(e.cell)))
-      heap_[out++] = Entry{calcKey(field, e.cell), e.cell};
-  heap_.resize(out);
-  if (out > 1)
-    for (std::size_t i = (out - 2) / kArity + 1; i-- > 0;) siftDown(i, heap_[i]);
-  stats.queue_pushes += out;
-  compacted_size_ = out;
+      live.push_back(Entry{calcKey(field, e.cell), e.cell});
+  };
+  for (const Entry& e : heap_) keep(e);
+  for (std::vector<Entry>& bucket : far_) {
+    for (const Entry& e : bucket) keep(e);
+    bucket.clear();
+  }
+  heap_.clear();
+  far_count_ = 0;
+  limit_ = 0;
+  // Everything goes to the buckets; the lowest ones are loaded when the search asks for the top.
+  for (const Entry& e : live) placeFar(bucketOf(e.key.k1), e);
+  stats.queue_pushes += live.size();
+  compacted_size_ = live.size();
 }
 
 void dstarInitialize(DStarGoalField& field, DStarQueue& queue, SearchStats& stats) {

@@ -136,7 +136,15 @@ class DStarGoalField {
   std::size_t log_fresh_ = 0;  // log_ entries from here on have their flag set
 };
 
-// Priority queue U of one start: the start cell, its k_m and a lazily cleaned 4-ary heap.
+// Priority queue U of one start: the start cell, its k_m and a lazily cleaned queue.
+//
+// The queue is two-tier: a 4-ary heap holds every entry whose k1 lies below a moving limit (a
+// multiple of kBucketWidth), and the others wait unsorted in buckets of kBucketWidth by k1. Most
+// entries of a queue shared by many starts (the frontier of a map searched towards other starts)
+// lie far above the current search's bound and are then never sorted. The top is the heap's once
+// no bucket entry can compare below it: a bucket is moved into the heap when the heap's top k1 is
+// within the tie tolerance of the bucket's lower edge, so ties on k1 are still broken by k2 across
+// the limit.
 class DStarQueue {
  public:
   struct Entry {
@@ -163,20 +171,30 @@ class DStarQueue {
   }
 
   void push(std::uint32_t cell, DStarKey key, SearchStats& stats) {
-    heap_.push_back(Entry{key, cell});
-    siftUp(heap_.size() - 1);
+    const std::size_t b = bucketOf(key.k1);
+    if (b < limit_) {
+      heap_.push_back(Entry{key, cell});
+      siftUp(heap_.size() - 1);
+    } else {
+      placeFar(b, Entry{key, cell});
+    }
     ++stats.queue_pushes;
   }
   // Top live entry after dropping stale ones, or nullptr when none is left.
   const Entry* top(const DStarGoalField& field, SearchStats& stats) {
-    while (!heap_.empty()) {
+    for (;;) {
+      if (far_count_ != 0 && (heap_.empty() || heap_.front().key.k1 + kCostTolerance >= edgeOf(first_far_))) {
+        loadBucket();
+        continue;
+      }
+      if (heap_.empty()) return nullptr;
       const Entry& e = heap_.front();
       if (!field.consistent(e.cell) && costEqual(e.key.k2, field.minCost(e.cell))) return &heap_.front();
       removeTop();
       ++stats.queue_pops;
     }
-    return nullptr;
   }
+  // The entry top() returned.
   Entry pop(SearchStats& stats) {
     const Entry e = heap_.front();
     removeTop();
@@ -184,9 +202,9 @@ class DStarQueue {
     return e;
   }
   // Inconsistent cell adaptation (seed 3.3, lines 31-32): recompute every live cell's key for the
-  // current start and k_m, drop stale entries, and rebuild the heap.
+  // current start and k_m, drop stale entries, and rebuild the queue.
   void adapt(const DStarGoalField& field, SearchStats& stats);
-  std::size_t size() const { return heap_.size(); }
+  std::size_t size() const { return heap_.size() + far_count_; }
 
  private:
   friend class DStarGoalField;
@@ -194,6 +212,24 @@ class DStarQueue {
   friend void dstarTrimLog(DStarGoalField&, std::span<DStarQueue* const>);
   friend SearchStatus dstarComputeShortestPath(DStarGoalField&, DStarQueue&, SearchStats&, const TerminationCondition&);
   static constexpr std::size_t kArity = 4;  // shallower than binary, children share a cache line
+  // A power of two, so bucket edges are exact; keys are sums of move costs near 1.
+  static constexpr double kBucketWidth = 2.0;
+  // Keys beyond (unbounded k_m growth, or a huge grid) share the last bucket: still correct, as a
+  // bucket only promises k1 >= its lower edge.
+  static constexpr std::size_t kMaxBucket = std::size_t{1} << 20;
+  static std::size_t bucketOf(double k1) {
+    const double b = k1 / kBucketWidth;
+    return b < static_cast<double>(kMaxBucket) ? static_cast<std::size_t>(b) : kMaxBucket;
+  }
+  static double edgeOf(std::size_t bucket) { return static_cast<double>(bucket) * kBucketWidth; }
+  void placeFar(std::size_t bucket, const Entry& e) {
+    if (bucket >= far_.size()) far_.resize(bucket + 1);
+    far_[bucket].push_back(e);
+    if (far_count_ == 0 || bucket < first_far_) first_far_ = bucket;
+    ++far_count_;
+  }
+  // Moves the lowest non-empty bucket into the heap and raises the limit past it.
+  void loadBucket();
   void siftUp(std::size_t i);
   void siftDown(std::size_t i, Entry e);
   // Pops the root bottom-up (Floyd): the hole walks down the smaller children to a leaf and the
@@ -203,8 +239,12 @@ class DStarQueue {
 
   GridCell start_;
   double km_ = 0.0;
-  std::vector<Entry> heap_;
-  std::size_t log_cursor_ = 0;      // the field's log entries before this are in the heap
+  std::vector<Entry> heap_;               // every entry whose bucket is below limit_
+  std::size_t limit_ = 0;                 // buckets below this are in the heap
+  std::vector<std::vector<Entry>> far_;   // by bucket, from limit_ on
+  std::size_t far_count_ = 0;
+  std::size_t first_far_ = 0;             // lowest non-empty bucket when far_count_ > 0
+  std::size_t log_cursor_ = 0;      // the field's log entries before this are in the queue
   std::size_t compacted_size_ = 0;  // size after the last adapt: grows of stale entries trigger one
 };
 

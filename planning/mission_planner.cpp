@@ -79,7 +79,11 @@ Result<MissionPlanner> MissionPlanner::create(const GridLayer& grid, GridCell be
   points.push_back(end);
   std::unique_ptr<MissionSearch> search;
   if (options.algorithm == MissionAlgorithm::kMmdStarLite)
-    search = std::make_unique<MmdStarLite>(grid, std::move(points), options.moves, options.threads);
+  {
+    auto mmd = std::make_unique<MmdStarLite>(grid, std::move(points), options.moves, options.threads);
+    mmd->setFreshPlanFraction(options.fresh_plan_fraction);
+    search = std::move(mmd);
+  }
   else
     search = std::make_unique<PairwiseDStarLite>(grid, std::move(points), options.moves);
   return MissionPlanner(std::move(search), options);

@@ -28,6 +28,10 @@ struct MissionOptions {
   // MMD*L plans its goals (independent maps) on this many threads, the caller's included. 1 keeps
   // all work on the caller's thread (the engine already plans requests on its own workers).
   int threads = 1;
+  // MMD*L only, a deviation from the seed (MmdStarLite::setFreshPlanFraction): 0 repairs every map
+  // incrementally however large the repair; f > 0 plans a goal afresh once its repair has cost
+  // more than f times that goal's planning from scratch.
+  double fresh_plan_fraction = 0.0;
 };
 
 struct MissionLeg {

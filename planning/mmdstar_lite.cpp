@@ -64,6 +64,7 @@ const DStarGoalField* MmdStarLite::field(int goal_point) const {
 
 SearchStatus MmdStarLite::preplanGoal(GoalSlot& goal, SearchStats& stats, const TerminationCondition& stop) const {
   const std::vector<int> starts = startsFor(goal.point);
+  const std::uint64_t expansions_before = stats.expansions;
   // One U carried from start to start (lines 34-38).
   DStarQueue carried(startCell(starts.front()), 0.0);
   dstarInitialize(*goal.field, carried, stats);  // line 34
@@ -84,6 +85,7 @@ SearchStatus MmdStarLite::preplanGoal(GoalSlot& goal, SearchStats& stats, const 
   }
   // From now on the starts share their insertions through the field (lines 20-30).
   goal.field->setLogging(true);
+  goal.plan_expansions = stats.expansions - expansions_before;
   return SearchStatus::kFound;
 }
 
@@ -119,10 +121,26 @@ SearchStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> c
   dstarTrimLog(*goal.field, queues);
   // Lines 58-65: rhs repaired once per goal; the insertions reach each queue when it is loaded.
   dstarUpdateChangedCells(*goal.field, changed, {}, stats);
+  // The repair's own count, for the fresh-plan rule (setFreshPlanFraction): its iteration budget
+  // stops the repair, the caller's `stop` is checked separately.
+  SearchStats repair;
+  const bool bounded = fresh_plan_fraction_ > 0.0;
+  TerminationCondition budget = stop;
+  if (bounded)
+    budget.withIterationBudget(static_cast<std::uint64_t>(fresh_plan_fraction_ * static_cast<double>(goal.plan_expansions)) + 1);
   for (DStarQueue* q : queues) {  // lines 66-70
-    dstarSyncQueue(*goal.field, *q, stats);  // line 69: load U with what the others inserted
-    if (dstarComputeShortestPath(*goal.field, *q, stats, stop) == SearchStatus::kStopped) return SearchStatus::kStopped;
+    dstarSyncQueue(*goal.field, *q, repair);  // line 69: load U with what the others inserted
+    if (dstarComputeShortestPath(*goal.field, *q, repair, bounded ? budget : stop) == SearchStatus::kStopped) {
+      stats += repair;
+      if (!bounded || stop.shouldStop()) return SearchStatus::kStopped;
+      // Over budget: plan this goal from scratch on the current grid.
+      ++fresh_plans_;
+      goal.starts.clear();
+      goal.field = std::make_unique<DStarGoalField>(table_, points_[goal.point]);
+      return preplanGoal(goal, stats, stop);
+    }
   }
+  stats += repair;
   return SearchStatus::kFound;
 }
 

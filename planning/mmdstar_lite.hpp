@@ -15,6 +15,8 @@
 // Memory: n+1 maps of g/rhs (plus the queues, which hold only inconsistent cells).
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -62,6 +64,15 @@ class MmdStarLite final : public MissionSearch {
   void moveVehicle(GridCell cell) override;
   void arriveAt(int point) override;
 
+  // Deviation from the seed, off by default (0): when repairing a goal's map after a change has
+  // cost more than `fraction` times the expansions of planning that goal from scratch, the repair
+  // is abandoned and the goal planned afresh (lines 34-42 on the new grid). A change next to a goal
+  // can alter nearly every g of its map; D* Lite then expands each cell twice (invalidate, settle)
+  // at a higher price per expansion than a fresh search, which expands each once. Exact either way.
+  void setFreshPlanFraction(double fraction) { fresh_plan_fraction_ = fraction; }
+  // Goals planned afresh by that rule since construction.
+  std::size_t freshPlans() const { return fresh_plans_; }
+
   // The shared map of a remaining goal (nullptr otherwise); for tests.
   const DStarGoalField* field(int goal_point) const;
 
@@ -74,6 +85,7 @@ class MmdStarLite final : public MissionSearch {
     int point = 0;
     std::unique_ptr<DStarGoalField> field;
     std::vector<StartSlot> starts;
+    std::uint64_t plan_expansions = 0;  // of its last planning from scratch (lines 34-42)
   };
 
   GoalSlot* slot(int goal_point);
@@ -90,6 +102,8 @@ class MmdStarLite final : public MissionSearch {
   std::shared_ptr<GridMoveTable> table_;  // shared by every field
   std::vector<GoalSlot> goals_;
   int threads_ = 1;
+  double fresh_plan_fraction_ = 0.0;
+  std::atomic<std::size_t> fresh_plans_{0};
 };
 
 }  // namespace skyroute

@@ -73,6 +73,7 @@ void expectSameSearch(const MissionSearch& a, const MissionSearch& b, const std:
 }
 
 TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
+  std::size_t fresh_plans = 0;
   for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
     std::mt19937 rng(2024);
     for (int trial = 0; trial < 6; ++trial) {
@@ -82,9 +83,13 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
       MmdStarLite mmd(grid, points, moves);
       // The same planner with its goals on two threads: same matrix, same counters, every step.
       MmdStarLite threaded(grid, points, moves, 2);
+      // And one that plans a goal afresh whenever its repair costs over 5 % of planning it anew.
+      MmdStarLite fresh(grid, points, moves);
+      fresh.setFreshPlanFraction(0.05);
       PairwiseDStarLite pairwise(grid, points, moves);
       ASSERT_EQ(mmd.preplan(), SearchStatus::kFound);
       ASSERT_EQ(threaded.preplan(), SearchStatus::kFound);
+      ASSERT_EQ(fresh.preplan(), SearchStatus::kFound);
       expectSameSearch(threaded, mmd, "preplanning");
       ASSERT_EQ(pairwise.preplan(), SearchStatus::kFound);
       expectMatrixMatchesDijkstra(mmd, "preplanning");
@@ -102,12 +107,14 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
         if (next == mmd.vehicleCell()) break;  // cut off: stop this trial's flight
         mmd.moveVehicle(next);
         threaded.moveVehicle(next);
+        fresh.moveVehicle(next);
         pairwise.moveVehicle(next);
         ++step;
         if (next == points[target]) {
           if (target == mmd.endPoint()) break;
           mmd.arriveAt(target);
           threaded.arriveAt(target);
+          fresh.arriveAt(target);
           pairwise.arriveAt(target);
           expectMatrixMatchesDijkstra(mmd, "after arrival");
         }
@@ -122,14 +129,18 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
         }
         ASSERT_EQ(mmd.applyChanges(changed), SearchStatus::kFound);
         ASSERT_EQ(threaded.applyChanges(changed), SearchStatus::kFound);
+        ASSERT_EQ(fresh.applyChanges(changed), SearchStatus::kFound);
+        expectMatrixMatchesDijkstra(fresh, "fresh-plan rule, replanning step " + std::to_string(step));
         ASSERT_EQ(pairwise.applyChanges(changed), SearchStatus::kFound);
         expectSameSearch(threaded, mmd, "replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(mmd, "replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(pairwise, "pairwise replanning step " + std::to_string(step));
       }
       EXPECT_GT(step, 0);
+      fresh_plans += fresh.freshPlans();
     }
   }
+  EXPECT_GT(fresh_plans, 0u);  // the rule was exercised
 }
 
 TEST(MmdStarLite, SharingSavesExpansionsOnTheSameProblems) {
