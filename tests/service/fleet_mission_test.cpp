@@ -300,6 +300,18 @@ Trajectory straightRun(const Eigen::Vector3d& from, const Eigen::Vector3d& to, d
   return Trajectory({segment});
 }
 
+// Two vehicles crossing the origin at right angles, both there at t = 1.25 s; 10 m asked for,
+// sampled every 0.5 s.
+std::vector<Trajectory> crossingPair() {
+  return {straightRun({-125, 0, 100}, {125, 0, 100}, 2.5), straightRun({0, -125, 100}, {0, 125, 100}, 2.5)};
+}
+SeparationCheckOptions tenMetresEveryHalfSecond() {
+  SeparationCheckOptions o;
+  o.separation_m = 10.0;
+  o.sample_dt_s = 0.5;
+  return o;
+}
+
 double closestDense(const std::vector<Trajectory>& flown, const std::vector<double>& delays_s, double until_s) {
   double closest = std::numeric_limits<double>::infinity();
   for (double t = 0.0; t <= until_s; t += 1e-4) {
@@ -311,13 +323,9 @@ double closestDense(const std::vector<Trajectory>& flown, const std::vector<doub
 }
 
 TEST(FleetSeparation, CrossingBetweenSamplesIsCaughtAndRepaired) {
-  // Two vehicles cross the origin at right angles, both at t = 1.25 s, between the samples at 1.0
-  // and 1.5 s where they are 35 m apart.
-  const std::vector<Trajectory> flown = {straightRun({-125, 0, 100}, {125, 0, 100}, 2.5),
-                                         straightRun({0, -125, 100}, {0, 125, 100}, 2.5)};
-  SeparationCheckOptions o;
-  o.separation_m = 10.0;
-  o.sample_dt_s = 0.5;
+  // They meet between the samples at 1.0 and 1.5 s, where they are 35 m apart.
+  const std::vector<Trajectory> flown = crossingPair();
+  const SeparationCheckOptions o = tenMetresEveryHalfSecond();
   double sampled = std::numeric_limits<double>::infinity();
   for (int k = 0; k * o.sample_dt_s <= 2.5; ++k) {
     const double t = k * o.sample_dt_s;
@@ -351,11 +359,8 @@ TEST(FleetSeparation, ANearMissBetweenSamplesIsProvenClear) {
   // The second vehicle starts 0.17 s later (not a whole sample): the closest approach,
   // 100 * 0.17 / sqrt(2) = 12.0 m, falls between samples and exceeds the 10 m asked for. The
   // Lipschitz bound alone cannot tell (it allows 200 m/s of closing), so the check refines.
-  const std::vector<Trajectory> flown = {straightRun({-125, 0, 100}, {125, 0, 100}, 2.5),
-                                         straightRun({0, -125, 100}, {0, 125, 100}, 2.5)};
-  SeparationCheckOptions o;
-  o.separation_m = 10.0;
-  o.sample_dt_s = 0.5;
+  const std::vector<Trajectory> flown = crossingPair();
+  SeparationCheckOptions o = tenMetresEveryHalfSecond();
   const std::vector<double> delays{0.0, 0.17};
   const double truth = closestDense(flown, delays, 3.5);
   ASSERT_NEAR(truth, 100.0 * 0.17 / std::sqrt(2.0), 0.05);
