@@ -1,9 +1,11 @@
 #include "planning/path_refinement.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 
 #include "planning/rrt_star.hpp"
@@ -165,10 +167,12 @@ class Refiner {
     const double la = (a - v).norm(), lb = (b - v).norm();
     if (la <= 0.0 || lb <= 0.0) return false;
     double c = std::min({states_[i].cut_step_m, 0.5 * la, 0.5 * lb});
-    while (c >= options_.min_step_m && !stopped_) {
+    const double smallest = std::max(options_.min_step_m, options_.min_segment_m);
+    while (c >= smallest && !stopped_) {
       const Eigen::Vector3d p = v + (a - v) * (c / la);
       const Eigen::Vector3d q = v + (b - v) * (c / lb);
       if ((p - q).norm() >= 2.0 * c - kMinChangeGain_m) return false;  // straight on: nothing to cut
+      if ((p - q).norm() < options_.min_segment_m) break;  // sharper corners only get shorter chords
       if (check(p, q)) {
         path_[i] = p;
         path_.insert(path_.begin() + static_cast<std::ptrdiff_t>(i) + 1, q);
@@ -206,6 +210,10 @@ class Refiner {
     };
     const Eigen::Vector3d p1 = at(s1, u1), p2 = at(s2, u2);
     if ((p2 - p1).norm() >= u2 - u1 - kMinChangeGain_m) return;
+    if (options_.min_segment_m > 0.0) {
+      const double shortest = std::min({(p2 - p1).norm(), u1 - along[s1], along[s2 + 1] - u2});
+      if (shortest < options_.min_segment_m) return;
+    }
     if (!validator_.isStateValid(0.5 * (p1 + p2))) return;
     if (!check(p1, p2)) return;
     std::vector<Eigen::Vector3d> next(path_.begin(), path_.begin() + static_cast<std::ptrdiff_t>(s1) + 1);
@@ -256,27 +264,40 @@ Result<PathRefinementResult> refinePath(const MotionValidator& validator, const 
   if (!(options.min_round_gain_m >= 0.0)) {
     return make_error(ErrorCode::kInvalidArgument, "min_round_gain_m", "min_round_gain_m must be >= 0");
   }
+  if (!(options.min_segment_m >= 0.0) || !std::isfinite(options.min_segment_m)) {
+    return make_error(ErrorCode::kInvalidArgument, "min_segment_m", "min_segment_m must be finite and >= 0");
+  }
   if (options.shortcut_attempts < 0) {
     return make_error(ErrorCode::kInvalidArgument, "shortcut_attempts", "shortcut_attempts must be >= 0");
   }
   PathRefinementResult result;
   result.input_length_m = polylineLength(path_m);
-  for (std::size_t i = 1; i < path_m.size(); ++i) {
-    ++result.motion_checks;
-    if (!validator.isMotionValid(path_m[i - 1], path_m[i])) {
-      return make_error(ErrorCode::kInvalidArgument, "path",
-                        "segment " + std::to_string(i - 1) + " -> " + std::to_string(i) + " is not a valid motion");
+  if (options.check_input) {
+    for (std::size_t i = 1; i < path_m.size(); ++i) {
+      ++result.motion_checks;
+      if (!validator.isMotionValid(path_m[i - 1], path_m[i])) {
+        return make_error(ErrorCode::kInvalidArgument, "path",
+                          "segment " + std::to_string(i - 1) + " -> " + std::to_string(i) + " is not a valid motion");
+      }
     }
   }
   Refiner refiner(validator, options, stop, result, path_m);
   refiner.run();
   std::vector<Eigen::Vector3d>& refined = refiner.path();
-  // Cut points lie on checked segments up to rounding: verify every segment of the result once
-  // (whatever the deadline says) and keep it only when it is valid and not longer.
-  bool keep = refined.size() != path_m.size() || refined != path_m;
+  // Cut points lie on checked segments up to rounding: verify every segment of the result that is
+  // not an input segment once (whatever the deadline says) and keep the result only when it is
+  // valid and not longer.
+  std::map<std::array<double, 3>, std::size_t> input_index;
+  for (std::size_t i = 0; i < path_m.size(); ++i) input_index.emplace(std::array{path_m[i].x(), path_m[i].y(), path_m[i].z()}, i);
+  auto isInputSegment = [&](const Eigen::Vector3d& u, const Eigen::Vector3d& w) {
+    const auto it = input_index.find({u.x(), u.y(), u.z()});
+    return it != input_index.end() && it->second + 1 < path_m.size() && path_m[it->second + 1] == w;
+  };
+  bool keep = refined != path_m;
   const double length = polylineLength(refined);
   keep = keep && length <= result.input_length_m;
   for (std::size_t i = 1; keep && i < refined.size(); ++i) {
+    if (isInputSegment(refined[i - 1], refined[i])) continue;
     ++result.motion_checks;
     keep = validator.isMotionValid(refined[i - 1], refined[i]);
   }

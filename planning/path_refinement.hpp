@@ -35,11 +35,17 @@ struct PathRefinementOptions {
   double min_round_gain_m = 1e-3;   // stop when a round shortens the path by less
   double min_step_m = 0.05;         // smallest move or cut tried; a vertex below it is converged
   int max_vertices = 200;           // corner cutting and shortcuts add no vertices beyond this
+  // Corner cuts and shortcuts make no segment shorter than this (0 = only min_step_m applies): a
+  // trajectory stage that fits splines through the vertices may want them some metres apart.
+  double min_segment_m = 0.0;
   int shortcut_attempts = 8;        // seeded partial shortcuts per round (0 = none)
   std::uint64_t seed = 1;
   bool collapse = true;
   bool relax = true;
   bool cut_corners = true;
+  // Check every input segment first (an invalid one is an error). A caller that has just verified
+  // the path (LOSPO's result is) may skip it to save a whole-path check inside its budget.
+  bool check_input = true;
 };
 
 struct PathRefinementResult {
@@ -54,7 +60,7 @@ struct PathRefinementResult {
 };
 
 // Errors (kInvalidArgument, naming the field): fewer than two points or non-finite points, an
-// input segment that is not a valid motion ("path"), options out of range.
+// input segment that is not a valid motion ("path", when check_input), options out of range.
 Result<PathRefinementResult> refinePath(const MotionValidator& validator, const std::vector<Eigen::Vector3d>& path_m,
                                         const PathRefinementOptions& options = {},
                                         const TerminationCondition& stop = {});

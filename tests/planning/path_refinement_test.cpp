@@ -72,6 +72,18 @@ TEST(PathRefinement, PathRoundASphereApproachesTheTangentArcLength) {
   EXPECT_GE(r->length_m, taut - 1e-9);
   EXPECT_LT(r->length_m, taut * 1.001) << "taut " << taut << " input " << polylineLength(detour);
   EXPECT_GT(r->cut, 0);
+  // With a minimum segment length the corners are cut less finely: still valid and shorter, and
+  // the cuts make no segment shorter than asked.
+  o.min_segment_m = 4.0;
+  auto coarse = refinePath(world, detour, o);
+  ASSERT_TRUE(coarse.ok());
+  EXPECT_TRUE(world.denseCheck(coarse->path_m, 0.005));
+  EXPECT_LT(coarse->length_m, taut * 1.01);
+  EXPECT_GE(coarse->length_m, r->length_m);
+  EXPECT_LT(coarse->path_m.size(), r->path_m.size());
+  for (std::size_t i = 1; i < coarse->path_m.size(); ++i) {
+    EXPECT_GE((coarse->path_m[i] - coarse->path_m[i - 1]).norm(), 4.0 - 1e-9) << "segment " << i;
+  }
 }
 
 TEST(PathRefinement, NeverLengthensNorInvalidatesRrtStarAndLospoPaths) {
