@@ -9,7 +9,6 @@
 #include <optional>
 #include <queue>
 #include <string>
-#include <unordered_map>
 
 #include "planning/any_angle_search.hpp"
 #include "planning/hab_pp_output.hpp"
@@ -404,10 +403,17 @@ std::vector<Path> crossover(const GridLayer& grid, const Path& a, const Path& b,
   if (a.size() < 2 || b.size() < 2 || max_points <= 0) return children;
   const GridCell start = a.front();
   const GridCell goal = a.back();
-  std::unordered_map<std::size_t, std::size_t> segment_of_a;  // cell index -> first segment of a touching it
+  // (cell index, segment of a touching it), sorted by cell and then segment, so the first entry
+  // of a cell is the first segment of a touching it (a sorted vector: no hashing, one allocation).
+  std::vector<std::pair<std::size_t, std::size_t>> segment_of_a;
   for (std::size_t s = 0; s + 1 < a.size(); ++s) {
-    for (GridCell c : segmentCells(a[s], a[s + 1])) segment_of_a.emplace(grid.index(c), s);
+    for (GridCell c : segmentCells(a[s], a[s + 1])) segment_of_a.emplace_back(grid.index(c), s);
   }
+  std::sort(segment_of_a.begin(), segment_of_a.end());
+  auto first_segment_of_a = [&](std::size_t cell) -> const std::size_t* {
+    const auto it = std::lower_bound(segment_of_a.begin(), segment_of_a.end(), std::pair<std::size_t, std::size_t>{cell, 0});
+    return it != segment_of_a.end() && it->first == cell ? &it->second : nullptr;
+  };
   struct Crossing {
     GridCell cell;
     std::size_t seg_a;
@@ -418,9 +424,9 @@ std::vector<Path> crossover(const GridLayer& grid, const Path& a, const Path& b,
   for (std::size_t s = 0; s + 1 < b.size(); ++s) {
     for (GridCell c : segmentCells(b[s], b[s + 1])) {
       if (!grid.inside(c)) continue;
-      const auto it = segment_of_a.find(grid.index(c));
-      const bool shared = it != segment_of_a.end() && !(c == start) && !(c == goal) && grid.passable(c);
-      if (shared && !in_run) crossings.push_back({c, it->second, s});  // one crossing per run of shared cells
+      const std::size_t* seg_a = first_segment_of_a(grid.index(c));
+      const bool shared = seg_a != nullptr && !(c == start) && !(c == goal) && grid.passable(c);
+      if (shared && !in_run) crossings.push_back({c, *seg_a, s});  // one crossing per run of shared cells
       in_run = shared;
     }
   }
@@ -465,7 +471,10 @@ PheromoneField::PheromoneField(const GridFields& fields, const HabPpParameters& 
   const GridLayer& grid = fields.grid();
   for (std::size_t i = 0; i < tau_.size(); ++i) {
     const GridCell c = grid.cellOf(i);
-    tau_[i] = std::clamp(fields.visibility(c), params.pheromone_min, params.pheromone_max);
+    // Choice: blocked cells start (and stay) at the floor: no ant or sample reads them and no path
+    // deposits on them, so the update and the sampling need not look at them.
+    tau_[i] = grid.passable(c) ? std::clamp(fields.visibility(c), params.pheromone_min, params.pheromone_max)
+                               : params.pheromone_min;
     if (grid.passable(c)) free_cells_.push_back(i);
     if (tau_[i] > params.pheromone_min) {
       in_active_[i] = 1;
@@ -539,8 +548,9 @@ GridCell PheromoneField::sample(Rng& rng) const {
     excess_cells_.clear();
     excess_cumulative_.clear();
     double sum = 0.0;
-    for (std::uint32_t i : active_) {
-      if (grid.blocked(grid.cellOf(i))) continue;
+    excess_cells_.reserve(active_.size());
+    excess_cumulative_.reserve(active_.size());
+    for (std::uint32_t i : active_) {  // all free: blocked cells stay at the floor
       sum += powExponent(tau_[i], params_.alpha) - floor_weight;
       excess_cells_.push_back(i);
       excess_cumulative_.push_back(sum);

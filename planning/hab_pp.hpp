@@ -218,7 +218,7 @@ std::vector<double> evaluate(const std::vector<Path>& paths, const HabPpParamete
 // Pheromone field tau (one value per cell), eqs. (3) and (4) with the Fig. 3 interpolation.
 class PheromoneField {
  public:
-  PheromoneField(const GridFields& fields, const HabPpParameters& params);  // tau <- eta
+  PheromoneField(const GridFields& fields, const HabPpParameters& params);  // tau <- eta (free cells)
   double at(GridCell c) const { return tau_[fields_->grid().index(c)]; }
   // tau_j <- clamp((1 - rho) tau_j + sum over ranked paths of rho * f_Eval(path) on every cell the
   // path's segments touch (each cell once per path), to [pheromone_min, pheromone_max].
@@ -251,7 +251,7 @@ class PheromoneField {
   std::vector<std::uint32_t> active_;   // cells with tau > pheromone_min
   std::vector<std::uint8_t> in_active_;
   mutable std::vector<double> excess_cumulative_;   // running sum of the excess over excess_cells_
-  mutable std::vector<std::uint32_t> excess_cells_;  // free active cells, in active_ order
+  mutable std::vector<std::uint32_t> excess_cells_;  // the active cells (all free), in active_ order
   mutable bool excess_stale_ = true;
   void nextStamp();
 };

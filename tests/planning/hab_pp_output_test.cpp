@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "planning/any_angle_search.hpp"
+#include "tests/grid_fixtures.hpp"
 #include "tests/planning/any_angle_reference.hpp"
 #include "tests/planning/hab_maps.hpp"
 
@@ -40,15 +41,10 @@ TEST(HabPpOutput, EightConnectedPathsBecomeTautWithinOnePercentOfTheOptimum) {
 
 // Random walls and random valid polylines (random walks of visible hops): never longer, always valid.
 TEST(HabPpOutput, NeverLongerAndAlwaysValidOnRandomMaps) {
-  std::mt19937_64 rng(17);
+  std::mt19937 rng(17);
   int shortened = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    GridLayer g(30, 24);
-    std::vector<GridCell> walls;
-    for (int i = 0; i < 140; ++i) {
-      walls.push_back(GridCell{static_cast<int>(rng() % 30), static_cast<int>(rng() % 24)});
-    }
-    g.setStaticBlocked(walls, true);
+    GridLayer g = randomGrid(30, 24, 0.18, rng);
     const GridCell start{0, 0}, goal{29, 23};
     g.setStaticBlocked(std::vector<GridCell>{start, goal}, false);
     // A wandering valid path: hops to random visible cells, then on to the goal by Theta*.
