@@ -7,6 +7,7 @@
 #include <limits>
 #include <numeric>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 
 namespace skyroute {
@@ -224,13 +225,14 @@ class LocalSearch {
     return {given, std::move(tasks)};
   }
 
-  // Improving moves until none is left (or the budget ends): first the exact re-split of two
-  // vehicles' tasks, then relocations and swaps between vehicles too loaded for the re-split.
+  // Improving changes until none is left, the makespan reaches the lower bound or the budget ends:
+  // pairs first (exact re-split, or relocations and swaps for pairs too loaded for it), then at a
+  // pair optimum three-way re-splits with the longest route.
   void descend(Solution& s, int& moves) {
     const int nu = problem_.vehicleCount();
     version_.assign(static_cast<std::size_t>(nu), 0);
     checked_.assign(static_cast<std::size_t>(nu * nu), {-1, -1});
-    checked_triples_.assign(static_cast<std::size_t>(nu * nu * nu), {-1, -1, -1});
+    checked_triples_.clear();
     std::vector<int> by_length(static_cast<std::size_t>(nu));
     while (!exhausted() && s.makespan() > lower_bound_) {  // at the bound the makespan is optimal
       std::iota(by_length.begin(), by_length.end(), 0);
@@ -287,9 +289,11 @@ class LocalSearch {
     std::sort(v.begin(), v.end());
     const std::array<int, 3> versions{version_[v[0]], version_[v[1]], version_[v[2]]};
     const std::size_t nu = static_cast<std::size_t>(problem_.vehicleCount());
-    auto& seen = checked_triples_[(static_cast<std::size_t>(v[0]) * nu + static_cast<std::size_t>(v[1])) * nu +
-                                  static_cast<std::size_t>(v[2])];
-    if (seen == versions) return false;
+    auto [entry, added] = checked_triples_.try_emplace(
+        (static_cast<std::uint64_t>(v[0]) * nu + static_cast<std::uint64_t>(v[1])) * nu + static_cast<std::uint64_t>(v[2]),
+        std::array<int, 3>{-1, -1, -1});
+    auto& seen = entry->second;
+    if (!added && seen == versions) return false;
     seen = versions;
     std::vector<int> tasks;
     for (int i : v) tasks.insert(tasks.end(), s.sequences[i].begin(), s.sequences[i].end());
@@ -454,7 +458,7 @@ class LocalSearch {
   SubsetTours scratch_[3];
   std::vector<int> version_;                      // per vehicle: bumped on every change
   std::vector<std::pair<int, int>> checked_;      // per pair: the versions last tried
-  std::vector<std::array<int, 3>> checked_triples_;  // per triple (sorted): the versions last tried
+  std::unordered_map<std::uint64_t, std::array<int, 3>> checked_triples_;  // per sorted triple: versions last tried
   std::uint64_t work_ = 0;
   long long lower_bound_ = 0;  // on the makespan of any allocation
 };
