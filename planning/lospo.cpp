@@ -138,15 +138,20 @@ std::vector<Eigen::Vector3d> densifyPath(const std::vector<Eigen::Vector3d>& pat
   return out;
 }
 
-Result<LospoResult> lospo(const MotionValidator& validator, const std::vector<Eigen::Vector3d>& path_m,
-                          const LospoOptions& options, const TerminationCondition& stop) {
-  const auto t0 = Clock::now();
+Status checkPathPoints(const std::vector<Eigen::Vector3d>& path_m) {
   if (path_m.size() < 2) return make_error(ErrorCode::kInvalidArgument, "path", "a path needs at least two points");
   for (std::size_t i = 0; i < path_m.size(); ++i) {
     if (!path_m[i].allFinite()) {
       return make_error(ErrorCode::kInvalidArgument, "path", "point " + std::to_string(i) + " is not finite");
     }
   }
+  return Status::success();
+}
+
+Result<LospoResult> lospo(const MotionValidator& validator, const std::vector<Eigen::Vector3d>& path_m,
+                          const LospoOptions& options, const TerminationCondition& stop) {
+  const auto t0 = Clock::now();
+  if (Status points = checkPathPoints(path_m); !points.ok()) return points.error();
   if (!std::isfinite(options.spacing_m) || !(options.spacing_m > 0.0)) {
     return make_error(ErrorCode::kInvalidArgument, "spacing_m", "spacing_m must be finite and > 0");
   }

@@ -53,6 +53,10 @@ struct LospoResult {
 Result<LospoResult> lospo(const MotionValidator& validator, const std::vector<Eigen::Vector3d>& path_m,
                           const LospoOptions& options = {}, const TerminationCondition& stop = {});
 
+// The input checks every path post-processing stage makes (LOSPO, refinePath): at least two
+// points, all finite (kInvalidArgument, field "path", naming the point).
+Status checkPathPoints(const std::vector<Eigen::Vector3d>& path_m);
+
 // The path with extra vertices on every segment so no two consecutive ones are farther apart than
 // spacing_m (equal pieces per segment); the original vertices are kept.
 std::vector<Eigen::Vector3d> densifyPath(const std::vector<Eigen::Vector3d>& path_m, double spacing_m);

@@ -8,6 +8,7 @@
 #include <map>
 #include <string>
 
+#include "planning/lospo.hpp"
 #include "planning/rrt_star.hpp"
 
 namespace skyroute {
@@ -251,12 +252,7 @@ class Refiner {
 Result<PathRefinementResult> refinePath(const MotionValidator& validator, const std::vector<Eigen::Vector3d>& path_m,
                                         const PathRefinementOptions& options, const TerminationCondition& stop) {
   const auto t0 = Clock::now();
-  if (path_m.size() < 2) return make_error(ErrorCode::kInvalidArgument, "path", "a path needs at least two points");
-  for (std::size_t i = 0; i < path_m.size(); ++i) {
-    if (!path_m[i].allFinite()) {
-      return make_error(ErrorCode::kInvalidArgument, "path", "point " + std::to_string(i) + " is not finite");
-    }
-  }
+  if (Status points = checkPathPoints(path_m); !points.ok()) return points.error();
   if (options.max_rounds < 0) return make_error(ErrorCode::kInvalidArgument, "max_rounds", "max_rounds must be >= 0");
   if (!std::isfinite(options.min_step_m) || !(options.min_step_m > 0.0)) {
     return make_error(ErrorCode::kInvalidArgument, "min_step_m", "min_step_m must be finite and > 0");

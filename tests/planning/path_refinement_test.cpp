@@ -1,5 +1,5 @@
 // refinePath (the stage after LOSPO): never lengthens, never invalidates (independent dense checks
-// on synthetic worlds and on the real terrain), converges to the analytic taut length round a wall
+// on synthetic worlds; on the real terrain in rrt_star_test's terrain test), converges to the analytic taut length round a wall
 // edge and a sphere, respects the termination condition, and is deterministic.
 #include "planning/path_refinement.hpp"
 
@@ -12,10 +12,7 @@
 
 #include "planning/lospo.hpp"
 #include "planning/rrt_star.hpp"
-#include "planning/world_motion_validator.hpp"
-#include "terrain/terrain_world.hpp"
 #include "tests/planning/synthetic_worlds.hpp"
-#include "tests/test_data.hpp"
 
 namespace skyroute {
 namespace {
@@ -86,20 +83,23 @@ TEST(PathRefinement, PathRoundASphereApproachesTheTangentArcLength) {
   }
 }
 
+// An RRT* path through sphere field `field` and LOSPO's result on it.
+std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>> fieldPaths(const BoxWorld& world, unsigned field) {
+  auto plan = RrtStar(world, RrtStarOptions{.seed = field, .max_step_m = 10.0})
+                  .plan(Eigen::Vector3d(2, 2, 2), Eigen::Vector3d(98, 98, 98), TerminationCondition().withIterationBudget(1500));
+  if (!plan.ok() || !plan->solved()) return {};
+  auto shortened = lospo(world, plan->path_m, LospoOptions{.spacing_m = 5.0});
+  return {plan->path_m, shortened.ok() ? shortened->path_m : plan->path_m};
+}
+
 TEST(PathRefinement, NeverLengthensNorInvalidatesRrtStarAndLospoPaths) {
   double lospo_total = 0.0, refined_total = 0.0;
+  const Eigen::Vector3d s(2, 2, 2), g(98, 98, 98);
   for (unsigned field = 1; field <= 6; ++field) {
     const BoxWorld world = testing::sphereField(field, 50);
-    const Eigen::Vector3d s(2, 2, 2), g(98, 98, 98);
-    RrtStarOptions o;
-    o.seed = field;
-    o.max_step_m = 10.0;
-    auto plan = RrtStar(world, o).plan(s, g, TerminationCondition().withIterationBudget(1500));
-    ASSERT_TRUE(plan.ok());
-    ASSERT_TRUE(plan->solved()) << "field " << field;
-    auto shortened = lospo(world, plan->path_m, LospoOptions{.spacing_m = 5.0});
-    ASSERT_TRUE(shortened.ok());
-    for (const auto* input : {&plan->path_m, &shortened->path_m}) {
+    const auto [raw, shortened] = fieldPaths(world, field);
+    ASSERT_FALSE(raw.empty()) << "field " << field;
+    for (const auto* input : {&raw, &shortened}) {
       PathRefinementOptions ro;
       ro.seed = field;
       auto r = refinePath(world, *input, ro);
@@ -112,9 +112,9 @@ TEST(PathRefinement, NeverLengthensNorInvalidatesRrtStarAndLospoPaths) {
       EXPECT_EQ(r->path_m.back(), g);
       EXPECT_LE(static_cast<int>(r->path_m.size()), std::max<int>(ro.max_vertices, static_cast<int>(input->size())));
     }
-    auto refined = refinePath(world, shortened->path_m);
+    auto refined = refinePath(world, shortened);
     ASSERT_TRUE(refined.ok());
-    lospo_total += shortened->length_m;
+    lospo_total += polylineLength(shortened);
     refined_total += refined->length_m;
   }
   // The refinement finds length LOSPO leaves (little here: LOSPO at 5 m spacing in open fields).
@@ -123,13 +123,10 @@ TEST(PathRefinement, NeverLengthensNorInvalidatesRrtStarAndLospoPaths) {
 
 TEST(PathRefinement, SameInputAndSeedGiveTheSamePath) {
   const BoxWorld world = testing::sphereField(3, 50);
-  RrtStarOptions o;
-  o.seed = 7;
-  auto plan = RrtStar(world, o).plan(Eigen::Vector3d(2, 2, 2), Eigen::Vector3d(98, 98, 98),
-                                     TerminationCondition().withIterationBudget(1500));
-  ASSERT_TRUE(plan.ok() && plan->solved());
-  auto a = refinePath(world, plan->path_m);
-  auto b = refinePath(world, plan->path_m);
+  const auto raw = fieldPaths(world, 7).first;
+  ASSERT_FALSE(raw.empty());
+  auto a = refinePath(world, raw);
+  auto b = refinePath(world, raw);
   ASSERT_TRUE(a.ok() && b.ok());
   EXPECT_EQ(a->path_m, b->path_m);
   EXPECT_EQ(a->motion_checks, b->motion_checks);
@@ -162,67 +159,6 @@ TEST(PathRefinement, BadInputIsAnErrorNamingTheField) {
   EXPECT_EQ(refinePath(world, ok, PathRefinementOptions{.max_rounds = -1}).error().field, "max_rounds");
   EXPECT_EQ(refinePath(world, ok, PathRefinementOptions{.shortcut_attempts = -1}).error().field, "shortcut_attempts");
   EXPECT_EQ(refinePath(world, {Eigen::Vector3d(20, 30, 10), Eigen::Vector3d(NAN, 40, 10)}).error().field, "path");
-}
-
-// Real terrain: RRT* + LOSPO + refinement low over the White Mountains; every 2 m along the
-// refined path the raw heightfield is at least the clearance below and the ceiling above, and the
-// refinement shortens what LOSPO left.
-TEST(PathRefinementOnTerrain, RefinedPathsKeepTheClearance) {
-  SKYROUTE_REQUIRE_SHARED(dem_path, "dem/N44W072.hgt");
-  CollisionWorldOptions wo;
-  wo.ceiling_m = 900.0;
-  wo.build_octree = false;
-  auto world = loadTerrainWorld(dem_path, wo);
-  ASSERT_TRUE(world.ok()) << world.error().describe();
-  const Heightfield& hf = *world->heightfield;
-  const Eigen::AlignedBox2d en = hf.boundsEn();
-  std::uint64_t state = 4242;
-  auto next = [&state]() {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) * 0x1.0p-53;
-  };
-  const WorldMotionValidator whole(world->collision);
-  int planned = 0;
-  double lospo_total = 0.0, refined_total = 0.0;
-  for (int attempt = 0; attempt < 2000 && planned < 3; ++attempt) {
-    const Eigen::Vector2d s2 = en.min() + (en.sizes().array() * Eigen::Array2d(0.1 + 0.8 * next(), 0.1 + 0.8 * next())).matrix();
-    const double d = 3000 + 3000 * next(), a = 6.283185307179586 * next();
-    const Eigen::Vector2d g2 = s2 + d * Eigen::Vector2d(std::cos(a), std::sin(a));
-    if (!en.contains(g2)) continue;
-    const Eigen::Vector3d s(s2.x(), s2.y(), hf.heightAt(s2.x(), s2.y()) + wo.min_clearance_m + 30.0);
-    const Eigen::Vector3d g(g2.x(), g2.y(), hf.heightAt(g2.x(), g2.y()) + wo.min_clearance_m + 30.0);
-    if (!whole.isStateValid(s) || !whole.isStateValid(g) || whole.isMotionValid(s, g)) continue;
-    const WorldMotionValidator v(world->collision, WorldMotionValidator::corridor(s, g, 0.5 * d));
-    RrtStarOptions o;
-    o.seed = static_cast<std::uint64_t>(attempt);
-    auto r = RrtStar(v, o).plan(s, g, TerminationCondition().withIterationBudget(3000));
-    ASSERT_TRUE(r.ok());
-    if (!r->solved()) continue;
-    ++planned;
-    auto opt = lospo(v, r->path_m, LospoOptions{.spacing_m = 100.0, .max_vertices = 60, .max_passes = 2});
-    ASSERT_TRUE(opt.ok());
-    auto refined = refinePath(v, opt->path_m);
-    ASSERT_TRUE(refined.ok()) << refined.error().describe();
-    EXPECT_LE(refined->length_m, opt->length_m);
-    lospo_total += opt->length_m;
-    refined_total += refined->length_m;
-    double lowest_agl = 1e9, highest = -1e9;
-    const auto& path = refined->path_m;
-    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-      const int n = std::max(1, static_cast<int>(std::ceil((path[i + 1] - path[i]).norm() / 2.0)));
-      for (int k = 0; k <= n; ++k) {
-        const Eigen::Vector3d p = path[i] + (path[i + 1] - path[i]) * (double(k) / n);
-        const double ground = hf.heightAt(p.x(), p.y());
-        ASSERT_TRUE(std::isfinite(ground));
-        lowest_agl = std::min(lowest_agl, p.z() - ground);
-        highest = std::max(highest, p.z());
-      }
-    }
-    EXPECT_GE(lowest_agl, wo.min_clearance_m - 1e-6) << "attempt " << attempt;
-    EXPECT_LE(highest, wo.ceiling_m + 1e-9);
-  }
-  EXPECT_EQ(planned, 3);
-  EXPECT_LT(refined_total, lospo_total);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "planning/lospo.hpp"
+#include "planning/path_refinement.hpp"
 #include "planning/world_motion_validator.hpp"
 #include "terrain/terrain_world.hpp"
 #include "tests/planning/synthetic_worlds.hpp"
@@ -259,7 +260,8 @@ TEST(RrtStar, RewireRadiusFollowsKaramanFrazzoli) {
 }
 
 // Real terrain: plan low over the White Mountains under a ceiling; every 2 m along the path (and
-// after LOSPO) the raw heightfield must be at least the clearance below, and the ceiling above.
+// after LOSPO, and after refinePath on LOSPO's result) the raw heightfield must be at least the
+// clearance below, and the ceiling above. The refinement never lengthens and shortens in total.
 TEST(RrtStarOnTerrain, PathsOverARealDemKeepTheClearance) {
   SKYROUTE_REQUIRE_SHARED(dem_path, "dem/N44W072.hgt");
   CollisionWorldOptions wo;
@@ -277,6 +279,7 @@ TEST(RrtStarOnTerrain, PathsOverARealDemKeepTheClearance) {
   };
   const WorldMotionValidator whole(world->collision);
   int planned = 0;
+  double lospo_total = 0.0, refined_total = 0.0;
   for (int attempt = 0; attempt < 2000 && planned < 3; ++attempt) {
     const Eigen::Vector2d s2 = en.min() + (en.sizes().array() * Eigen::Array2d(0.1 + 0.8 * next(), 0.1 + 0.8 * next())).matrix();
     const double d = 3000 + 3000 * next(), a = 6.283185307179586 * next();
@@ -295,7 +298,12 @@ TEST(RrtStarOnTerrain, PathsOverARealDemKeepTheClearance) {
     auto opt = lospo(v, r->path_m, LospoOptions{.spacing_m = 50.0});
     ASSERT_TRUE(opt.ok()) << opt.error().describe();
     EXPECT_LE(opt->length_m, r->length_m);
-    for (const auto* path : {&r->path_m, &opt->path_m}) {
+    auto refined = refinePath(v, opt->path_m);
+    ASSERT_TRUE(refined.ok()) << refined.error().describe();
+    EXPECT_LE(refined->length_m, opt->length_m);
+    lospo_total += opt->length_m;
+    refined_total += refined->length_m;
+    for (const auto* path : {&r->path_m, &opt->path_m, &refined->path_m}) {
       double lowest_agl = 1e9, highest = -1e9;
       for (std::size_t i = 0; i + 1 < path->size(); ++i) {
         const Eigen::Vector3d p0 = (*path)[i], p1 = (*path)[i + 1];
@@ -313,6 +321,7 @@ TEST(RrtStarOnTerrain, PathsOverARealDemKeepTheClearance) {
     }
   }
   EXPECT_EQ(planned, 3);
+  EXPECT_LT(refined_total, lospo_total);
 }
 
 }  // namespace
