@@ -7,11 +7,14 @@
 // - collapse: drop a vertex when its two neighbours see each other;
 // - relax: move a vertex towards the closest point of the segment joining its neighbours (the
 //   path length |a - v| + |v - b| is convex in v, so any step towards that segment shortens it);
+//   when that is blocked, slide it along one of its own segments, or along the horizontal or the
+//   vertical part of the steepest descent (how a corner moves along an edge or a ridge);
 // - cut corners: replace a vertex v by one point on each of its segments, p on a -> v and q on
 //   v -> b, when p -> q is a valid motion (the triangle inequality makes it shorter);
 // - partial shortcuts (seeded): join two points inside different segments when they see each other.
-// Every vertex keeps its own step (doubled after a success, halved after a failure, as a line
-// search that shrinks where the path presses on an obstacle), so a converged vertex costs nothing.
+// Each move is a line search that halves its step from the largest sensible one down to
+// min_step_m. A vertex whose moves all failed is left alone until a neighbour changes, and its
+// corner cut resumes from the last depth tried, so a converged path costs almost nothing.
 //
 // Each accepted change is checked by the validator before it replaces anything, and is strictly
 // shorter: the path never becomes longer and never invalid. The whole result is verified once at the
