@@ -17,8 +17,8 @@
 // corner cut resumes from the last depth tried, so a converged path costs almost nothing.
 //
 // Each accepted change is checked by the validator before it replaces anything, and is strictly
-// shorter: the path never becomes longer and never invalid. The whole result is verified once at the
-// end; on any doubt the input comes back unchanged. Deterministic: the same input, options and seed
+// shorter: the path never becomes longer and never invalid. Every segment of the result that is not
+// an input segment is verified once more at the end; on any doubt the input comes back unchanged. Deterministic: the same input, options and seed
 // give the same path (the clock only decides when to stop).
 #pragma once
 
