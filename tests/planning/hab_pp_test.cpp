@@ -430,6 +430,32 @@ TEST(HabPp, SameSeedRepeatsExactly) {
   EXPECT_GT(iterations.size(), 1u);
 }
 
+// Choice: the RRT* species has its own random stream, so with one seed the ants of both planners
+// walk alike until a tree brings a path: Improved's first path comes no later than HAB-PP's, and at
+// the same iteration when the ants brought it. The output stage never lengthens the ranked path.
+TEST(HabPp, CommonRandomNumbersAndTheOutputStage) {
+  const auto maps = knownMaps();
+  int by_ants = 0;
+  for (const auto& m : maps) {
+    for (std::uint64_t seed : {3u, 4u, 5u}) {
+      const HabPpResult plain = planHabPp(m.grid, m.start, m.goal, smallColony(false), seed);
+      const HabPpResult improved = planHabPp(m.grid, m.start, m.goal, smallColony(true), seed);
+      ASSERT_TRUE(hasPath(plain.status) && hasPath(improved.status)) << m.name;
+      EXPECT_FALSE(plain.first_path_by_rrt);
+      EXPECT_LE(improved.first_path_iteration, plain.first_path_iteration) << m.name << " seed " << seed;
+      if (!improved.first_path_by_rrt) {
+        EXPECT_EQ(improved.first_path_iteration, plain.first_path_iteration) << m.name << " seed " << seed;
+        ++by_ants;
+      }
+      for (const HabPpResult* r : {&plain, &improved}) {
+        EXPECT_LE(r->length_cells, r->ranked_length_cells + 1e-9);
+        EXPECT_EQ(pathProblem(m.grid, r->path, m.start, m.goal), "");
+      }
+    }
+  }
+  EXPECT_GT(by_ants, 0) << "some first paths came from the ants, so the equality was exercised";
+}
+
 TEST(HabPp, BadEndpointsAndUnreachableGoalEndWithAClearStatus) {
   const GridLayer g = gridFromText({
       "....#....",
