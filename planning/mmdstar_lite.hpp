@@ -13,6 +13,9 @@
 //    replayed into a queue when it is loaded (dstar_lite.hpp), which leaves the same live entries
 //    as inserting into every queue at every update, at a fraction of the queue operations.
 // Memory: n+1 maps of g/rhs (plus the queues, which hold only inconsistent cells).
+// Beyond the seed: the goals' maps can be planned on several threads (they share nothing but the
+// read-only move table; same results), and, off by default, a goal whose repair in one step costs
+// more than a set fraction of planning it from scratch is planned afresh (setFreshPlanFraction).
 #pragma once
 
 #include <atomic>
