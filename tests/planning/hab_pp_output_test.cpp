@@ -67,8 +67,9 @@ TEST(HabPpOutput, NeverLongerAndAlwaysValidOnRandomMaps) {
   EXPECT_GT(shortened, 40) << "the wandering paths do get shorter";
 }
 
-// One door (x = 2) in the upper wall, two (x = 5 and x = 18) in the lower; the input goes through the far one. The output pulls taut through the same door
-// (the near door lies outside the corridor), so the route stays the colony's choice.
+// One door (x = 2) in the upper wall, two (x = 5 and x = 18) in the lower; the input goes through
+// the far one. The output pulls taut through the same door (the near door lies outside the
+// corridor), so the route stays the colony's choice.
 TEST(HabPpOutput, KeepsTheRouteOfTheInput) {
   const GridLayer g = gridFromText({
       "....................",
