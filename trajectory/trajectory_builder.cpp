@@ -241,6 +241,8 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
   report.input_waypoints = waypoints.size();
   const int local_rounds = options.max_repair_rounds / 2;  // then stretch everything uniformly
   int timing_from_round = 0;  // the round the current knots and times were laid out in
+  // Worst violation / limit ratio before the last uniform stretch (it must keep falling).
+  double previous_uniform_worst = std::numeric_limits<double>::infinity();
 
   for (int round = 0;; ++round) {
     Result<std::vector<Segment>> segments = solveMinimumSnapSpline(knots, durations, options.boundary);
@@ -374,6 +376,7 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
       }
       if (Status s = layOut(); !s) return s.error();
       timing_from_round = round + 1;
+      previous_uniform_worst = std::numeric_limits<double>::infinity();
       continue;
     }
 
@@ -431,7 +434,19 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
                                  })) +
                                  ")");
       } else {
-        const double k = worst * margin;
+        // A uniform stretch slows a rest-to-rest curve exactly, but with a given end velocity it
+        // can make things worse (the curve keeps the end's speed over a longer time, so it strays
+        // further and must come back faster): stop as soon as a stretch did not help, instead of
+        // stretching without end (a replan's curve once ran to 1e17 s and took minutes).
+        if (worst >= previous_uniform_worst) {
+          report.failure_reason = "stretching the whole trajectory in time does not reduce the violation (" +
+                                  format("%.2f", worst) + " x the limit, " + format("%.2f", previous_uniform_worst) +
+                                  " before; " + describe(violations.front()) +
+                                  "); the end conditions or the path must change";
+          break;
+        }
+        previous_uniform_worst = worst;
+        const double k = std::min(4.0, worst * margin);
         for (double& d : durations) d *= k;
         report.repairs.push_back("stretched the whole trajectory in time by " + format("%.1f%%", (k - 1.0) * 100.0));
       }
