@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <Eigen/Geometry>
+#include <spdlog/spdlog.h>
 
 namespace skyroute {
 
@@ -25,9 +26,10 @@ Result<std::unique_ptr<FlightReplanner>> FlightReplanner::start(std::shared_ptr<
   r->options_ = options;
   TerminationCondition stop;
   if (options.cancel) stop.withCancelFlag(options.cancel);
-  auto first = r->bestCandidate(points_m, start_world_s, nullptr, stop, nullptr);
+  auto first = r->bestCandidate([&](int attempt) { return std::optional<AttemptPlan>(wholePlan(points_m, {}, attempt)); },
+                                start_world_s, nullptr, stop);
   if (!first.ok()) return first.error();
-  r->adopt(std::move(first->first), std::move(points_m), start_world_s);
+  r->adopt(std::move(first->route), std::move(first->points), start_world_s);
   return r;
 }
 
@@ -51,7 +53,8 @@ Result<std::unique_ptr<FlightReplanner>> FlightReplanner::startWithRoute(std::sh
 }
 
 RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>& points, double at_world_s,
-                                             const TrajectoryState* state, int attempt) const {
+                                             const TrajectoryState* state, int attempt, int variant,
+                                             double conflict_in_s, const std::optional<Rejoin>& rejoin) const {
   RouteOptions route = options_.route;
   route.seed = options_.route.seed + 1000ULL * revision_ + static_cast<std::uint64_t>(attempt);
   if (state) {
@@ -64,11 +67,14 @@ RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>&
   // and with less room (a vehicle already near an obstacle must be allowed to start there).
   static constexpr double kWindowScale[] = {1.0, 2.0, 0.5, 0.0};
   static constexpr double kMarginScale[] = {1.0, 1.0, 0.5, 0.0};
-  const int k = std::min(attempt, 3);
+  const int k = std::clamp(variant, 0, 3);
   ObstacleSnapshot snapshot;
   snapshot.time_s = at_world_s;
   snapshot.margin_m = kMarginScale[k] * options_.margin_m;
-  snapshot.window_s = kWindowScale[k] * options_.window_s;
+  // The obstacles block at least up to the conflict the replan is for: an obstacle that meets
+  // the vehicle further ahead than the window would otherwise be invisible to the planner, which
+  // would find the current path again.
+  snapshot.window_s = kWindowScale[k] * std::max(options_.window_s, conflict_in_s + options_.reaction_delay_s);
   // Only obstacles the vehicle can meet within the horizon matter now.
   snapshot.focus_m = points.front();
   double fastest = 0.0;
@@ -79,9 +85,18 @@ RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>&
   route.snapshot = snapshot;
   route.trajectory_start_world_s = at_world_s;
   route.moving_check_horizon_s = 0.0;  // conflicts in time are judged here, over the horizon
+  // The new curve continues the flown one up to the jerk, and a local stretch ends in the state
+  // the current trajectory has where it joins it again.
   if (state) {
     route.trajectory.boundary.start.velocity_mps = state->velocity_mps;
     route.trajectory.boundary.start.acceleration_mps2 = state->acceleration_mps2;
+    route.trajectory.boundary.start.jerk_mps3 = state->jerk_mps3;
+  }
+  if (rejoin) {
+    const TrajectoryState end = route_.built.trajectory.stateAt(rejoin->time_s);
+    route.trajectory.boundary.end.velocity_mps = end.velocity_mps;
+    route.trajectory.boundary.end.acceleration_mps2 = end.acceleration_mps2;
+    route.trajectory.boundary.end.jerk_mps3 = end.jerk_mps3;
   }
   return route;
 }
@@ -98,15 +113,12 @@ bool samePath(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Ve
 
 }  // namespace
 
-Result<std::pair<PlannedRoute, double>> FlightReplanner::bestCandidate(const std::vector<Eigen::Vector3d>& points,
-                                                                       double at_world_s, const TrajectoryState* state,
-                                                                       const TerminationCondition& stop,
-                                                                       const std::vector<Eigen::Vector3d>* skip,
-                                                                       bool first_only) const {
-  std::optional<std::pair<PlannedRoute, double>> best;
+Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
+    const std::function<std::optional<AttemptPlan>(int)>& plan_of, double at_world_s, const TrajectoryState* state,
+    const TerminationCondition& stop, bool first_only) const {
+  std::optional<Candidate> best;
   std::optional<Error> last_error;
   std::vector<std::vector<Eigen::Vector3d>> tried;
-  if (skip) tried.push_back(*skip);
   for (int attempt = 0; attempt < std::max(1, options_.max_attempts); ++attempt) {
     if (auto reason = stop.reason(); reason != TerminationCondition::Reason::kNone) {
       std::string message = "stopped after " + std::to_string(attempt) + " attempts";
@@ -115,28 +127,48 @@ Result<std::pair<PlannedRoute, double>> FlightReplanner::bestCandidate(const std
                               "replan", message);
       break;
     }
-    const RouteOptions route = attemptOptions(points, at_world_s, state, attempt);
-    auto candidate = planRoutePaths(world_, points, route, stop);
-    if (candidate.ok() && std::any_of(tried.begin(), tried.end(),
-                                      [&](const auto& path) { return samePath(path, candidate->waypoints_m); })) {
+    std::optional<AttemptPlan> plan = plan_of(attempt);
+    if (!plan) continue;
+    const RouteOptions route =
+        attemptOptions(plan->points, at_world_s, state, attempt, plan->variant, plan->conflict_in_s, plan->rejoin);
+    const auto attempt_started = std::chrono::steady_clock::now();
+    const bool retime = plan->retime_speed_factor < 1.0;
+    Result<PlannedRoute> candidate = retime ? currentStretch(*plan) : planRoutePaths(world_, plan->points, route, stop);
+    VehicleLimits limits = limits_;
+    limits.v_ref_mps *= plan->retime_speed_factor;
+    const auto planned = std::chrono::steady_clock::now();
+    auto same = [&](const std::vector<Eigen::Vector3d>& path) { return samePath(path, candidate->waypoints_m); };
+    if (!retime && candidate.ok() && (same(plan->current_path) || std::any_of(tried.begin(), tried.end(), same))) {
       continue;  // the same path again: the same trajectory and the same conflict
     }
     // Past the deadline a path in hand is only worth building when nothing better is.
     if (candidate.ok() && best && stop.shouldStop()) break;
     if (candidate.ok()) {
-      tried.push_back(candidate->waypoints_m);
-      Status built = buildRouteTrajectory(world_, points, limits_, route, *candidate);
+      if (!retime) tried.push_back(candidate->waypoints_m);
+      Status built = buildRouteTrajectory(world_, plan->points, limits, route, *candidate);
       if (!built.ok()) candidate = built.error();
     }
     if (!candidate.ok()) {
+      spdlog::debug("event=replan_attempt attempt={} local={} ms={:.1f} error=\"{}\"", attempt, plan->rejoin.has_value(),
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - attempt_started).count(),
+                    candidate.error().describe());
       last_error = candidate.error();
       if (candidate.error().code == ErrorCode::kInvalidArgument || candidate.error().code == ErrorCode::kCancelled) {
         break;
       }
       continue;
     }
-    const double conflict = firstConflictS(candidate->built.trajectory, at_world_s, at_world_s, options_.horizon_s);
-    if (!best || conflict > best->second) best.emplace(std::move(candidate.value()), conflict);
+    Candidate c = plan->rejoin ? splice(std::move(candidate.value()), *plan->rejoin, plan->route_points)
+                               : Candidate{std::move(candidate.value()), plan->route_points, 0.0};
+    c.conflict_s = firstConflictS(c.route.built.trajectory, at_world_s, at_world_s, options_.horizon_s);
+    spdlog::debug("event=replan_attempt attempt={} local={} speed_factor={} plan_ms={:.1f} build_ms={:.1f} repair_rounds={} "
+                  "conflict_in_s={:.1f}",
+                  attempt, plan->rejoin.has_value(), plan->retime_speed_factor,
+                  std::chrono::duration<double, std::milli>(planned - attempt_started).count(),
+                  std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - planned).count(),
+                  c.route.built.report.repair_rounds, c.conflict_s - at_world_s);
+    const double conflict = c.conflict_s;
+    if (!best || conflict > best->conflict_s) best.emplace(std::move(c));
     if (std::isinf(conflict) || first_only) break;
   }
   if (!best) {
@@ -144,6 +176,155 @@ Result<std::pair<PlannedRoute, double>> FlightReplanner::bestCandidate(const std
         make_error(ErrorCode::kUnreachable, "replan", "every attempt found the path the vehicle is already on"));
   }
   return std::move(*best);
+}
+
+FlightReplanner::AttemptPlan FlightReplanner::wholePlan(const std::vector<Eigen::Vector3d>& route_points,
+                                                       const std::vector<Eigen::Vector3d>& current_path, int attempt) {
+  AttemptPlan plan;
+  plan.points = route_points;
+  plan.current_path = current_path;
+  plan.route_points = route_points;
+  plan.variant = std::min(attempt, 3);
+  return plan;
+}
+
+Result<PlannedRoute> FlightReplanner::currentStretch(const AttemptPlan& plan) const {
+  // The current path split into legs at the stretch's points (each is one of its vertices).
+  PlannedRoute route;
+  route.waypoints_m = plan.current_path;
+  std::size_t at = 0;
+  for (std::size_t i = 0; i + 1 < plan.points.size(); ++i) {
+    RouteLeg leg;
+    leg.from_point = i;
+    leg.to_point = i + 1;
+    leg.path_m.push_back(plan.current_path[at]);
+    while (++at < plan.current_path.size()) {
+      leg.path_m.push_back(plan.current_path[at]);
+      if ((plan.current_path[at] - plan.points[i + 1]).norm() < 1e-6) break;
+    }
+    if (at >= plan.current_path.size()) {
+      return make_error(ErrorCode::kInternal, "replan", "the stretch's points are not on the current path");
+    }
+    route.legs.push_back(std::move(leg));
+  }
+  return route;
+}
+
+std::optional<FlightReplanner::AttemptPlan> FlightReplanner::localPlan(const std::vector<Eigen::Vector3d>& route_points,
+                                                                       double takeover_s, double conflict_s,
+                                                                       int attempt) const {
+  // The attempts: new paths with the obstacles blocking further ahead or less (variants 0-3, as
+  // whole replans), and, early because they are cheap and often what a crossing obstacle needs,
+  // the current path flown slower so the obstacle passes first.
+  struct Variant {
+    int variant;
+    double rejoin_scale;
+    double speed_factor;
+  };
+  static constexpr Variant kVariants[] = {{0, 1.0, 1.0}, {0, 1.0, 0.6}, {1, 2.0, 1.0}, {0, 2.0, 0.4},
+                                          {2, 1.0, 1.0}, {3, 3.0, 1.0}};
+  const Variant v = kVariants[std::min<std::size_t>(static_cast<std::size_t>(attempt), std::size(kVariants) - 1)];
+  if (v.speed_factor < 1.0 && !options_.local_retime) return std::nullopt;
+  const auto& knots = route_.built.knots;
+  const auto& times = route_.built.trajectory.knotTimes();
+  if (knots.size() != times.size() || knots.size() < 2) return std::nullopt;
+  const double target_s = conflict_s - start_world_s_ + v.rejoin_scale * options_.rejoin_after_s;
+  std::size_t r = static_cast<std::size_t>(std::lower_bound(times.begin(), times.end(), target_s) - times.begin());
+  if (r + 1 >= knots.size()) return std::nullopt;  // the rejoin would be the goal: replan it all
+  // Route points (after the first, the takeover position) the current trajectory reaches before
+  // the rejoin knot: the local stretch goes through them; a route point past the conflict but
+  // before the target becomes the rejoin itself (the stretch never skips a mission point).
+  AttemptPlan plan;
+  plan.route_points = route_points;
+  plan.variant = v.variant;
+  plan.retime_speed_factor = v.speed_factor;
+  plan.conflict_in_s = conflict_s - takeover_s;
+  plan.points.push_back(route_points.front());
+  Rejoin rejoin;
+  for (std::size_t i = 1; i < route_points.size(); ++i) {
+    std::size_t k = 0;
+    while (k < knots.size() && (knots[k] - route_points[i]).norm() > 1e-6) ++k;
+    if (k >= knots.size()) return std::nullopt;  // not a knot: never splice blindly
+    if (times[k] < times[r] - 1e-9) {
+      plan.points.push_back(route_points[i]);
+      ++rejoin.points_before;
+      continue;
+    }
+    if (k == r) {
+      plan.points.push_back(route_points[i]);
+      ++rejoin.points_before;
+      rejoin.at_point = true;
+    }
+    break;
+  }
+  if (!(times[r] > takeover_s - start_world_s_)) return std::nullopt;
+  if (r + 1 >= knots.size()) return std::nullopt;
+  if (!rejoin.at_point) plan.points.push_back(knots[r]);
+  rejoin.knot = r;
+  rejoin.time_s = times[r];
+  plan.rejoin = rejoin;
+  // The current path over the same stretch: its waypoints between takeover and rejoin.
+  plan.current_path.push_back(route_points.front());
+  for (std::size_t i = 0; i < route_.waypoints_m.size() && i < waypoint_times_world_s_.size(); ++i) {
+    const double t = waypoint_times_world_s_[i] - start_world_s_;
+    const Eigen::Vector3d& w = route_.waypoints_m[i];
+    if (waypoint_times_world_s_[i] > takeover_s && t < times[r] && (w - plan.current_path.back()).norm() > 1.0 &&
+        (w - knots[r]).norm() > 1.0) {
+      plan.current_path.push_back(w);
+    }
+  }
+  plan.current_path.push_back(knots[r]);
+  return plan;
+}
+
+FlightReplanner::Candidate FlightReplanner::splice(PlannedRoute local, const Rejoin& rejoin,
+                                                   const std::vector<Eigen::Vector3d>& route_points) const {
+  Candidate c;
+  const Trajectory& current = route_.built.trajectory;
+  const double local_s = local.built.trajectory.duration_s();
+  const double shift_s = local_s - rejoin.time_s;  // current trajectory time -> new time, past the rejoin
+  std::vector<Segment> segments = local.built.trajectory.segments();
+  segments.insert(segments.end(), current.segments().begin() + static_cast<std::ptrdiff_t>(rejoin.knot),
+                  current.segments().end());
+  PlannedRoute& out = c.route;
+  out.planning_ms = local.planning_ms;
+  out.built.report = local.built.report;
+  out.built.knots = local.built.knots;
+  out.built.knots.insert(out.built.knots.end(), route_.built.knots.begin() + static_cast<std::ptrdiff_t>(rejoin.knot + 1),
+                         route_.built.knots.end());
+  out.built.trajectory = Trajectory(std::move(segments));
+  out.waypoints_m = local.waypoints_m;
+  for (std::size_t i = 0; i < route_.waypoints_m.size() && i < waypoint_times_world_s_.size(); ++i) {
+    if (waypoint_times_world_s_[i] - start_world_s_ > rejoin.time_s + 1e-9) out.waypoints_m.push_back(route_.waypoints_m[i]);
+  }
+  // Legs: the local legs up to the last route point they reach, then the current ones, shifted.
+  std::vector<double> point_s{0.0};
+  for (std::size_t j = 0; j < rejoin.points_before; ++j) point_s.push_back(local.legs[j].end_s);
+  for (std::size_t i = point_s.size(); i < route_points.size(); ++i) {
+    double old_world_s = arrivalWorldS();
+    for (std::size_t k = 1; k < points_.size(); ++k) {
+      if ((points_[k] - route_points[i]).norm() < 1e-6 && point_times_world_s_[k] - start_world_s_ > rejoin.time_s - 1e-9) {
+        old_world_s = point_times_world_s_[k];
+        break;
+      }
+    }
+    point_s.push_back(old_world_s - start_world_s_ + shift_s);
+  }
+  for (std::size_t j = 0; j + 1 < route_points.size(); ++j) {
+    RouteLeg leg;
+    leg.from_point = j;
+    leg.to_point = j + 1;
+    leg.start_s = point_s[j];
+    leg.end_s = point_s[j + 1];
+    if (j < local.legs.size()) {
+      leg.rrt = local.legs[j].rrt;
+      leg.lospo_length_m = local.legs[j].lospo_length_m;
+      leg.path_m = local.legs[j].path_m;
+    }
+    out.legs.push_back(std::move(leg));
+  }
+  c.points = route_points;
+  return c;
 }
 
 void FlightReplanner::adopt(PlannedRoute route, std::vector<Eigen::Vector3d> points, double start_world_s) {
@@ -286,22 +467,36 @@ ReplanStep FlightReplanner::step(double now_s) {
                                   : TerminationCondition();
   if (options_.cancel) stop.withCancelFlag(options_.cancel);
   const std::vector<Eigen::Vector3d> ahead = waypointsAhead(state.position_m, takeover_s);
-  auto best = bestCandidate(points, takeover_s, &state, stop, ahead.empty() ? nullptr : &ahead);
-  if (!best.ok() && best.error().code == ErrorCode::kTimeout && stop.reason() == TerminationCondition::Reason::kDeadline) {
-    TerminationCondition cancel_only;
-    if (options_.cancel) cancel_only.withCancelFlag(options_.cancel);
-    best = bestCandidate(points, takeover_s, &state, cancel_only, ahead.empty() ? nullptr : &ahead, true);
+  Result<Candidate> best = make_error(ErrorCode::kInternal, "replan", "not run");
+  if (options_.local_repair) {
+    best = bestCandidate([&](int attempt) { return localPlan(points, takeover_s, current_conflict, attempt); },
+                         takeover_s, &state, stop);
+    result.local = best.ok() && best->conflict_s > current_conflict;
+  }
+  if (!result.local) {
+    auto whole = [&](int attempt) {
+      AttemptPlan plan = wholePlan(points, ahead, attempt);
+      plan.conflict_in_s = current_conflict - takeover_s;
+      return std::optional<AttemptPlan>(std::move(plan));
+    };
+    best = bestCandidate(whole, takeover_s, &state, stop);
+    if (!best.ok() && best.error().code == ErrorCode::kTimeout &&
+        stop.reason() == TerminationCondition::Reason::kDeadline) {
+      TerminationCondition cancel_only;
+      if (options_.cancel) cancel_only.withCancelFlag(options_.cancel);
+      best = bestCandidate(whole, takeover_s, &state, cancel_only, true);
+    }
   }
   result.latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   if (!best.ok()) {
     result.failure = best.error();
     return result;
   }
-  if (!(best->second > current_conflict)) {
+  if (!(best->conflict_s > current_conflict)) {
     result.failure = make_error(ErrorCode::kUnreachable, "replan", "no candidate meets its first obstacle later than the current trajectory");
     return result;
   }
-  adopt(std::move(best->first), std::move(points), takeover_s);
+  adopt(std::move(best->route), std::move(best->points), takeover_s);
   ++revision_;
   result.replanned = true;
   return result;

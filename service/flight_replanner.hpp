@@ -11,6 +11,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -29,6 +30,14 @@ struct ReplanOptions {
   int max_attempts = 8;             // seeds, windows and margins tried per replan; the candidate
                                     // whose first conflict comes latest wins, and it replaces the
                                     // current trajectory only when it is better than it
+  // Local repair, tried first: only the stretch that meets the obstacle is replanned, from the
+  // takeover state to a knot of the current trajectory this long after the conflict (longer in
+  // later attempts), ending in the current trajectory's state there (position to jerk), so the
+  // rest of the trajectory is kept, shifted in time. When no local candidate does better, the
+  // whole remaining route is replanned.
+  bool local_repair = true;
+  double rejoin_after_s = 8.0;
+  bool local_retime = true;         // local attempts also fly the current path slower
   RouteOptions route;               // per-leg budget, LOSPO, trajectory options
   // Wall-clock budget of one replan, from the conflict check to the new trajectory, all attempts
   // included (the RRT* and LOSPO stop at it; the trajectory build and check of the path in hand
@@ -52,6 +61,7 @@ struct ReplanOptions {
 struct ReplanStep {
   bool conflict_ahead = false;      // the current trajectory meets an obstacle within the horizon
   bool replanned = false;           // a new revision was made
+  bool local = false;               // ... by local repair (the rest of the trajectory kept)
   double latency_ms = 0.0;          // wall time of the replan (check included)
   std::optional<Error> failure;     // why no new revision could be made (the old one is kept)
 };
@@ -90,16 +100,51 @@ class FlightReplanner {
 
  private:
   FlightReplanner() = default;
+  // Where a local repair joins the current trajectory again.
+  struct Rejoin {
+    std::size_t knot = 0;       // index of the current trajectory's knot
+    double time_s = 0.0;        // its trajectory time
+    std::size_t points_before = 0;  // route points (after the first) reached before it, or at it
+    bool at_point = false;      // the knot is the last of those route points
+  };
+  // One attempt's problem: the points to plan through (the whole remaining route, or the local
+  // stretch up to the rejoin), and the current path over the same stretch (not worth trying again).
+  struct AttemptPlan {
+    std::vector<Eigen::Vector3d> points;
+    std::optional<Rejoin> rejoin;
+    std::vector<Eigen::Vector3d> current_path;
+    std::vector<Eigen::Vector3d> route_points;  // the whole remaining route's, for adopt()
+    int variant = 0;            // how far ahead the obstacles block, and how much room (0..3)
+    // < 1: no new path, the current one flown slower to the rejoin (a crossing obstacle passes
+    // ahead of the vehicle); the reference speed is scaled by this.
+    double retime_speed_factor = 1.0;
+    double conflict_in_s = 0.0;  // how far ahead of the takeover the current trajectory meets an obstacle
+  };
+  struct Candidate {
+    PlannedRoute route;
+    std::vector<Eigen::Vector3d> points;  // the whole route's points, for adopt()
+    double conflict_s = 0.0;              // world time of its first conflict (infinity: none)
+  };
   RouteOptions attemptOptions(const std::vector<Eigen::Vector3d>& points, double at_world_s,
-                              const TrajectoryState* state, int attempt) const;
+                              const TrajectoryState* state, int attempt, int variant, double conflict_in_s,
+                              const std::optional<Rejoin>& rejoin) const;
+  // The local stretch for an attempt: from the takeover state to the rejoin knot; nullopt when
+  // the rejoin would be the end of the trajectory anyway (a whole replan is the same problem).
+  std::optional<AttemptPlan> localPlan(const std::vector<Eigen::Vector3d>& route_points, double takeover_s,
+                                       double conflict_s, int attempt) const;
+  static AttemptPlan wholePlan(const std::vector<Eigen::Vector3d>& route_points,
+                               const std::vector<Eigen::Vector3d>& current_path, int attempt);
+  // The current path over a local stretch as a planned route (no search), for retiming.
+  Result<PlannedRoute> currentStretch(const AttemptPlan& plan) const;
+  // The local candidate joined with the current trajectory from the rejoin knot on.
+  Candidate splice(PlannedRoute local, const Rejoin& rejoin, const std::vector<Eigen::Vector3d>& route_points) const;
   // Tries the attempts (until one is conflict-free or `stop` fires) and returns the candidate
-  // whose first conflict is latest (and that time). A path equal to `skip` (the current route's
-  // path ahead) or to an earlier attempt's is not built nor checked again: it cannot do better.
-  // With first_only, the first candidate built is returned.
-  Result<std::pair<PlannedRoute, double>> bestCandidate(const std::vector<Eigen::Vector3d>& points, double at_world_s,
-                                                        const TrajectoryState* state, const TerminationCondition& stop,
-                                                        const std::vector<Eigen::Vector3d>* skip,
-                                                        bool first_only = false) const;
+  // whose first conflict is latest. A path equal to the attempt's current path or to an earlier
+  // attempt's is not built nor checked again: it cannot do better. With first_only, the first
+  // candidate built is returned.
+  Result<Candidate> bestCandidate(const std::function<std::optional<AttemptPlan>(int)>& plan_of, double at_world_s,
+                                  const TrajectoryState* state, const TerminationCondition& stop,
+                                  bool first_only = false) const;
   // The current route's waypoints not yet reached at world_s, with `from` in front.
   std::vector<Eigen::Vector3d> waypointsAhead(const Eigen::Vector3d& from, double world_s) const;
   void adopt(PlannedRoute route, std::vector<Eigen::Vector3d> points, double start_world_s);

@@ -11,6 +11,7 @@
 #include "service/moving_obstacle_scenario.hpp"
 #include "terrain/terrain_world.hpp"
 #include "tests/test_data.hpp"
+#include "trajectory/derivative.hpp"
 
 namespace skyroute {
 namespace {
@@ -122,6 +123,7 @@ TEST(FlightReplanner, Seed003ScenarioReachesGoalWithoutCollision) {
       EXPECT_LT((old_state.position_m - new_state.position_m).norm(), 1e-6);
       EXPECT_LT((old_state.velocity_mps - new_state.velocity_mps).norm(), 1e-6);
       EXPECT_LT((old_state.acceleration_mps2 - new_state.acceleration_mps2).norm(), 1e-6);
+      EXPECT_LT((old_state.jerk_mps3 - new_state.jerk_mps3).norm(), 1e-5);
     }
     // Independent check of the flown path until the next cycle, every 10 ms: never inside any
     // obstacle grown by the vehicle radius (grown semi-axes bound the true offset ellipsoid).
@@ -143,6 +145,93 @@ TEST(FlightReplanner, Seed003ScenarioReachesGoalWithoutCollision) {
   std::sort(latencies.begin(), latencies.end());
   std::printf("arrival %.1f s, %d failed replans, %d replans, %d conflict cycles, min separation %.1f m, latency median %.1f ms max %.1f ms\n",
               r.arrivalWorldS(), failures, replans, conflicts, min_separation_m, latencies[latencies.size() / 2], latencies.back());
+}
+
+// Left and right limits of position to jerk at every joint of a trajectory agree.
+void expectContinuousToJerk(const Trajectory& t, const char* what) {
+  const auto& segments = t.segments();
+  for (std::size_t j = 0; j + 1 < segments.size(); ++j) {
+    for (Derivative d : {Derivative::kPosition, Derivative::kVelocity, Derivative::kAcceleration, Derivative::kJerk}) {
+      const Eigen::Vector3d left = segments[j].evaluate(segments[j].duration_s, d);
+      const Eigen::Vector3d right = segments[j + 1].evaluate(0.0, d);
+      ASSERT_LT((left - right).norm(), 1e-6 * std::max(1.0, left.norm())) << what << ": joint " << j << " derivative "
+                                                                          << static_cast<int>(d);
+    }
+  }
+}
+
+// A crossing obstacle ahead on a long route is repaired locally: only the stretch that meets it
+// is replanned, the new piece joins the current trajectory again in its state there (so the
+// whole is continuous to the jerk), the rest of the trajectory is kept exactly (shifted in time),
+// the mission point is still visited, and the result is clear of the obstacle.
+TEST(FlightReplanner, LocalRepairKeepsTheRestOfTheTrajectory) {
+  CollisionWorldOptions world_options = scenarioWorldOptions();
+  world_options.ceiling_m = 12000.0;
+  auto world = loadTerrainWorld(testing::projectDataPath("default_terrain.tif"), world_options);
+  ASSERT_TRUE(world.ok()) << world.error().describe();
+  const Heightfield& terrain = *world->heightfield;
+  const Eigen::AlignedBox2d box = terrain.boundsEn();
+  auto above = [&](double e, double n) { return Eigen::Vector3d(e, n, terrain.heightAt(e, n) + 300.0); };
+  const double w = box.sizes().x(), north = box.center().y();
+  const std::vector<Eigen::Vector3d> points{above(box.min().x() + 0.05 * w, north),
+                                            above(box.center().x(), north + 100.0),
+                                            above(box.max().x() - 0.05 * w, north)};
+  ReplanOptions options = scenarioReplanOptions();
+  options.replan_budget_ms = 0.0;  // iteration budgets: the same result on any machine
+  options.replan_leg_max_iterations = 400;
+  auto replanner = FlightReplanner::start(world->collision, points, scenarioLimits(), options, 0.0);
+  ASSERT_TRUE(replanner.ok()) << replanner.error().describe();
+  FlightReplanner& r = **replanner;
+  const Trajectory before = r.route().built.trajectory;
+  const double before_arrival_s = r.arrivalWorldS();
+
+  // A cylinder that crosses the route 1 km either side and meets the vehicle 20 s after now.
+  const double now_s = 30.0, meet_s = now_s + 20.0;
+  const Eigen::Vector3d p = before.evaluate(meet_s, Derivative::kPosition);
+  Eigen::Vector3d heading = before.evaluate(meet_s, Derivative::kVelocity);
+  heading.z() = 0.0;
+  heading.normalize();
+  const Eigen::Vector3d across(-heading.y(), heading.x(), 0.0);
+  Obstacle crossing;
+  crossing.id = 1;
+  crossing.shape = ObstacleShape::kCylinder;
+  crossing.size_m = Eigen::Vector3d(150.0, 0.0, 250.0);
+  crossing.motion = BackAndForth{p - 1000.0 * across, p + 1000.0 * across, 1000.0 / 20.0, now_s};
+  world->collision->upsertObstacle(crossing);
+  ASSERT_FALSE(r.clearAhead(now_s, options.horizon_s));
+
+  const ReplanStep step = r.step(now_s);
+  ASSERT_TRUE(step.replanned) << (step.failure ? step.failure->describe() : std::string("no failure"));
+  EXPECT_TRUE(step.local);
+  EXPECT_TRUE(r.clearAhead(now_s, options.horizon_s));
+  const Trajectory& after = r.route().built.trajectory;
+  expectContinuousToJerk(after, "new trajectory");
+  const double takeover_s = r.trajectoryStartWorldS();
+  const TrajectoryState old_state = before.stateAt(takeover_s);
+  const TrajectoryState new_state = r.stateAt(takeover_s);
+  EXPECT_LT((old_state.position_m - new_state.position_m).norm(), 1e-6);
+  EXPECT_LT((old_state.velocity_mps - new_state.velocity_mps).norm(), 1e-6);
+  EXPECT_LT((old_state.acceleration_mps2 - new_state.acceleration_mps2).norm(), 1e-6);
+  EXPECT_LT((old_state.jerk_mps3 - new_state.jerk_mps3).norm(), 1e-5);
+  // Past the rejoin (at most the conflict plus 3 x rejoin_after_s) the old trajectory, shifted.
+  const double shift_s = r.arrivalWorldS() - before_arrival_s;
+  for (double t = meet_s + 3.0 * options.rejoin_after_s + 5.0; t < before_arrival_s; t += 7.0) {
+    EXPECT_LT((before.evaluate(t, Derivative::kPosition) - r.stateAt(t + shift_s).position_m).norm(), 1e-6) << t;
+  }
+  // The mission point and the goal are still on it.
+  const std::vector<Eigen::Vector3d> remaining = r.remainingPoints(takeover_s);
+  ASSERT_EQ(remaining.size(), 2u);
+  EXPECT_LT((remaining[0] - points[1]).norm(), 1e-9);
+  double nearest_m = std::numeric_limits<double>::infinity();
+  for (double t = takeover_s; t < r.arrivalWorldS(); t += 0.05)
+    nearest_m = std::min(nearest_m, (r.stateAt(t).position_m - points[1]).norm());
+  EXPECT_LT(nearest_m, 1.0);
+  EXPECT_LT((r.stateAt(r.arrivalWorldS()).position_m - points[2]).norm(), 1e-3);
+  // Independently: never inside the obstacle grown by the vehicle radius within the horizon (it
+  // comes back later; later cycles see to that).
+  for (double t = takeover_s; t < now_s + options.horizon_s; t += 0.01) {
+    ASSERT_FALSE(crossing.contains(r.stateAt(t).position_m, t, world_options.vehicle_radius_m)) << t;
+  }
 }
 
 }  // namespace
