@@ -1,0 +1,218 @@
+// Obstacle update -> new revision inside the engine, without DDS: the same missions and crossing
+// obstacles as e2e_latency_bench, but the engine is driven on this thread with a manual world
+// clock, so each number is the engine's own work (update applied, replanning cycle, trajectory
+// message built) and the difference to e2e_latency_bench is the DDS and scheduling share.
+// A cycle that makes no revision is followed by the next one t_ref later, as in the daemon; its
+// wait counts in the latency.
+// Usage: engine_replan_bench [--rounds N] [--verbose] [--debug] [--case embedded|n44|both] [--no-local] [--no-retime]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "service/engine.hpp"
+#include "service/moving_obstacle_scenario.hpp"
+#include "terrain/terrain_world.hpp"
+
+namespace {
+
+using namespace skyroute;
+using Clock = std::chrono::steady_clock;
+
+class LastTrajectorySink : public EngineSink {
+ public:
+  void publishStatus(const PlanStatusData& status) override { last_status = status; }
+  void publishTrajectory(const TrajectoryData& trajectory) override { latest = trajectory; }
+  TrajectoryData latest;
+  PlanStatusData last_status;
+};
+
+struct ManualClock {
+  std::int64_t now_ns = 1'800'000'000'000'000'000LL;
+  void advance(double seconds) { now_ns += static_cast<std::int64_t>(std::llround(seconds * 1e9)); }
+};
+
+VehicleLimitsData seed003Vehicle() {
+  VehicleLimitsData l;
+  l.v_ref_mps = 50.0;
+  l.max_speed_mps = 60.0;
+  l.max_accel_mps2 = 10.0;
+  l.max_climb_rate_mps = 15.0;
+  l.max_descent_rate_mps = 15.0;
+  return l;
+}
+
+MissionPointData above(const Heightfield& terrain, double e, double n, double agl_m) {
+  return MissionPointData::enu(Eigen::Vector3d(e, n, terrain.heightAt(e, n) + agl_m));
+}
+
+// An obstacle that meets the vehicle about meet_s ahead, crossing its route from 1 km aside
+// (e2e_latency_bench's, on the world clock).
+ObstacleUpdateData crossing(const TrajectoryData& t, std::int64_t now_ns, std::uint64_t id, double meet_s) {
+  const double now_rel_s = static_cast<double>(now_ns - t.samples.front().utc_ns) * 1e-9;
+  std::size_t k = 0;
+  while (k + 1 < t.samples.size() && t.samples[k].t_rel_s < now_rel_s + meet_s) ++k;
+  const Eigen::Vector3d p = t.samples[k].position_enu_m;
+  Eigen::Vector3d heading = t.samples[k].velocity_enu_mps;
+  heading.z() = 0.0;
+  heading = heading.norm() > 0 ? heading.normalized() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d across(-heading.y(), heading.x(), 0.0);
+  ObstacleUpdateData u;
+  u.obstacle.id = id;
+  u.obstacle.shape = ObstacleShape::kCylinder;
+  u.obstacle.size_m = Eigen::Vector3d(150.0, 0.0, 250.0);
+  u.obstacle.center_m = p - 1000.0 * across;
+  u.obstacle.motion = BackAndForth{p - 1000.0 * across, p + 1000.0 * across,
+                                   1000.0 / std::max(1.0, t.samples[k].t_rel_s - now_rel_s), 0.0};
+  u.valid_from_utc_ns = now_ns;
+  return u;
+}
+
+struct Outcome {
+  std::vector<double> latency_ms;
+  std::vector<int> cycles;
+  int misses = 0;
+};
+
+struct Switches {
+  bool verbose = false;
+  bool local = true;
+  bool retime = true;
+};
+
+Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData& mission, int rounds,
+            const Switches& switches) {
+  const bool verbose = switches.verbose;
+  Outcome out;
+  auto model = WorldModel::create(terrain, WorldModelOptions{}, "bench");
+  if (!model.ok()) return out;
+  LastTrajectorySink sink;
+  ManualClock clock;
+  EngineOptions options;
+  options.replan.local_repair = switches.local;
+  options.replan.local_retime = switches.retime;
+  auto engine = Engine::create(*model, options, sink, [&] { return clock.now_ns; });
+  if (!engine.ok()) return out;
+  (*engine)->submit(mission);
+  (*engine)->planNext();
+  if (sink.latest.samples.empty()) {
+    std::fprintf(stderr, "mission failed: %s\n", sink.last_status.message.c_str());
+    return out;
+  }
+  // The vehicle flies on 2 s between updates; each update removes the previous obstacle first.
+  clock.now_ns = sink.latest.samples.front().utc_ns;
+  std::uint64_t previous_id = 0;
+  for (int u = 0; u < rounds; ++u) {
+    if (previous_id != 0) {
+      ObstacleUpdateData gone;
+      gone.obstacle.id = previous_id;
+      gone.remove = true;
+      (*engine)->updateObstacle(gone);
+      (*engine)->replanCycle();
+    }
+    const std::uint32_t revision = sink.latest.revision;
+    const ObstacleUpdateData update = crossing(sink.latest, clock.now_ns, 1000 + u, 15.0 + (u % 4) * 5.0);
+    previous_id = update.obstacle.id;
+    const auto t0 = Clock::now();
+    (*engine)->updateObstacle(update);
+    int cycles = 0;
+    double waited_ms = 0.0;
+    while (sink.latest.revision == revision && cycles < 50) {
+      if (cycles > 0) {
+        clock.advance(0.1);
+        waited_ms += 100.0;
+      }
+      (*engine)->replanCycle();
+      ++cycles;
+    }
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() + waited_ms;
+    if (sink.latest.revision == revision) {
+      ++out.misses;
+      if (verbose) std::printf("update %d: no revision in %d cycles\n", u, cycles);
+    } else {
+      out.latency_ms.push_back(ms);
+      out.cycles.push_back(cycles);
+      if (verbose) std::printf("update %d: %.1f ms, %d cycle(s)\n", u, ms, cycles);
+    }
+    clock.advance(2.0);
+  }
+  return out;
+}
+
+void row(const char* what, const Outcome& o) {
+  if (o.latency_ms.empty()) {
+    std::printf("| %-44s | 0 | - | - | - | - | %d |\n", what, o.misses);
+    return;
+  }
+  std::vector<double> v = o.latency_ms;
+  std::sort(v.begin(), v.end());
+  auto q = [&](double f) { return v[std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(f * v.size())) - 1)]; };
+  const int multi = static_cast<int>(std::count_if(o.cycles.begin(), o.cycles.end(), [](int c) { return c > 1; }));
+  std::printf("| %-44s | %zu | %.1f | %.1f | %.1f | %d | %d |\n", what, v.size(), q(0.5), q(0.9), q(0.99), multi,
+              o.misses);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int rounds = 20;
+  bool verbose = false;
+  bool retime = true, local = true;
+  std::string only = "both";  // embedded | n44 | both
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) rounds = std::atoi(argv[++i]);
+    if (std::strcmp(argv[i], "--verbose") == 0) verbose = true;
+    if (std::strcmp(argv[i], "--no-retime") == 0) retime = false;
+    if (std::strcmp(argv[i], "--no-local") == 0) local = false;
+    if (std::strcmp(argv[i], "--case") == 0 && i + 1 < argc) only = argv[++i];
+    if (std::strcmp(argv[i], "--debug") == 0) spdlog::set_level(spdlog::level::debug);
+  }
+  const Switches switches{verbose, local, retime};
+  CollisionWorldOptions options;
+  options.build_octree = false;
+  std::printf("| case | samples | p50 ms | p90 ms | p99 ms | updates needing > 1 cycle | no revision |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
+
+  const std::string dem = std::string(SKYROUTE_DATA_DIR) + "/default_terrain.tif";
+  std::shared_ptr<const Heightfield> terrain = loadTerrainWorld(dem, options).value().heightfield;
+  if (only != "n44") {
+    const Eigen::AlignedBox2d box = terrain->boundsEn();
+    const double w = box.sizes().x();
+    const double north = box.center().y();
+    MissionRequestData m;
+    m.request_id = "lane";
+    m.vehicle_id = "uav-0";
+    m.begin = above(*terrain, box.min().x() + 0.05 * w, north, 300);
+    m.points = {above(*terrain, box.center().x(), north + 100, 300)};
+    m.end = above(*terrain, box.max().x() - 0.05 * w, north, 300);
+    m.limits = seed003Vehicle();
+    m.limits.ceiling_amsl_m = 12000.0;
+    row("embedded terrain, lane mission", run(terrain, m, rounds, switches));
+  }
+
+  const std::string n44 = std::string(SKYROUTE_SHARED_DATA_DIR) + "/dem/N44W072.hgt";
+  if (only == "embedded") {
+  } else if (std::FILE* f = std::fopen(n44.c_str(), "rb")) {
+    std::fclose(f);
+    std::shared_ptr<const Heightfield> real = loadTerrainWorld(n44, options).value().heightfield;
+    const MovingObstacleScenario scenario = seed003Table1Scenario(*real);
+    MissionRequestData m;
+    m.request_id = "seed003";
+    m.vehicle_id = "uav-0";
+    m.begin = MissionPointData::enu(scenario.start_m);
+    m.points = {MissionPointData::enu(0.5 * (scenario.start_m + scenario.goal_m))};
+    m.end = MissionPointData::enu(scenario.goal_m);
+    m.limits = seed003Vehicle();
+    m.limits.min_clearance_agl_m = 50.0;
+    row("N44W072, seed-003 vehicle", run(real, m, rounds, switches));
+  } else {
+    std::printf("(N44W072 case skipped: %s not found)\n", n44.c_str());
+  }
+  return 0;
+}
