@@ -220,7 +220,7 @@ struct FleetStatusData {
   std::int32_t makespan_steps = 0;      // the grid plan's T_max (time steps)
   double makespan_s = 0.0;              // latest end of the flown trajectories, delays included
   double min_separation_m = 0.0;        // required between any two vehicles at every instant
-  double achieved_separation_m = 0.0;   // smallest distance found by the check (sampled)
+  double achieved_separation_m = 0.0;   // least distance at the samples and refinement points of the check (the check proves the separation between them)
   std::uint32_t separation_repairs = 0; // vehicles whose start had to be delayed
   double planning_time_s = 0.0;
 };
