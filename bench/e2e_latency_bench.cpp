@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/latency_scenario.hpp"
 #include "service/dds/loopback.hpp"
 #include "service/moving_obstacle_scenario.hpp"
 #include "terrain/terrain_world.hpp"
@@ -56,56 +57,6 @@ struct Setup {
   std::shared_ptr<const Heightfield> terrain;
   int domain = 150;
 };
-
-MissionPointData above(const Heightfield& terrain, double e, double n, double agl_m) {
-  return MissionPointData::enu(Eigen::Vector3d(e, n, terrain.heightAt(e, n) + agl_m));
-}
-
-VehicleLimitsData seed003Vehicle() {
-  VehicleLimitsData l;
-  l.v_ref_mps = 50.0;
-  l.max_speed_mps = 60.0;
-  l.max_accel_mps2 = 10.0;
-  l.max_climb_rate_mps = 15.0;
-  l.max_descent_rate_mps = 15.0;
-  return l;
-}
-
-// Lanes across the terrain's middle, 5% in from each side.
-MissionRequestData laneMission(const Heightfield& terrain, const std::string& id, int vehicle, int vehicles) {
-  const Eigen::AlignedBox2d box = terrain.boundsEn();
-  const double w = box.sizes().x(), h = box.sizes().y();
-  const double north = box.min().y() + h * (0.1 + 0.8 * (vehicles == 1 ? 0.5 : double(vehicle) / (vehicles - 1)));
-  MissionRequestData m;
-  m.request_id = id;
-  m.vehicle_id = "uav-" + std::to_string(vehicle);
-  m.begin = above(terrain, box.min().x() + 0.05 * w, north, 300);
-  m.points = {above(terrain, box.center().x(), north + 100, 300)};
-  m.end = above(terrain, box.max().x() - 0.05 * w, north, 300);
-  m.limits = seed003Vehicle();
-  m.limits.ceiling_amsl_m = 12000.0;
-  return m;
-}
-
-// An obstacle that meets the vehicle about meet_s ahead, crossing its route from 1 km aside.
-ObstacleUpdateData crossing(const TrajectoryData& t, std::uint64_t id, double meet_s) {
-  const double now_rel_s = static_cast<double>(utcNowNs() - t.samples.front().utc_ns) * 1e-9;
-  std::size_t k = 0;
-  while (k + 1 < t.samples.size() && t.samples[k].t_rel_s < now_rel_s + meet_s) ++k;
-  const Eigen::Vector3d p = t.samples[k].position_enu_m;
-  Eigen::Vector3d heading = t.samples[k].velocity_enu_mps;
-  heading.z() = 0.0;
-  heading = heading.norm() > 0 ? heading.normalized() : Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d across(-heading.y(), heading.x(), 0.0);
-  ObstacleUpdateData u;
-  u.obstacle.id = id;
-  u.obstacle.shape = ObstacleShape::kCylinder;
-  u.obstacle.size_m = Eigen::Vector3d(150.0, 0.0, 250.0);
-  u.obstacle.center_m = p - 1000.0 * across;
-  u.obstacle.motion = BackAndForth{p - 1000.0 * across, p + 1000.0 * across, 1000.0 / std::max(1.0, t.samples[k].t_rel_s - now_rel_s), 0.0};
-  u.valid_from_utc_ns = utcNowNs();
-  return u;
-}
 
 struct Run {
   std::vector<double> request_ms;
@@ -173,7 +124,7 @@ Run measure(const Setup& setup, int vehicles, int request_rounds, int obstacle_u
       (void)station->obstacles->write(gone);
       station->pumpUntil([] { return false; }, 0.3);  // let the daemon settle
     }
-    const ObstacleUpdateData update = crossing(*current, 1000 + u, 15.0 + (u % 4) * 5.0);
+    const ObstacleUpdateData update = bench::crossing(*current, utcNowNs(), 1000 + u, 15.0 + (u % 4) * 5.0);
     previous_id = update.obstacle.id;
     const std::size_t seen = station->trajectory_log.size();
     const auto t0 = Clock::now();
@@ -222,7 +173,7 @@ int main(int argc, char** argv) {
   for (int vehicles : {1, 20}) {
     const int request_rounds = vehicles == 1 ? rounds : std::max(1, rounds / 10);
     Run r = measure(setup, vehicles, request_rounds, rounds, [&](int v, const std::string& id) {
-      return laneMission(*setup.terrain, id, v, vehicles);
+      return bench::laneMission(*setup.terrain, id, v, vehicles);
     });
     row("request -> trajectory received", vehicles, r.request_ms);
     row("obstacle update -> new revision received", vehicles, r.obstacle_ms);
@@ -237,17 +188,7 @@ int main(int argc, char** argv) {
     s3.dem = n44;
     s3.terrain = loadTerrainWorld(n44, options).value().heightfield;
     const MovingObstacleScenario scenario = seed003Table1Scenario(*s3.terrain);
-    Run r = measure(s3, 1, 1, rounds, [&](int, const std::string& id) {
-      MissionRequestData m;
-      m.request_id = id;
-      m.vehicle_id = "uav-0";
-      m.begin = MissionPointData::enu(scenario.start_m);
-      m.points = {MissionPointData::enu(0.5 * (scenario.start_m + scenario.goal_m))};
-      m.end = MissionPointData::enu(scenario.goal_m);
-      m.limits = seed003Vehicle();
-      m.limits.min_clearance_agl_m = 50.0;
-      return m;
-    });
+    Run r = measure(s3, 1, 1, rounds, [&](int, const std::string& id) { return bench::seed003Mission(scenario, id); });
     row("N44W072 seed-003 vehicle: obstacle -> revision", 1, r.obstacle_ms);
   } else {
     std::printf("(N44W072 seed-003 case skipped: %s not found)\n", n44.c_str());

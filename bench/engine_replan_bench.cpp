@@ -16,6 +16,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "bench/latency_scenario.hpp"
 #include "service/engine.hpp"
 #include "service/moving_obstacle_scenario.hpp"
 #include "terrain/terrain_world.hpp"
@@ -37,42 +38,6 @@ struct ManualClock {
   std::int64_t now_ns = 1'800'000'000'000'000'000LL;
   void advance(double seconds) { now_ns += static_cast<std::int64_t>(std::llround(seconds * 1e9)); }
 };
-
-VehicleLimitsData seed003Vehicle() {
-  VehicleLimitsData l;
-  l.v_ref_mps = 50.0;
-  l.max_speed_mps = 60.0;
-  l.max_accel_mps2 = 10.0;
-  l.max_climb_rate_mps = 15.0;
-  l.max_descent_rate_mps = 15.0;
-  return l;
-}
-
-MissionPointData above(const Heightfield& terrain, double e, double n, double agl_m) {
-  return MissionPointData::enu(Eigen::Vector3d(e, n, terrain.heightAt(e, n) + agl_m));
-}
-
-// An obstacle that meets the vehicle about meet_s ahead, crossing its route from 1 km aside
-// (e2e_latency_bench's, on the world clock).
-ObstacleUpdateData crossing(const TrajectoryData& t, std::int64_t now_ns, std::uint64_t id, double meet_s) {
-  const double now_rel_s = static_cast<double>(now_ns - t.samples.front().utc_ns) * 1e-9;
-  std::size_t k = 0;
-  while (k + 1 < t.samples.size() && t.samples[k].t_rel_s < now_rel_s + meet_s) ++k;
-  const Eigen::Vector3d p = t.samples[k].position_enu_m;
-  Eigen::Vector3d heading = t.samples[k].velocity_enu_mps;
-  heading.z() = 0.0;
-  heading = heading.norm() > 0 ? heading.normalized() : Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d across(-heading.y(), heading.x(), 0.0);
-  ObstacleUpdateData u;
-  u.obstacle.id = id;
-  u.obstacle.shape = ObstacleShape::kCylinder;
-  u.obstacle.size_m = Eigen::Vector3d(150.0, 0.0, 250.0);
-  u.obstacle.center_m = p - 1000.0 * across;
-  u.obstacle.motion = BackAndForth{p - 1000.0 * across, p + 1000.0 * across,
-                                   1000.0 / std::max(1.0, t.samples[k].t_rel_s - now_rel_s), 0.0};
-  u.valid_from_utc_ns = now_ns;
-  return u;
-}
 
 struct Outcome {
   std::vector<double> latency_ms;
@@ -117,7 +82,7 @@ Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData
       (*engine)->replanCycle();
     }
     const std::uint32_t revision = sink.latest.revision;
-    const ObstacleUpdateData update = crossing(sink.latest, clock.now_ns, 1000 + u, 15.0 + (u % 4) * 5.0);
+    const ObstacleUpdateData update = bench::crossing(sink.latest, clock.now_ns, 1000 + u, 15.0 + (u % 4) * 5.0);
     previous_id = update.obstacle.id;
     const auto t0 = Clock::now();
     (*engine)->updateObstacle(update);
@@ -182,17 +147,7 @@ int main(int argc, char** argv) {
   const std::string dem = std::string(SKYROUTE_DATA_DIR) + "/default_terrain.tif";
   std::shared_ptr<const Heightfield> terrain = loadTerrainWorld(dem, options).value().heightfield;
   if (only != "n44") {
-    const Eigen::AlignedBox2d box = terrain->boundsEn();
-    const double w = box.sizes().x();
-    const double north = box.center().y();
-    MissionRequestData m;
-    m.request_id = "lane";
-    m.vehicle_id = "uav-0";
-    m.begin = above(*terrain, box.min().x() + 0.05 * w, north, 300);
-    m.points = {above(*terrain, box.center().x(), north + 100, 300)};
-    m.end = above(*terrain, box.max().x() - 0.05 * w, north, 300);
-    m.limits = seed003Vehicle();
-    m.limits.ceiling_amsl_m = 12000.0;
+    const MissionRequestData m = bench::laneMission(*terrain, "lane", 0, 1);
     row("embedded terrain, lane mission", run(terrain, m, rounds, switches));
   }
 
@@ -201,15 +156,7 @@ int main(int argc, char** argv) {
   } else if (std::FILE* f = std::fopen(n44.c_str(), "rb")) {
     std::fclose(f);
     std::shared_ptr<const Heightfield> real = loadTerrainWorld(n44, options).value().heightfield;
-    const MovingObstacleScenario scenario = seed003Table1Scenario(*real);
-    MissionRequestData m;
-    m.request_id = "seed003";
-    m.vehicle_id = "uav-0";
-    m.begin = MissionPointData::enu(scenario.start_m);
-    m.points = {MissionPointData::enu(0.5 * (scenario.start_m + scenario.goal_m))};
-    m.end = MissionPointData::enu(scenario.goal_m);
-    m.limits = seed003Vehicle();
-    m.limits.min_clearance_agl_m = 50.0;
+    const MissionRequestData m = bench::seed003Mission(seed003Table1Scenario(*real), "seed003");
     row("N44W072, seed-003 vehicle", run(real, m, rounds, switches));
   } else {
     std::printf("(N44W072 case skipped: %s not found)\n", n44.c_str());

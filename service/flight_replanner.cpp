@@ -258,7 +258,6 @@ std::optional<FlightReplanner::AttemptPlan> FlightReplanner::localPlan(const std
     break;
   }
   if (!(times[r] > takeover_s - start_world_s_)) return std::nullopt;
-  if (r + 1 >= knots.size()) return std::nullopt;
   if (!rejoin.at_point) plan.points.push_back(knots[r]);
   rejoin.knot = r;
   rejoin.time_s = times[r];
