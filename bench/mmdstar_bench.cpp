@@ -2,10 +2,14 @@
 // with 20 mission points on a 1000 x 1000 grid derived from a real DEM.
 //
 //   build-mmd/bench/mmdstar_bench [--runs 100] [--max-n 5] [--seed 1] [--moves paper|paper-cut|sqrt2]
-//                                 [--scale-only | --no-scale] [--dem PATH] [--threads N] [--diag]
+//                                 [--scale-only | --no-scale] [--dem PATH] [--threads N] [--fresh F] [--sweep C] [--diag]
 //
-// --threads N: the scale run with N threads only (default: once with 1, once with 2).
-// --fresh F: the scale run with MissionOptions::fresh_plan_fraction F only (default: 0, then 0.25).
+// Scale run configurations (default: the seed's planner on 1 thread, then the fast one on 1 and on
+// 2 threads; any of these options replaces them by one run with the fast configuration changed):
+// --threads N: MissionOptions::threads (fast: 1 and 2).
+// --fresh F: MissionOptions::fresh_plan_fraction (fast: kFastFresh).
+// --sweep C: MissionOptions::sweep_min_cells (fast: kFastSweep; 0 = the seed's search).
+// Each run ends with its CPU and wall time against the targets (preplanning 1 s, replanning 50 ms).
 // --diag: where MMD*L's replanning saves on per-pair D* Lite (cells whose g changed, see Diag).
 //
 // Paper experiment: 110 x 110 grid, 20 % random obstacles, B (40,40), E (70,70), n random mission
@@ -331,11 +335,22 @@ void paperExperiment(int runs, int max_n, std::uint32_t seed, const GridMoves& m
               steps / std::max<double>(1.0, runs * max_n - failed));
 }
 
-void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& pts, GridCell end, int threads,
-                  double fresh);
+struct ScaleConfig {
+  int threads = 1;
+  double fresh = 0.0;            // MissionOptions::fresh_plan_fraction
+  std::size_t sweep_cells = 0;   // MissionOptions::sweep_min_cells
+};
+// The fast configuration: sweep on this grid, and a goal whose repair passes 2 % of its fresh
+// plan's expansions is planned afresh (a repair expansion costs several sweep expansions).
+constexpr double kFastFresh = 0.02;
+constexpr std::size_t kFastSweep = 250000;
+constexpr double kPreplanTargetMs = 1000.0;
+constexpr double kReplanTargetMs = 50.0;
 
-void scaleRun(const std::string& dem_path, std::uint32_t seed, const std::vector<int>& thread_counts,
-              const std::vector<double>& fresh_fractions) {
+void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& pts, GridCell end,
+                  const ScaleConfig& config);
+
+void scaleRun(const std::string& dem_path, std::uint32_t seed, const std::vector<ScaleConfig>& configs) {
   std::printf("## Scale: n = 20 mission points on a 1000 x 1000 grid from %s\n\n", dem_path.c_str());
   auto dem = Dem::load(dem_path);
   if (!dem.ok()) {
@@ -388,20 +403,22 @@ void scaleRun(const std::string& dem_path, std::uint32_t seed, const std::vector
   const GridCell end = pts.back();
   pts.pop_back();
   const GridLayer initial = grid;
-  for (int threads : thread_counts)
-    for (double fresh : fresh_fractions) {
-      grid = initial;  // the rounds below block cells
-      std::printf("\n### %d thread%s, fresh-plan fraction %.2f%s\n", threads, threads == 1 ? "" : "s", fresh,
-                  fresh > 0 ? "" : " (the seed's repair only)");
-      scaleMission(grid, begin, pts, end, threads, fresh);
-    }
+  for (const ScaleConfig& c : configs) {
+    grid = initial;  // the rounds below block cells
+    std::printf("\n### %d thread%s, fresh-plan fraction %.2f, sweep %s%s\n", c.threads, c.threads == 1 ? "" : "s",
+                c.fresh, c.sweep_cells > 0 && grid.cellCount() >= c.sweep_cells ? "on" : "off",
+                c.fresh > 0 || c.sweep_cells > 0 ? "" : " (the seed's planner)");
+    scaleMission(grid, begin, pts, end, c);
+  }
 }
 
-void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& pts, GridCell end, int threads,
-                  double fresh) {
+void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& pts, GridCell end,
+                  const ScaleConfig& config) {
+  const int threads = config.threads;
   MissionOptions options;
   options.threads = threads;
-  options.fresh_plan_fraction = fresh;
+  options.fresh_plan_fraction = config.fresh;
+  options.sweep_min_cells = config.sweep_cells;
   auto planner = MissionPlanner::create(grid, begin, pts, end, options);
   if (!planner.ok()) {
     std::printf("error: %s\n", planner.error().describe().c_str());
@@ -422,6 +439,8 @@ void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& 
               planner->search().costMapCount(), plan->cost);
   // Fly 30 cells, then block a 3x3 patch on the path 5 cells ahead (a local change), replan; repeat.
   Sample re_ms;
+  double worst_cpu_ms = 0.0, worst_wall_ms = 0.0;
+  int worst_round = 0;
   for (int round = 0; round < 5; ++round) {
     for (int k = 0; k < 30 && !planner->finished(); ++k) planner->moveVehicle(planner->nextCell());
     const auto& leg = planner->plan().legs.front().cells;
@@ -447,6 +466,9 @@ void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& 
       break;
     }
     re_ms.add(re_cpu_ms);
+    if (re_cpu_ms > worst_cpu_ms) worst_round = round + 1;
+    worst_cpu_ms = std::max(worst_cpu_ms, re_cpu_ms);
+    worst_wall_ms = std::max(worst_wall_ms, re->total_time_ms);
     std::printf("| replanning %d (%zu cells changed) | %.1f | %.1f | %.1f | %.2f | %llu | %llu | %zu | %.2f |\n", round + 1,
                 changed.size(), re_cpu_ms, re->total_time_ms, re->search.time_ms, re->tsp_time_ms,
                 static_cast<unsigned long long>(re->search.expansions),
@@ -457,6 +479,12 @@ void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& 
   std::printf("\nTSP: %s; replanning mean %.1f CPU ms over %zu local changes; %d thread%s; goals planned afresh %zu\n",
               plan->tsp.exact ? "exact" : "heuristic (2-opt + Or-opt)", re_ms.mean(), re_ms.v.size(), threads,
               threads == 1 ? "" : "s", mmd ? mmd->freshPlans() : std::size_t{0});
+  auto verdict = [](double ms, double target) { return ms <= target ? "met" : "NOT met"; };
+  std::printf("targets: preplanning %.0f ms CPU / %.0f ms wall (target %.0f ms: CPU %s, wall %s); "
+              "slowest replanning step %.1f ms CPU (round %d) / %.1f ms wall (target %.0f ms: CPU %s, wall %s)\n",
+              pre_cpu_ms, plan->total_time_ms, kPreplanTargetMs, verdict(pre_cpu_ms, kPreplanTargetMs),
+              verdict(plan->total_time_ms, kPreplanTargetMs), worst_cpu_ms, worst_round, worst_wall_ms,
+              kReplanTargetMs, verdict(worst_cpu_ms, kReplanTargetMs), verdict(worst_wall_ms, kReplanTargetMs));
 }
 
 }  // namespace
@@ -465,8 +493,10 @@ int main(int argc, char** argv) {
   int runs = 100, max_n = 5;
   std::uint32_t seed = 1;
   bool scale = true, paper = true;
-  std::vector<int> thread_counts{1, 2};     // the scale run, once per count
-  std::vector<double> fresh_fractions{0.0, 0.25};  // and per fresh-plan fraction (0: off)
+  const ScaleConfig fast{1, kFastFresh, kFastSweep};
+  std::vector<ScaleConfig> configs{ScaleConfig{}, fast, ScaleConfig{2, kFastFresh, kFastSweep}};
+  ScaleConfig chosen = fast;
+  bool custom = false;
   std::string moves_name = "paper";
   std::string dem = std::string(SKYROUTE_SHARED_DATA_DIR) + "/dem/N44W072.hgt";
   for (int i = 1; i < argc; ++i) {
@@ -479,8 +509,9 @@ int main(int argc, char** argv) {
     else if (a == "--scale-only") paper = false;
     else if (a == "--no-scale") scale = false;
     else if (a == "--diag") g_diag = true;
-    else if (a == "--threads") thread_counts = {std::stoi(next())};
-    else if (a == "--fresh") fresh_fractions = {std::stod(next())};
+    else if (a == "--threads") chosen.threads = std::stoi(next()), custom = true;
+    else if (a == "--fresh") chosen.fresh = std::stod(next()), custom = true;
+    else if (a == "--sweep") chosen.sweep_cells = std::stoul(next()), custom = true;
     else if (a == "--dem") dem = next();
     else {
       std::fprintf(stderr, "unknown argument %s\n", a.c_str());
@@ -493,6 +524,7 @@ int main(int argc, char** argv) {
                             : moves_name == "paper-cut" ? "1.4 + Chebyshev, corner cutting allowed (the seed's rule)"
                                                         : "1.4 + Chebyshev, no corner cutting";
   if (paper) paperExperiment(runs, max_n, seed, moves, moves_title);
-  if (scale) scaleRun(dem, seed, thread_counts, fresh_fractions);
+  if (custom) configs = {chosen};
+  if (scale) scaleRun(dem, seed, configs);
   return 0;
 }

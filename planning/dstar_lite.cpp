@@ -228,6 +228,100 @@ SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, 
   return status;
 }
 
+SearchStatus dstarSweepInitialize(DStarGoalField& field, std::span<const GridCell> starts, DStarQueue& frontier,
+                                  SearchStats& stats, const TerminationCondition& stop) {
+  const auto t0 = std::chrono::steady_clock::now();
+  GridMoveTable& table = *field.table_;
+  table.sync();
+  const GridLayer& grid = table.grid();
+  if (!field.pristine_) std::fill(field.cost_.begin(), field.cost_.end(), DStarGoalField::Cost{kInfiniteCost, kInfiniteCost});
+  field.pristine_ = false;
+  DStarGoalField::Cost* const cost = field.cost_.data();
+  std::vector<std::uint32_t> targets;
+  for (const GridCell& c : starts)
+    if (grid.inside(c)) targets.push_back(static_cast<std::uint32_t>(grid.index(c)));
+  // Cells wait in a ring of buckets by floor(rhs): a relaxation from bucket b lands at most
+  // floor(b + 1 + max move cost) ahead, so the ring needs max move cost + 2 slots.
+  double max_move = 1.0;
+  for (int k = 0; k < 8; ++k) max_move = std::max(max_move, table.cost(k));
+  std::size_t slots = 4;
+  while (static_cast<double>(slots) < max_move + 2.0) slots *= 2;
+  const std::size_t ring_mask = slots - 1;
+  std::vector<std::vector<std::uint32_t>> ring(slots);
+  const std::uint32_t goal = field.goal_index_;
+  const auto row = static_cast<std::size_t>(grid.width());
+  const std::size_t cells = grid.cellCount();
+  constexpr std::size_t kSweepPrefetch = 8;
+  cost[goal].rhs = 0.0;
+  ring[0].push_back(goal);
+  ++stats.queue_pushes;
+  std::size_t waiting = 1;
+  std::uint64_t pushes = 0;
+  std::size_t targets_left = targets.size();
+  auto settledTargets = [&] {
+    // A handful of starts, checked once per bucket: cheaper than a per-cell test in the hot loop.
+    while (targets_left > 0 && cost[targets[targets_left - 1]].g < kInfiniteCost) --targets_left;
+    return targets_left == 0;
+  };
+  SearchStatus status = SearchStatus::kFound;
+  for (std::size_t b = 0; waiting > 0; ++b) {
+    std::vector<std::uint32_t>& bucket = ring[b & ring_mask];
+    // Relaxations from this bucket land in later ones, so it does not grow while it is walked.
+    const std::size_t count = bucket.size();
+    for (std::size_t i = 0; i < count; ++i) {
+      // The sweep is bound by memory latency: the wavefront is a ring around the goal, too long to
+      // stay in cache from one bucket to the next. Fetching the three rows around a cell a few
+      // entries ahead overlaps those misses.
+      if (i + kSweepPrefetch < count) {
+        const std::size_t ahead = bucket[i + kSweepPrefetch];
+        __builtin_prefetch(&cost[ahead]);
+        if (ahead >= row) __builtin_prefetch(&cost[ahead - row]);
+        if (ahead + row < cells) __builtin_prefetch(&cost[ahead + row]);
+      }
+      const std::uint32_t u = bucket[i];
+      if (cost[u].g < kInfiniteCost) continue;  // settled from an earlier entry of this bucket
+      const double gu = cost[u].rhs;
+      cost[u].g = gu;
+      ++stats.expansions;
+      unsigned mask = table.mask(u);
+      while (mask != 0) {
+        const int k = std::countr_zero(mask);
+        mask &= mask - 1;
+        const auto p = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(u) + table.delta(k));
+        const double v = table.cost(k) + gu;
+        if (v < cost[p].rhs) {  // never true for a settled p (or the goal)
+          cost[p].rhs = v;
+          ring[static_cast<std::size_t>(v) & ring_mask].push_back(p);
+          ++waiting;
+          ++pushes;
+        }
+      }
+    }
+    stats.queue_pops += bucket.size();
+    waiting -= bucket.size();
+    bucket.clear();
+    if (settledTargets()) break;
+    if (stop.shouldStop(stats.expansions)) {
+      status = SearchStatus::kStopped;
+      break;
+    }
+  }
+  stats.queue_pushes += pushes;
+  if (status != SearchStatus::kStopped) {
+    // The frontier: every waiting cell still unsettled (once, though it may wait in two buckets).
+    std::vector<std::uint32_t> open;
+    for (const std::vector<std::uint32_t>& bucket : ring)
+      for (const std::uint32_t u : bucket)
+        if (!(cost[u].g < kInfiniteCost)) open.push_back(u);
+    std::sort(open.begin(), open.end());
+    open.erase(std::unique(open.begin(), open.end()), open.end());
+    for (const std::uint32_t u : open) frontier.push(u, frontier.calcKey(field, u), stats);
+    if (!settledTargets()) status = SearchStatus::kNoPath;
+  }
+  stats.time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return status;
+}
+
 void dstarUpdateChangedCells(DStarGoalField& field, std::span<const GridCell> changed,
                              std::span<DStarQueue* const> queues, SearchStats& stats) {
   field.table_->update(changed);
@@ -282,6 +376,15 @@ void DStarGoalField::readLog(DStarQueue& queue) {
   for (std::size_t i = log_fresh_; i < log_.size(); ++i) logged_[log_[i]] = 0;
   log_fresh_ = log_.size();
   queue.log_cursor_ = log_.size();
+}
+
+void DStarGoalField::reset() {
+  if (!pristine_) std::fill(cost_.begin(), cost_.end(), Cost{kInfiniteCost, kInfiniteCost});
+  pristine_ = true;
+  log_.clear();
+  std::fill(logged_.begin(), logged_.end(), std::uint8_t{0});
+  log_fresh_ = 0;
+  logging_ = false;
 }
 
 void DStarGoalField::setLogging(bool on) {

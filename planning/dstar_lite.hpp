@@ -95,6 +95,9 @@ class DStarGoalField {
   // The update log (see the file comment); off by default.
   void setLogging(bool on);
   bool logging() const { return logging_; }
+  // Back to the state just after construction (every cost infinite, log empty and off), keeping the
+  // memory: planning a goal afresh then costs no page faults for a new 16-bytes-a-cell map.
+  void reset();
   std::size_t logSize() const { return log_.size(); }
 
   std::size_t memoryBytes() const {
@@ -107,6 +110,8 @@ class DStarGoalField {
   friend void dstarUpdateChangedCells(DStarGoalField&, std::span<const GridCell>, std::span<DStarQueue* const>,
                                       SearchStats&);
   friend void dstarInitialize(DStarGoalField&, DStarQueue&, SearchStats&);
+  friend SearchStatus dstarSweepInitialize(DStarGoalField&, std::span<const GridCell>, DStarQueue&, SearchStats&,
+                                           const TerminationCondition&);
   friend void dstarSyncQueue(DStarGoalField&, DStarQueue&, SearchStats&);
   friend void dstarTrimLog(DStarGoalField&, std::span<DStarQueue* const>);
 
@@ -269,6 +274,22 @@ void dstarTrimLog(DStarGoalField& field, std::span<DStarQueue* const> queues);
 
 // Initialize() (lines 01-05) for a new field: puts the goal into `queue`.
 void dstarInitialize(DStarGoalField& field, DStarQueue& queue, SearchStats& stats);
+
+// A cheaper first search of a new field than Initialize() plus ComputeShortestPath towards each
+// start in turn (seed lines 34-38), for a goal with many starts on a large grid: Dijkstra from the
+// goal with a bucket queue of width 1 (Dial), which settles cells in order of g until every cell
+// of `starts` is settled, then finishes that bucket. Every move costs at least 1, so no cell of a
+// bucket can lower another cell of the same bucket: settling a bucket's cells in any order is exact
+// (each g the minimum over the relaxations, as Dijkstra's). It leaves the state D* Lite needs for
+// later repairs: every settled cell consistent (g = rhs), rhs = min over successors of c + g
+// everywhere, and every inconsistent cell (the frontier, all with rhs above every start's g) pushed
+// into `frontier` keyed for its start and k_m; the caller then gives each start a copy adapted to
+// it (lines 39-41), so those starts' searches stop at once. Expansions count settled cells and queue
+// operations the bucket queue's pushes and pops, so they are not comparable with the seed's.
+// kNoPath when some start was not reached (its g stays infinite, as D* Lite would leave it);
+// kStopped when `stop` fired (the field is then partly built and must be reset before reuse).
+SearchStatus dstarSweepInitialize(DStarGoalField& field, std::span<const GridCell> starts, DStarQueue& frontier,
+                                  SearchStats& stats, const TerminationCondition& stop);
 
 // Plain single-pair D* Lite.
 class DStarLite {

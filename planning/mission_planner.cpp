@@ -82,6 +82,7 @@ Result<MissionPlanner> MissionPlanner::create(const GridLayer& grid, GridCell be
   {
     auto mmd = std::make_unique<MmdStarLite>(grid, std::move(points), options.moves, options.threads);
     mmd->setFreshPlanFraction(options.fresh_plan_fraction);
+    mmd->setSweepMinCells(options.sweep_min_cells);
     search = std::move(mmd);
   }
   else

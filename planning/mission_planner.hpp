@@ -32,6 +32,10 @@ struct MissionOptions {
   // incrementally however large the repair; f > 0 plans a goal afresh once its repair has cost
   // more than f times that goal's planning from scratch.
   double fresh_plan_fraction = 0.0;
+  // MMD*L only, a deviation from the seed (MmdStarLite::setSweepMinCells): on grids of at least
+  // this many cells a goal with many starts is planned from scratch by one Dijkstra bucket sweep
+  // instead of the seed's D* Lite searches (same maps, cheaper); 0 = always the seed's search.
+  std::size_t sweep_min_cells = 0;
 };
 
 struct MissionLeg {

@@ -67,13 +67,22 @@ SearchStatus MmdStarLite::preplanGoal(GoalSlot& goal, SearchStats& stats, const 
   const std::uint64_t expansions_before = stats.expansions;
   // One U carried from start to start (lines 34-38).
   DStarQueue carried(startCell(starts.front()), 0.0);
-  dstarInitialize(*goal.field, carried, stats);  // line 34
-  for (int start_point : starts) {               // line 35
-    carried.setStart(startCell(start_point));
-    carried.setKm(0.0);
-    carried.adapt(*goal.field, stats);  // line 37
-    if (dstarComputeShortestPath(*goal.field, carried, stats, stop) == SearchStatus::kStopped)  // line 38
+  if (useSweep(starts.size())) {
+    // Beyond the seed (setSweepMinCells): one Dijkstra sweep until every start is settled, which
+    // leaves the same kind of state as lines 34-38 (see dstarSweepInitialize).
+    std::vector<GridCell> cells;
+    for (int start_point : starts) cells.push_back(startCell(start_point));
+    if (dstarSweepInitialize(*goal.field, cells, carried, stats, stop) == SearchStatus::kStopped)
       return SearchStatus::kStopped;
+  } else {
+    dstarInitialize(*goal.field, carried, stats);  // line 34
+    for (int start_point : starts) {               // line 35
+      carried.setStart(startCell(start_point));
+      carried.setKm(0.0);
+      carried.adapt(*goal.field, stats);  // line 37
+      if (dstarComputeShortestPath(*goal.field, carried, stats, stop) == SearchStatus::kStopped)  // line 38
+        return SearchStatus::kStopped;
+    }
   }
   // Lines 39-41: every start keeps the final U adapted to itself.
   for (int start_point : starts) {
@@ -136,7 +145,7 @@ SearchStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> c
       // Over budget: plan this goal from scratch on the current grid.
       ++fresh_plans_;
       goal.starts.clear();
-      goal.field = std::make_unique<DStarGoalField>(table_, points_[goal.point]);
+      goal.field->reset();
       return preplanGoal(goal, stats, stop);
     }
   }

@@ -76,6 +76,17 @@ class MmdStarLite final : public MissionSearch {
   // Goals planned afresh by that rule since construction.
   std::size_t freshPlans() const { return fresh_plans_; }
 
+  // Deviation from the seed for large grids: a goal's map is planned from scratch (preplanning,
+  // and the fresh-plan rule) by one Dijkstra bucket sweep from the goal until all its starts are
+  // settled (dstarSweepInitialize) instead of D* Lite towards each start in turn (lines 34-38),
+  // when the grid has at least `min_cells` cells and the goal at least kSweepMinStarts starts.
+  // With many starts spread over the grid the seed's searches reach about the same cells, at
+  // several times the cost per cell (heap, re-keying at every start); with few starts its
+  // heuristic saves more than the sweep's cheaper cells. The maps, queues and repairs that follow
+  // are the seed's. 0 = never (the seed's search; default, so counters match the paper's).
+  void setSweepMinCells(std::size_t min_cells) { sweep_min_cells_ = min_cells; }
+  static constexpr std::size_t kSweepMinStarts = 4;
+
   // The shared map of a remaining goal (nullptr otherwise); for tests.
   const DStarGoalField* field(int goal_point) const;
 
@@ -101,11 +112,15 @@ class MmdStarLite final : public MissionSearch {
   template <class Work>
   SearchStatus forEachGoal(Work&& work);
   const GoalSlot* slot(int goal_point) const;
+  bool useSweep(std::size_t starts) const {
+    return sweep_min_cells_ > 0 && grid_->cellCount() >= sweep_min_cells_ && starts >= kSweepMinStarts;
+  }
 
   std::shared_ptr<GridMoveTable> table_;  // shared by every field
   std::vector<GoalSlot> goals_;
   int threads_ = 1;
   double fresh_plan_fraction_ = 0.0;
+  std::size_t sweep_min_cells_ = 0;
   std::atomic<std::size_t> fresh_plans_{0};
 };
 

@@ -114,6 +114,85 @@ TEST(DStarLite, ReplanningMatchesDijkstraWhileStartMovesAndCellsChange) {
   }
 }
 
+// The bucket sweep (dstarSweepInitialize) leaves what D* Lite needs: g of every settled cell is
+// Dijkstra's, rhs is the minimum over the successors everywhere, every inconsistent cell is in the
+// frontier queue once, a search from any start stops at once, and repairs after changes are exact.
+TEST(DStarLite, SweepLeavesAStateThatRepairsExactly) {
+  for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 6; ++trial) {
+      GridLayer grid = randomGrid(60, 50, 0.25, rng);
+      const GridCell goal = randomFree(grid, rng);
+      std::vector<GridCell> starts;
+      for (int k = 0; k < 5; ++k) starts.push_back(randomFree(grid, rng));
+      const auto exact = dijkstraCostField(grid, goal, moves);
+      bool all_reached = true;
+      for (const GridCell& s : starts) all_reached = all_reached && exact[grid.index(s)] < kInfiniteCost;
+      DStarGoalField field(grid, goal, moves);
+      DStarQueue frontier(starts.front(), 0.0);
+      SearchStats stats;
+      const SearchStatus status = dstarSweepInitialize(field, starts, frontier, stats, {});
+      ASSERT_EQ(status, all_reached ? SearchStatus::kFound : SearchStatus::kNoPath) << "trial " << trial;
+      double farthest = 0.0;
+      for (const GridCell& s : starts) {
+        const double e = exact[grid.index(s)];
+        if (e < kInfiniteCost) {
+          ASSERT_NEAR(field.costFrom(s), e, 1e-9);
+          farthest = std::max(farthest, e);
+        } else {
+          EXPECT_EQ(field.costFrom(s), kInfiniteCost);
+        }
+      }
+      std::size_t inconsistent = 0;
+      for (std::size_t i = 0; i < grid.cellCount(); ++i) {
+        if (field.g(i) < kInfiniteCost) {
+          ASSERT_NEAR(field.g(i), exact[i], 1e-9) << "cell " << i;
+        }
+        if (i != field.goalIndex()) {
+          ASSERT_TRUE(costEqual(field.rhs(i), field.bestRhs(i))) << "cell " << i;
+        }
+        if (!field.consistent(i)) {
+          ++inconsistent;
+          EXPECT_GE(field.rhs(i), farthest) << "an open cell below a start's cost";
+        }
+      }
+      EXPECT_EQ(frontier.size(), inconsistent);
+      EXPECT_GT(stats.expansions, 0u);
+      // Each start's queue: a copy re-keyed for it; the search has nothing left to do.
+      for (const GridCell& s : starts) {
+        DStarQueue q = frontier;
+        q.setStart(s);
+        q.adapt(field, stats);
+        const auto before = stats.expansions;
+        dstarComputeShortestPath(field, q, stats, {});
+        EXPECT_EQ(stats.expansions, before);
+      }
+      // Then the seed's repair from that state, for the first start, while cells flip.
+      DStarQueue q = frontier;
+      q.adapt(field, stats);
+      DStarQueue* const queues[] = {&q};
+      for (int round = 0; round < 5; ++round) {
+        std::vector<GridCell> changed;
+        for (int k = 0; k < 10; ++k) {
+          const GridCell c{std::uniform_int_distribution<int>(0, grid.width() - 1)(rng),
+                           std::uniform_int_distribution<int>(0, grid.height() - 1)(rng)};
+          if (c == goal || c == starts.front()) continue;
+          const std::vector<GridCell> one{c};
+          for (const GridCell& d : grid.setStaticBlocked(one, !grid.staticBlocked(c))) changed.push_back(d);
+        }
+        dstarUpdateChangedCells(field, changed, queues, stats);
+        dstarComputeShortestPath(field, q, stats, {});
+        const double e = dijkstraCostField(grid, goal, moves)[grid.index(starts.front())];
+        if (e < kInfiniteCost) {
+          ASSERT_NEAR(field.costFrom(starts.front()), e, 1e-9) << "trial " << trial << " round " << round;
+        } else {
+          ASSERT_EQ(field.costFrom(starts.front()), kInfiniteCost);
+        }
+      }
+    }
+  }
+}
+
 TEST(DStarLite, ReplanningExpandsFarFewerCellsThanPlanningAgain) {
   std::mt19937 rng(5);
   GridLayer grid = randomGrid(120, 120, 0.2, rng);

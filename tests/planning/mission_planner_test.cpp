@@ -66,9 +66,12 @@ TEST(MissionPlanner, PlanIsOptimalForItsMatrixAndLegsArePaths) {
   grid.setStaticBlocked(pts, false);
   const GridCell begin = pts.front(), end = pts.back();
   const std::vector<GridCell> missions(pts.begin() + 1, pts.end() - 1);
-  for (MissionAlgorithm algo : {MissionAlgorithm::kMmdStarLite, MissionAlgorithm::kDStarLite}) {
+  // MMD*L, per-pair D* Lite, and MMD*L planning its goals by the bucket sweep (4 starts each).
+  std::uint64_t seed_expansions = 0;
+  for (int variant = 0; variant < 3; ++variant) {
     MissionOptions options;
-    options.algorithm = algo;
+    options.algorithm = variant == 1 ? MissionAlgorithm::kDStarLite : MissionAlgorithm::kMmdStarLite;
+    options.sweep_min_cells = variant == 2 ? 1 : 0;
     auto planner = MissionPlanner::create(grid, begin, missions, end, options);
     ASSERT_TRUE(planner.ok()) << planner.error().describe();
     auto plan = planner->preplan();
@@ -105,6 +108,10 @@ TEST(MissionPlanner, PlanIsOptimalForItsMatrixAndLegsArePaths) {
     }
     EXPECT_NEAR(legs, plan->cost, 1e-9);
     EXPECT_GT(plan->search.expansions, 0u);
+    if (variant == 0) seed_expansions = plan->search.expansions;
+    if (variant == 2) {
+      EXPECT_NE(plan->search.expansions, seed_expansions) << "the sweep option did not reach MMD*L";
+    }
   }
 }
 

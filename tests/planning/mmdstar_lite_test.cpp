@@ -73,7 +73,7 @@ void expectSameSearch(const MissionSearch& a, const MissionSearch& b, const std:
 }
 
 TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
-  std::size_t fresh_plans = 0;
+  std::size_t fresh_plans = 0, swept_fresh_plans = 0;
   for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
     std::mt19937 rng(2024);
     for (int trial = 0; trial < 6; ++trial) {
@@ -86,10 +86,16 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
       // And one that plans a goal afresh whenever its repair costs over 5 % of planning it anew.
       MmdStarLite fresh(grid, points, moves);
       fresh.setFreshPlanFraction(0.05);
+      // And one that plans goals from scratch by the bucket sweep (any grid size), with the rule.
+      MmdStarLite swept(grid, points, moves);
+      swept.setSweepMinCells(1);
+      swept.setFreshPlanFraction(0.05);
       PairwiseDStarLite pairwise(grid, points, moves);
       ASSERT_EQ(mmd.preplan(), SearchStatus::kFound);
       ASSERT_EQ(threaded.preplan(), SearchStatus::kFound);
       ASSERT_EQ(fresh.preplan(), SearchStatus::kFound);
+      ASSERT_EQ(swept.preplan(), SearchStatus::kFound);
+      expectMatrixMatchesDijkstra(swept, "sweep, preplanning");
       expectSameSearch(threaded, mmd, "preplanning");
       ASSERT_EQ(pairwise.preplan(), SearchStatus::kFound);
       expectMatrixMatchesDijkstra(mmd, "preplanning");
@@ -108,6 +114,7 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
         mmd.moveVehicle(next);
         threaded.moveVehicle(next);
         fresh.moveVehicle(next);
+        swept.moveVehicle(next);
         pairwise.moveVehicle(next);
         ++step;
         if (next == points[target]) {
@@ -115,6 +122,7 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
           mmd.arriveAt(target);
           threaded.arriveAt(target);
           fresh.arriveAt(target);
+          swept.arriveAt(target);
           pairwise.arriveAt(target);
           expectMatrixMatchesDijkstra(mmd, "after arrival");
         }
@@ -130,6 +138,8 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
         ASSERT_EQ(mmd.applyChanges(changed), SearchStatus::kFound);
         ASSERT_EQ(threaded.applyChanges(changed), SearchStatus::kFound);
         ASSERT_EQ(fresh.applyChanges(changed), SearchStatus::kFound);
+        ASSERT_EQ(swept.applyChanges(changed), SearchStatus::kFound);
+        expectMatrixMatchesDijkstra(swept, "sweep, replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(fresh, "fresh-plan rule, replanning step " + std::to_string(step));
         ASSERT_EQ(pairwise.applyChanges(changed), SearchStatus::kFound);
         expectSameSearch(threaded, mmd, "replanning step " + std::to_string(step));
@@ -138,9 +148,11 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
       }
       EXPECT_GT(step, 0);
       fresh_plans += fresh.freshPlans();
+      swept_fresh_plans += swept.freshPlans();
     }
   }
   EXPECT_GT(fresh_plans, 0u);  // the rule was exercised
+  EXPECT_GT(swept_fresh_plans, 0u);  // the rule fired in the sweeping planner too
 }
 
 TEST(MmdStarLite, SharingSavesExpansionsOnTheSameProblems) {
