@@ -2,13 +2,14 @@
 // with 20 mission points on a 1000 x 1000 grid derived from a real DEM.
 //
 //   build-mmd/bench/mmdstar_bench [--runs 100] [--max-n 5] [--seed 1] [--moves paper|paper-cut|sqrt2]
-//                                 [--scale-only | --no-scale] [--dem PATH] [--threads N] [--fresh F] [--sweep C] [--diag]
+//                                 [--scale-only | --no-scale] [--dem PATH] [--threads N] [--fresh F] [--sweep C] [--defer 0|1] [--diag]
 //
 // Scale run configurations (default: the seed's planner on 1 thread, then the fast one on 1 and on
 // 2 threads; any of these options replaces them by one run with the fast configuration changed):
 // --threads N: MissionOptions::threads (fast: 1 and 2).
 // --fresh F: MissionOptions::fresh_plan_fraction (fast: kFastFresh).
 // --sweep C: MissionOptions::sweep_min_cells (fast: kFastSweep; 0 = the seed's search).
+// --defer 0|1: MissionOptions::defer_goal_maps (fast: 1).
 // Each run ends with its CPU and wall time against the targets (preplanning 1 s, replanning 50 ms).
 // --diag: where MMD*L's replanning saves on per-pair D* Lite (cells whose g changed, see Diag).
 //
@@ -339,9 +340,11 @@ struct ScaleConfig {
   int threads = 1;
   double fresh = 0.0;            // MissionOptions::fresh_plan_fraction
   std::size_t sweep_cells = 0;   // MissionOptions::sweep_min_cells
+  bool defer = false;            // MissionOptions::defer_goal_maps
 };
 // The fast configuration: sweep on this grid, and a goal whose repair passes 2 % of its fresh
-// plan's expansions is planned afresh (a repair expansion costs several sweep expansions).
+// plan's expansions (a repair expansion costs several sweep expansions) is deferred (a mission
+// point) or planned afresh (E).
 constexpr double kFastFresh = 0.02;
 constexpr std::size_t kFastSweep = 250000;
 constexpr double kPreplanTargetMs = 1000.0;
@@ -405,9 +408,9 @@ void scaleRun(const std::string& dem_path, std::uint32_t seed, const std::vector
   const GridLayer initial = grid;
   for (const ScaleConfig& c : configs) {
     grid = initial;  // the rounds below block cells
-    std::printf("\n### %d thread%s, fresh-plan fraction %.2f, sweep %s%s\n", c.threads, c.threads == 1 ? "" : "s",
-                c.fresh, c.sweep_cells > 0 && grid.cellCount() >= c.sweep_cells ? "on" : "off",
-                c.fresh > 0 || c.sweep_cells > 0 ? "" : " (the seed's planner)");
+    std::printf("\n### %d thread%s, fresh-plan fraction %.2f, sweep %s, defer %s%s\n", c.threads,
+                c.threads == 1 ? "" : "s", c.fresh, c.sweep_cells > 0 && grid.cellCount() >= c.sweep_cells ? "on" : "off",
+                c.defer ? "on" : "off", c.fresh > 0 || c.sweep_cells > 0 ? "" : " (the seed's planner)");
     scaleMission(grid, begin, pts, end, c);
   }
 }
@@ -419,6 +422,7 @@ void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& 
   options.threads = threads;
   options.fresh_plan_fraction = config.fresh;
   options.sweep_min_cells = config.sweep_cells;
+  options.defer_goal_maps = config.defer;
   auto planner = MissionPlanner::create(grid, begin, pts, end, options);
   if (!planner.ok()) {
     std::printf("error: %s\n", planner.error().describe().c_str());
@@ -476,9 +480,10 @@ void scaleMission(GridLayer& grid, GridCell begin, const std::vector<GridCell>& 
                 planner->search().costMapCount(), re->cost);
   }
   const auto* mmd = dynamic_cast<const MmdStarLite*>(&planner->search());
-  std::printf("\nTSP: %s; replanning mean %.1f CPU ms over %zu local changes; %d thread%s; goals planned afresh %zu\n",
+  std::printf("\nTSP: %s; replanning mean %.1f CPU ms over %zu local changes; %d thread%s; goals planned afresh %zu, "
+              "deferred %zu\n",
               plan->tsp.exact ? "exact" : "heuristic (2-opt + Or-opt)", re_ms.mean(), re_ms.v.size(), threads,
-              threads == 1 ? "" : "s", mmd ? mmd->freshPlans() : std::size_t{0});
+              threads == 1 ? "" : "s", mmd ? mmd->freshPlans() : std::size_t{0}, mmd ? mmd->deferredGoals() : std::size_t{0});
   auto verdict = [](double ms, double target) { return ms <= target ? "met" : "NOT met"; };
   std::printf("targets: preplanning %.0f ms CPU / %.0f ms wall (target %.0f ms: CPU %s, wall %s); "
               "slowest replanning step %.1f ms CPU (round %d) / %.1f ms wall (target %.0f ms: CPU %s, wall %s)\n",
@@ -493,8 +498,8 @@ int main(int argc, char** argv) {
   int runs = 100, max_n = 5;
   std::uint32_t seed = 1;
   bool scale = true, paper = true;
-  const ScaleConfig fast{1, kFastFresh, kFastSweep};
-  std::vector<ScaleConfig> configs{ScaleConfig{}, fast, ScaleConfig{2, kFastFresh, kFastSweep}};
+  const ScaleConfig fast{1, kFastFresh, kFastSweep, true};
+  std::vector<ScaleConfig> configs{ScaleConfig{}, fast, ScaleConfig{2, kFastFresh, kFastSweep, true}};
   ScaleConfig chosen = fast;
   bool custom = false;
   std::string moves_name = "paper";
@@ -512,6 +517,7 @@ int main(int argc, char** argv) {
     else if (a == "--threads") chosen.threads = std::stoi(next()), custom = true;
     else if (a == "--fresh") chosen.fresh = std::stod(next()), custom = true;
     else if (a == "--sweep") chosen.sweep_cells = std::stoul(next()), custom = true;
+    else if (a == "--defer") chosen.defer = std::stoi(next()) != 0, custom = true;
     else if (a == "--dem") dem = next();
     else {
       std::fprintf(stderr, "unknown argument %s\n", a.c_str());

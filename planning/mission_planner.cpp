@@ -83,6 +83,7 @@ Result<MissionPlanner> MissionPlanner::create(const GridLayer& grid, GridCell be
     auto mmd = std::make_unique<MmdStarLite>(grid, std::move(points), options.moves, options.threads);
     mmd->setFreshPlanFraction(options.fresh_plan_fraction);
     mmd->setSweepMinCells(options.sweep_min_cells);
+    mmd->setDeferGoalMaps(options.defer_goal_maps);
     search = std::move(mmd);
   }
   else

@@ -36,6 +36,11 @@ struct MissionOptions {
   // this many cells a goal with many starts is planned from scratch by one Dijkstra bucket sweep
   // instead of the seed's D* Lite searches (same maps, cheaper); 0 = always the seed's search.
   std::size_t sweep_min_cells = 0;
+  // MMD*L only, a deviation from the seed, with fresh_plan_fraction > 0 (MmdStarLite::
+  // setDeferGoalMaps): a mission point's map whose repair outgrows the budget is left stale and
+  // its costs taken from the other mission points' maps (moves are symmetric) instead of being
+  // planned afresh.
+  bool defer_goal_maps = false;
 };
 
 struct MissionLeg {

@@ -59,7 +59,7 @@ const MmdStarLite::GoalSlot* MmdStarLite::slot(int goal_point) const {
 
 const DStarGoalField* MmdStarLite::field(int goal_point) const {
   const GoalSlot* g = slot(goal_point);
-  return g ? g->field.get() : nullptr;
+  return g && !g->deferred ? g->field.get() : nullptr;
 }
 
 SearchStatus MmdStarLite::preplanGoal(GoalSlot& goal, SearchStats& stats, const TerminationCondition& stop) const {
@@ -119,6 +119,7 @@ SearchStatus MmdStarLite::preplan(const TerminationCondition& stop) {
 
 SearchStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> changed, SearchStats& stats,
                                      const TerminationCondition& stop) {
+  if (goal.deferred) return SearchStatus::kFound;  // nothing to repair: its costs come from other maps
   std::vector<DStarQueue*> queues;
   for (StartSlot& st : goal.starts) {
     // Lines 60-61 / 67-68: the vehicle's queue uses its k_m; unreached mission points use 0.
@@ -142,6 +143,13 @@ SearchStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> c
     if (dstarComputeShortestPath(*goal.field, *q, repair, bounded ? budget : stop) == SearchStatus::kStopped) {
       stats += repair;
       if (!bounded || stop.shouldStop()) return SearchStatus::kStopped;
+      if (defer_goal_maps_ && goal.point != endPoint()) {
+        // Over budget: leave the map stale (setDeferGoalMaps); settleDeferred does the rest.
+        ++deferred_goals_;
+        goal.deferred = true;
+        goal.starts.clear();
+        return SearchStatus::kFound;
+      }
       // Over budget: plan this goal from scratch on the current grid.
       ++fresh_plans_;
       goal.starts.clear();
@@ -158,33 +166,107 @@ SearchStatus MmdStarLite::applyChanges(std::span<const GridCell> changed, const 
   accumulateKm();  // lines 52-54
   // The shared move table follows the change here, once, before the goals' threads read it.
   if (table_) table_->update(changed);
-  return forEachGoal([&](GoalSlot& goal, SearchStats& stats) { return replanGoal(goal, changed, stats, stop); });
+  const SearchStatus status =
+      forEachGoal([&](GoalSlot& goal, SearchStats& stats) { return replanGoal(goal, changed, stats, stop); });
+  if (status == SearchStatus::kStopped) return status;
+  return settleDeferred(stop);
+}
+
+SearchStatus MmdStarLite::settleDeferred(const TerminationCondition& stop) {
+  for (GoalSlot& goal : goals_) {
+    if (!goal.deferred) continue;
+    bool sourced = true;
+    for (int p : startsFor(goal.point)) {
+      if (p == vehicle_point_) continue;
+      const GoalSlot* source = slot(p);
+      sourced = sourced && source != nullptr && !source->deferred;
+    }
+    if (sourced) {
+      stats_ += routeVehicle(goal);
+      continue;
+    }
+    // Two deferred goals would each need the other's map: plan this one afresh.
+    ++fresh_plans_;
+    goal.deferred = false;
+    goal.vehicle_path.clear();
+    goal.field->reset();
+    SearchStats stats;
+    const SearchStatus s = preplanGoal(goal, stats, stop);
+    stats_ += stats;
+    if (s == SearchStatus::kStopped) return s;
+  }
+  return SearchStatus::kFound;
+}
+
+SearchStats MmdStarLite::routeVehicle(const GoalSlot& goal) const {
+  goal.route_stale = false;
+  goal.vehicle_path.clear();
+  goal.vehicle_cost = kInfiniteCost;
+  if (!planned(vehicle_point_, goal.point)) return {};
+  GridPath route = astarSearch(*grid_, vehicle_cell_, points_[goal.point], moves_);
+  if (route.status == SearchStatus::kFound) {
+    goal.vehicle_path = std::move(route.cells);
+    goal.vehicle_cost = route.cost;
+  }
+  return route.stats;
 }
 
 double MmdStarLite::cost(int from_point, int to_point) const {
   if (!planned(from_point, to_point)) return kInfiniteCost;
   const GoalSlot* g = slot(to_point);
-  return g ? g->field->costFrom(startCell(from_point)) : kInfiniteCost;
+  if (g == nullptr) return kInfiniteCost;
+  if (g->deferred) {
+    if (from_point == vehicle_point_) return routed(*g).vehicle_cost;
+    // Symmetric moves: the start's own map holds the cost from this goal (setDeferGoalMaps).
+    const GoalSlot* source = slot(from_point);
+    return source ? source->field->costFrom(points_[to_point]) : kInfiniteCost;
+  }
+  return g->field->costFrom(startCell(from_point));
 }
 
 std::vector<GridCell> MmdStarLite::path(int from_point, int to_point) const {
   if (!planned(from_point, to_point)) return {};
   const GoalSlot* g = slot(to_point);
-  return g ? g->field->pathFrom(startCell(from_point)) : std::vector<GridCell>{};
+  if (g == nullptr) return {};
+  if (g->deferred) {
+    if (from_point == vehicle_point_) return routed(*g).vehicle_path;
+    const GoalSlot* source = slot(from_point);
+    if (source == nullptr) return {};
+    std::vector<GridCell> cells = source->field->pathFrom(points_[to_point]);
+    std::reverse(cells.begin(), cells.end());
+    return cells;
+  }
+  return g->field->pathFrom(startCell(from_point));
 }
 
 GridCell MmdStarLite::nextCell(int goal_point) const {
   const GoalSlot* g = slot(goal_point);
-  return g ? g->field->nextCell(vehicle_cell_) : vehicle_cell_;
+  if (g == nullptr) return vehicle_cell_;
+  if (g->deferred) {
+    const std::vector<GridCell>& route = routed(*g).vehicle_path;
+    return route.size() >= 2 ? route[1] : vehicle_cell_;
+  }
+  return g->field->nextCell(vehicle_cell_);
 }
 
 std::size_t MmdStarLite::costMapCount() const { return goals_.size(); }
 
 void MmdStarLite::moveVehicle(GridCell cell) {
   MissionSearch::moveVehicle(cell);
-  for (GoalSlot& goal : goals_)
+  for (GoalSlot& goal : goals_) {
     for (StartSlot& st : goal.starts)
       if (st.point == vehicle_point_) st.queue.setStart(cell);
+    if (!goal.deferred) continue;
+    // Following the route keeps its rest optimal; anywhere else needs a new one (found when asked).
+    if (!goal.route_stale && goal.vehicle_path.size() >= 2 && goal.vehicle_path[1] == cell) {
+      const GridCell from = goal.vehicle_path.front();
+      const bool diagonal = from.x != cell.x && from.y != cell.y;
+      goal.vehicle_cost -= diagonal ? moves_.diagonal_cost : 1.0;
+      goal.vehicle_path.erase(goal.vehicle_path.begin());
+    } else if (goal.vehicle_path.empty() || !(goal.vehicle_path.front() == cell)) {
+      goal.route_stale = true;
+    }
+  }
 }
 
 void MmdStarLite::arriveAt(int point) {
@@ -201,6 +283,10 @@ void MmdStarLite::arriveAt(int point) {
     for (StartSlot& st : goal.starts)
       if (st.point == vehicle_point_) st.queue.setKm(0.0);
   }
+  // The reached point's map, a source of the deferred goals, is gone with it; the vehicle, now
+  // there, gets its own route.
+  for (GoalSlot& goal : goals_)
+    if (goal.deferred) goal.route_stale = true;
 }
 
 }  // namespace skyroute

@@ -87,7 +87,21 @@ class MmdStarLite final : public MissionSearch {
   void setSweepMinCells(std::size_t min_cells) { sweep_min_cells_ = min_cells; }
   static constexpr std::size_t kSweepMinStarts = 4;
 
-  // The shared map of a remaining goal (nullptr otherwise); for tests.
+  // Deviation from the seed, off by default, used with the fresh-plan rule: a mission point's goal
+  // whose repair outgrows the budget is not planned afresh but *deferred*: its map is left stale
+  // and its queues dropped. Its matrix entries stay exact without it, because moves are symmetric
+  // (c(a, b) = c(b, a)): every other start of that goal is a remaining mission point whose own map
+  // has this goal among its starts, so that map's g at this goal, exact after its own repair, is
+  // the cost; its path is that map's path from the goal, reversed. The one start without a map,
+  // the vehicle, gets an A* on the current grid (kept while the vehicle follows it). A deferred
+  // goal is planned afresh only when another mission start of it is deferred too. A change next to
+  // a goal, which alters nearly every g of that goal's map, then costs the budget plus one A*
+  // instead of a whole map. The end point E is never a start, so it is planned afresh as before.
+  void setDeferGoalMaps(bool on) { defer_goal_maps_ = on; }
+  // Goals deferred by that rule since construction.
+  std::size_t deferredGoals() const { return deferred_goals_; }
+
+  // The shared map of a remaining goal (nullptr otherwise, or when deferred); for tests.
   const DStarGoalField* field(int goal_point) const;
 
  private:
@@ -100,6 +114,13 @@ class MmdStarLite final : public MissionSearch {
     std::unique_ptr<DStarGoalField> field;
     std::vector<StartSlot> starts;
     std::uint64_t plan_expansions = 0;  // of its last planning from scratch (lines 34-42)
+    // setDeferGoalMaps: the map is stale, the costs come from the other goals' maps and, for the
+    // vehicle, from vehicle_path (vehicle cell .. goal, empty when none) and vehicle_cost.
+    // The route is found again lazily (route_stale) when the vehicle leaves it.
+    bool deferred = false;
+    mutable bool route_stale = false;
+    mutable std::vector<GridCell> vehicle_path;
+    mutable double vehicle_cost = kInfiniteCost;
   };
 
   GoalSlot* slot(int goal_point);
@@ -112,6 +133,15 @@ class MmdStarLite final : public MissionSearch {
   template <class Work>
   SearchStatus forEachGoal(Work&& work);
   const GoalSlot* slot(int goal_point) const;
+  // After every goal's repair: plans afresh the deferred goals that lack a source map, routes the
+  // vehicle to the others.
+  SearchStatus settleDeferred(const TerminationCondition& stop);
+  // A* from the vehicle to a deferred goal on the current grid; returns its counters.
+  SearchStats routeVehicle(const GoalSlot& goal) const;
+  const GoalSlot& routed(const GoalSlot& goal) const {
+    if (goal.route_stale) routeVehicle(goal);
+    return goal;
+  }
   bool useSweep(std::size_t starts) const {
     return sweep_min_cells_ > 0 && grid_->cellCount() >= sweep_min_cells_ && starts >= kSweepMinStarts;
   }
@@ -121,6 +151,8 @@ class MmdStarLite final : public MissionSearch {
   int threads_ = 1;
   double fresh_plan_fraction_ = 0.0;
   std::size_t sweep_min_cells_ = 0;
+  bool defer_goal_maps_ = false;
+  std::atomic<std::size_t> deferred_goals_{0};
   std::atomic<std::size_t> fresh_plans_{0};
 };
 

@@ -63,6 +63,31 @@ void expectMatrixMatchesDijkstra(const MissionSearch& search, const std::string&
   }
 }
 
+// Every planned pair's path runs from its start to its goal by allowed moves and costs what the
+// matrix says.
+void expectPathsCostWhatTheMatrixSays(const MissionSearch& search, const std::string& when) {
+  const GridLayer& grid = search.grid();
+  for (int goal : search.remainingGoals()) {
+    for (int from = 0; from < search.pointCount(); ++from) {
+      if (!search.planned(from, goal) || !(search.cost(from, goal) < kInfiniteCost)) continue;
+      const std::vector<GridCell> cells = search.path(from, goal);
+      ASSERT_FALSE(cells.empty()) << when << ": " << from << " -> " << goal;
+      const GridCell at = from == search.vehiclePoint() ? search.vehicleCell() : search.points()[from];
+      ASSERT_EQ(cells.front(), at) << when;
+      ASSERT_EQ(cells.back(), search.points()[goal]) << when;
+      double sum = 0.0;
+      for (std::size_t i = 1; i < cells.size(); ++i) {
+        const GridOffset d{cells[i].x - cells[i - 1].x, cells[i].y - cells[i - 1].y};
+        ASSERT_TRUE(std::abs(d.dx) <= 1 && std::abs(d.dy) <= 1 && (d.dx != 0 || d.dy != 0)) << when;
+        const double c = moveCost(grid, cells[i - 1], d, search.moves());
+        ASSERT_LT(c, kInfiniteCost) << when << ": not a move at " << i;
+        sum += c;
+      }
+      ASSERT_NEAR(sum, search.cost(from, goal), 1e-9) << when << ": " << from << " -> " << goal;
+    }
+  }
+}
+
 // Identical cost matrix and counters (the goals' work does not depend on the thread that runs it).
 void expectSameSearch(const MissionSearch& a, const MissionSearch& b, const std::string& when) {
   for (int from = 0; from < a.pointCount(); ++from)
@@ -73,7 +98,7 @@ void expectSameSearch(const MissionSearch& a, const MissionSearch& b, const std:
 }
 
 TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
-  std::size_t fresh_plans = 0, swept_fresh_plans = 0;
+  std::size_t fresh_plans = 0, swept_fresh_plans = 0, deferred = 0;
   for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
     std::mt19937 rng(2024);
     for (int trial = 0; trial < 6; ++trial) {
@@ -90,11 +115,17 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
       MmdStarLite swept(grid, points, moves);
       swept.setSweepMinCells(1);
       swept.setFreshPlanFraction(0.05);
+      // And one that defers such goals instead (their costs from the other maps, by symmetry).
+      MmdStarLite deferring(grid, points, moves);
+      deferring.setSweepMinCells(1);
+      deferring.setFreshPlanFraction(0.05);
+      deferring.setDeferGoalMaps(true);
       PairwiseDStarLite pairwise(grid, points, moves);
       ASSERT_EQ(mmd.preplan(), SearchStatus::kFound);
       ASSERT_EQ(threaded.preplan(), SearchStatus::kFound);
       ASSERT_EQ(fresh.preplan(), SearchStatus::kFound);
       ASSERT_EQ(swept.preplan(), SearchStatus::kFound);
+      ASSERT_EQ(deferring.preplan(), SearchStatus::kFound);
       expectMatrixMatchesDijkstra(swept, "sweep, preplanning");
       expectSameSearch(threaded, mmd, "preplanning");
       ASSERT_EQ(pairwise.preplan(), SearchStatus::kFound);
@@ -115,6 +146,7 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
         threaded.moveVehicle(next);
         fresh.moveVehicle(next);
         swept.moveVehicle(next);
+        deferring.moveVehicle(next);
         pairwise.moveVehicle(next);
         ++step;
         if (next == points[target]) {
@@ -123,6 +155,9 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
           threaded.arriveAt(target);
           fresh.arriveAt(target);
           swept.arriveAt(target);
+          deferring.arriveAt(target);
+          expectMatrixMatchesDijkstra(deferring, "deferring, after arrival");
+          expectPathsCostWhatTheMatrixSays(deferring, "deferring, after arrival");
           pairwise.arriveAt(target);
           expectMatrixMatchesDijkstra(mmd, "after arrival");
         }
@@ -140,6 +175,9 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
         ASSERT_EQ(fresh.applyChanges(changed), SearchStatus::kFound);
         ASSERT_EQ(swept.applyChanges(changed), SearchStatus::kFound);
         expectMatrixMatchesDijkstra(swept, "sweep, replanning step " + std::to_string(step));
+        ASSERT_EQ(deferring.applyChanges(changed), SearchStatus::kFound);
+        expectMatrixMatchesDijkstra(deferring, "deferring, replanning step " + std::to_string(step));
+        expectPathsCostWhatTheMatrixSays(deferring, "deferring, replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(fresh, "fresh-plan rule, replanning step " + std::to_string(step));
         ASSERT_EQ(pairwise.applyChanges(changed), SearchStatus::kFound);
         expectSameSearch(threaded, mmd, "replanning step " + std::to_string(step));
@@ -149,10 +187,12 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
       EXPECT_GT(step, 0);
       fresh_plans += fresh.freshPlans();
       swept_fresh_plans += swept.freshPlans();
+      deferred += deferring.deferredGoals();
     }
   }
   EXPECT_GT(fresh_plans, 0u);  // the rule was exercised
   EXPECT_GT(swept_fresh_plans, 0u);  // the rule fired in the sweeping planner too
+  EXPECT_GT(deferred, 0u);           // and goals were deferred
 }
 
 TEST(MmdStarLite, SharingSavesExpansionsOnTheSameProblems) {
