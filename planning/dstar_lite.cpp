@@ -1,8 +1,32 @@
 #include "planning/dstar_lite.hpp"
 
+#include <sys/mman.h>
+
 #include <chrono>
+#include <cstdlib>
+#include <new>
 
 namespace skyroute {
+
+namespace {
+constexpr std::size_t kHugePage = std::size_t{2} << 20;
+}
+
+void* allocateHugePages(std::size_t bytes) {
+  if (bytes < kHugePage) {
+    void* p = std::malloc(std::max<std::size_t>(bytes, 1));
+    if (p == nullptr) throw std::bad_alloc();
+    return p;
+  }
+  const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+  void* p = std::aligned_alloc(kHugePage, rounded);
+  if (p == nullptr) throw std::bad_alloc();
+  // Advice only: without transparent huge pages the memory works the same with 4 KB pages.
+  (void)madvise(p, rounded, MADV_HUGEPAGE);
+  return p;
+}
+
+void freeHugePages(void* p, std::size_t /*bytes*/) noexcept { std::free(p); }
 
 DStarGoalField::DStarGoalField(const GridLayer& grid, GridCell goal, const GridMoves& moves)
     : DStarGoalField(std::make_shared<GridMoveTable>(grid, moves), goal) {}
