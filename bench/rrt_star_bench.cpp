@@ -5,12 +5,24 @@
 // Each planner's length is divided by the best length any planner found for that pair.
 //
 // Usage: rrt_star_bench [--pairs N] [--long-ms MS] [--csv FILE] [--dem hgt|tif|both] [--spacing M]
-//                       [--max-vertices N] [--passes N] [--plan-share F] [--refine 0|1]
-//                       [--refine-min-step M] [--refine-shortcuts N] [--budgets MS,MS,...] [--ompl 0|1]
-//                       [--variant NAME,PLAN_SHARE,MAX_VERTICES,PASSES,REFINE ...]
+//                       [--max-vertices N] [--passes N] [--plan-share F] [--ompl-plan-share F]
+//                       [--refine 0|1] [--refine-min-step M] [--refine-shortcuts N] [--budgets MS,MS,...]
+//                       [--ompl 0|1] [--ompl-planners NAME,...] [--protocols inside,after]
+//                       [--knn 0|1] [--prune 0|1] [--goal-bias F]
+//                       [--variant NAME,PLAN_SHARE,MAX_VERTICES,PASSES,REFINE[,RRT_FLAGS] ...]
+// RRT_FLAGS: '+'-separated RRT* settings of the variant: knn, radius (near set), prune, noprune,
+// gb=F (goal bias).
 // Prints one typed row per run to the CSV and a summary table (median / p90 ratio) on stdout.
-// Ours is RRT* -> LOSPO -> refinePath, all inside the budget; the row "skyroute RRT* LOSPO only"
-// is the same run's path before refinePath (what the pipeline gives without the extra stage).
+//
+// Every budget is CPU time of the benchmark thread (clock_gettime(CLOCK_THREAD_CPUTIME_ID)), for
+// every planner, so the numbers do not depend on how loaded the shared machine is. Two protocols
+// for the post-processing (ours: LOSPO then refinePath; OMPL: PathSimplifier::simplify):
+//  - inside: the budget covers planning and post-processing. Ours gives RRT* plan_share of it,
+//    OMPL's planner gets ompl_plan_share; the post-processing stops at the end of the budget.
+//    Rows are named "skyroute RRT*" and "OMPL <planner> [inside]".
+//  - after: the planner gets the whole budget and the post-processing runs to completion after it,
+//    untimed (simplifyMax for OMPL). Rows "skyroute RRT* [after]" and "OMPL <planner>".
+// The row "skyroute RRT* LOSPO only" is the inside run's path before refinePath.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -49,7 +61,19 @@ using skyroute::MotionValidator;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using skyroute::TerminationCondition;
+
+// Seconds of CPU time used by this thread since `since`.
+double cpuSecondsSince(std::chrono::nanoseconds since) {
+  return std::chrono::duration<double>(TerminationCondition::threadCpuNow() - since).count();
+}
+
+// OMPL's view of a thread CPU deadline `budget_s` from now.
+ob::PlannerTerminationCondition cpuPlannerTermination(double budget_s) {
+  const auto deadline = TerminationCondition::threadCpuNow() +
+                        std::chrono::nanoseconds(static_cast<std::int64_t>(budget_s * 1e9));
+  return ob::PlannerTerminationCondition([deadline] { return TerminationCondition::threadCpuNow() >= deadline; });
+}
 
 // Our MotionValidator seen by OMPL: the same checks for every planner.
 class OmplStateChecker : public ob::StateValidityChecker {
@@ -91,10 +115,10 @@ struct Run {
   std::string planner;
   double budget_ms = 0;
   bool solved = false;
-  double plan_s = 0;
+  double plan_s = 0;                 // CPU time of the planner
   double length_m = NAN;             // planner's own path
   double simplified_m = NAN;         // after LOSPO + refinement (ours) or simplifyMax (OMPL)
-  double simplify_s = 0;
+  double simplify_s = 0;             // CPU time of the post-processing
   double lospo_m = NAN;              // ours after LOSPO, before the refinement
   double refine_s = 0;
   std::size_t tree_size = 0;
@@ -114,11 +138,14 @@ struct OurOptions {
   int passes = 1;
   double plan_share = 0.75;
   bool refine = true;
+  bool inside = true;  // post-processing inside the budget; false: RRT* gets all, LOSPO + refinement untimed
   skyroute::PathRefinementOptions refinement;
+  skyroute::RrtStarOptions rrt;  // seed and steering range are set per run
 };
 
-// Our budget covers every step: RRT* gets plan_share of it, LOSPO and the refinement the rest
-// (each stops at the deadline with the valid path it has so far).
+// Inside protocol: our budget covers every step: RRT* gets plan_share of it, LOSPO and the
+// refinement the rest (each stops at the deadline with the valid path it has so far). After
+// protocol: RRT* gets the whole budget, LOSPO and the refinement run to completion.
 Run runOurs(const MotionValidator& v, const Pair& p, double budget_ms, std::uint64_t seed, double step_m,
             const OurOptions& ours) {
   const double spacing_m = ours.spacing_m, plan_share = ours.plan_share;
@@ -126,37 +153,41 @@ Run runOurs(const MotionValidator& v, const Pair& p, double budget_ms, std::uint
   Run run;
   run.planner = ours.name;
   run.budget_ms = budget_ms;
-  skyroute::RrtStarOptions o;
+  skyroute::RrtStarOptions o = ours.rrt;
   o.seed = seed;
   o.max_step_m = step_m;
-  const auto t0 = Clock::now();
-  const auto lospo_stop = skyroute::TerminationCondition::afterMilliseconds(budget_ms);
-  auto r = skyroute::RrtStar(v, o).plan(p.start, p.goal,
-                                        skyroute::TerminationCondition::afterMilliseconds(plan_share * budget_ms));
-  run.plan_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  const auto t0 = TerminationCondition::threadCpuNow();
+  const auto lospo_stop = ours.inside ? TerminationCondition::afterThreadCpuMilliseconds(budget_ms) : TerminationCondition();
+  auto r = skyroute::RrtStar(v, o).plan(
+      p.start, p.goal, TerminationCondition::afterThreadCpuMilliseconds((ours.inside ? plan_share : 1.0) * budget_ms));
+  run.plan_s = cpuSecondsSince(t0);
   if (!r.ok() || !r->solved()) return run;
   run.solved = true;
   run.length_m = r->length_m;
   run.tree_size = r->tree_size;
-  const auto t1 = Clock::now();
+  const auto t1 = TerminationCondition::threadCpuNow();
   auto opt = skyroute::lospo(v, r->path_m, skyroute::LospoOptions{.spacing_m = spacing_m, .max_vertices = max_vertices, .max_passes = passes}, lospo_stop);
   run.simplified_m = opt.ok() ? opt->length_m : r->length_m;
   run.lospo_m = run.simplified_m;
   if (opt.ok() && ours.refine) {
     skyroute::PathRefinementOptions refinement = ours.refinement;
     refinement.check_input = false;  // LOSPO verified every segment of its result
-    const auto t2 = Clock::now();
+    const auto t2 = TerminationCondition::threadCpuNow();
     auto refined = skyroute::refinePath(v, opt->path_m, refinement, lospo_stop);
-    run.refine_s = std::chrono::duration<double>(Clock::now() - t2).count();
+    run.refine_s = cpuSecondsSince(t2);
     if (refined.ok()) run.simplified_m = refined->length_m;
   }
-  run.simplify_s = std::chrono::duration<double>(Clock::now() - t1).count();
+  run.simplify_s = cpuSecondsSince(t1);
   return run;
 }
 
-Run runOmpl(const std::string& name, const MotionValidator& v, const Pair& p, double budget_ms, double step_m) {
+// plan_share < 1: inside protocol (the planner gets plan_share of the budget, the simplifier the
+// rest of it); plan_share = 1: after protocol (the whole budget, then simplifyMax untimed).
+Run runOmpl(const std::string& name, const MotionValidator& v, const Pair& p, double budget_ms, double step_m,
+            double plan_share) {
+  const bool inside = plan_share < 1.0;
   Run run;
-  run.planner = "OMPL " + name;
+  run.planner = "OMPL " + name + (inside ? " [inside]" : "");
   run.budget_ms = budget_ms;
   auto space = std::make_shared<ob::RealVectorStateSpace>(3);
   const Eigen::AlignedBox3d box = v.samplingBounds();
@@ -191,9 +222,10 @@ Run runOmpl(const std::string& name, const MotionValidator& v, const Pair& p, do
     ss.setPlanner(std::make_shared<og::BITstar>(si));
   }
   ss.setup();
-  const auto t0 = Clock::now();
-  const ob::PlannerStatus status = ss.getPlanner()->solve(ob::timedPlannerTerminationCondition(budget_ms / 1000.0));
-  run.plan_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  const auto t0 = TerminationCondition::threadCpuNow();
+  // The simplifier's share starts when the planner returns (it may overrun its share a little).
+  const ob::PlannerStatus status = ss.getPlanner()->solve(cpuPlannerTermination(plan_share * budget_ms / 1000.0));
+  run.plan_s = cpuSecondsSince(t0);
   if (status != ob::PlannerStatus::EXACT_SOLUTION) return run;
   auto path = ss.getProblemDefinition()->getSolutionPath()->as<og::PathGeometric>();
   run.solved = true;
@@ -203,9 +235,15 @@ Run runOmpl(const std::string& name, const MotionValidator& v, const Pair& p, do
   run.tree_size = data.numVertices();
   og::PathGeometric simplified(*path);
   og::PathSimplifier simplifier(si);
-  const auto t1 = Clock::now();
-  simplifier.simplifyMax(simplified);
-  run.simplify_s = std::chrono::duration<double>(Clock::now() - t1).count();
+  const auto t1 = TerminationCondition::threadCpuNow();
+  if (inside) {
+    // What is left of the budget; no forced first round (ours gets none either).
+    const double left_s = std::max(0.0, budget_ms / 1000.0 - cpuSecondsSince(t0));
+    simplifier.simplify(simplified, cpuPlannerTermination(left_s), /*atLeastOnce=*/false);
+  } else {
+    simplifier.simplifyMax(simplified);
+  }
+  run.simplify_s = cpuSecondsSince(t1);
   run.simplified_m = simplified.length();
   return run;
 }
@@ -250,7 +288,7 @@ std::vector<Pair> makePairs(const skyroute::TerrainWorld& world, const DemCase& 
         world.collision, skyroute::WorldMotionValidator::corridor(*s, *g, margin_factor * d));
     if (!v->isStateValid(*s) || !v->isStateValid(*g)) continue;
     // Keep pairs our planner can solve in 1 s (a pair nobody solves says nothing about quality).
-    auto probe = skyroute::RrtStar(*v).plan(*s, *g, skyroute::TerminationCondition::afterMilliseconds(1000));
+    auto probe = skyroute::RrtStar(*v).plan(*s, *g, TerminationCondition::afterThreadCpuMilliseconds(1000));
     if (!probe.ok() || !probe->solved()) continue;
     pairs.push_back({*s, *g});
     validators.push_back(std::move(v));
@@ -278,6 +316,9 @@ int main(int argc, char** argv) {
   OurOptions ours;
   std::vector<OurOptions> variants;  // extra configurations of ours, run next to it
   bool with_ompl = true;
+  std::vector<std::string> ompl_planners{"RRTstar", "InformedRRTstar", "BITstar"};
+  double ompl_plan_share = 0.9;
+  bool protocol_inside = true, protocol_after = true;
   std::vector<double> budgets{10.0, 50.0, 100.0};
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
@@ -289,6 +330,20 @@ int main(int argc, char** argv) {
     else if (a == "--passes") ours.passes = std::atoi(argv[i + 1]);
     else if (a == "--max-vertices") ours.max_vertices = std::atoi(argv[i + 1]);
     else if (a == "--plan-share") ours.plan_share = std::atof(argv[i + 1]);
+    else if (a == "--knn") ours.rrt.k_nearest = std::atoi(argv[i + 1]) != 0;
+    else if (a == "--prune") ours.rrt.prune_tree = std::atoi(argv[i + 1]) != 0;
+    else if (a == "--goal-bias") ours.rrt.goal_bias = std::atof(argv[i + 1]);
+    else if (a == "--ompl-plan-share") ompl_plan_share = std::atof(argv[i + 1]);
+    else if (a == "--ompl-planners") {
+      ompl_planners.clear();
+      std::stringstream list(argv[i + 1]);
+      for (std::string item; std::getline(list, item, ',');) ompl_planners.push_back(item);
+    }
+    else if (a == "--protocols") {
+      const std::string list = argv[i + 1];
+      protocol_inside = list.find("inside") != std::string::npos;
+      protocol_after = list.find("after") != std::string::npos;
+    }
     else if (a == "--refine") ours.refine = std::atoi(argv[i + 1]) != 0;
     else if (a == "--refine-min-step") ours.refinement.min_step_m = std::atof(argv[i + 1]);
     else if (a == "--refine-shortcuts") ours.refinement.shortcut_attempts = std::atoi(argv[i + 1]);
@@ -301,6 +356,20 @@ int main(int argc, char** argv) {
       std::getline(fields, maxv, ',');
       std::getline(fields, npasses, ',');
       std::getline(fields, refine, ',');
+      std::string flags;
+      std::getline(fields, flags, ',');
+      std::stringstream flag_list(flags);
+      for (std::string flag; std::getline(flag_list, flag, '+');) {
+        if (flag == "knn") variant.rrt.k_nearest = true;
+        else if (flag == "radius") variant.rrt.k_nearest = false;
+        else if (flag == "prune") variant.rrt.prune_tree = true;
+        else if (flag == "noprune") variant.rrt.prune_tree = false;
+        else if (flag.rfind("gb=", 0) == 0) variant.rrt.goal_bias = std::atof(flag.c_str() + 3);
+        else if (!flag.empty()) {
+          std::fprintf(stderr, "unknown variant flag %s\n", flag.c_str());
+          return 2;
+        }
+      }
       variant.name = "skyroute " + name;
       variant.plan_share = std::atof(share.c_str());
       variant.max_vertices = std::atoi(maxv.c_str());
@@ -326,8 +395,10 @@ int main(int argc, char** argv) {
   if (which != "tif") cases.push_back({"N44W072", dir + "/dem/N44W072.hgt", 900.0, 8000.0, 15000.0});
   if (which != "hgt") cases.push_back({"davosdorf", dir + "/dem/davosdorf.tif", 2500.0, 4000.0, 8000.0});
   if (long_ms > 0) budgets.push_back(long_ms);
-  std::vector<std::string> ompl_planners{"RRTstar", "InformedRRTstar", "BITstar"};
   if (!with_ompl) ompl_planners.clear();
+  OurOptions ours_after = ours;
+  ours_after.name = "skyroute RRT* [after]";
+  ours_after.inside = false;
 
   std::ofstream csv(csv_path);
   csv << "dem,pair,planner,budget_ms,solved,plan_s,length_m,simplified_m,simplify_s,tree_size,best_m,lospo_m,refine_s\n";
@@ -355,9 +426,15 @@ int main(int argc, char** argv) {
       const double step_m = 0.2 * v.samplingBounds().diagonal().norm();
       std::vector<Run> runs;
       for (double b : budgets) {
-        runs.push_back(runOurs(v, pairs[k], b, 1000 + k, step_m, ours));
-        for (const OurOptions& variant : variants) runs.push_back(runOurs(v, pairs[k], b, 1000 + k, step_m, variant));
-        for (const auto& name : ompl_planners) runs.push_back(runOmpl(name, v, pairs[k], b, step_m));
+        if (protocol_inside) {
+          runs.push_back(runOurs(v, pairs[k], b, 1000 + k, step_m, ours));
+          for (const OurOptions& variant : variants) runs.push_back(runOurs(v, pairs[k], b, 1000 + k, step_m, variant));
+          for (const auto& name : ompl_planners) runs.push_back(runOmpl(name, v, pairs[k], b, step_m, ompl_plan_share));
+        }
+        if (protocol_after) {
+          runs.push_back(runOurs(v, pairs[k], b, 1000 + k, step_m, ours_after));
+          for (const auto& name : ompl_planners) runs.push_back(runOmpl(name, v, pairs[k], b, step_m, 1.0));
+        }
       }
       double best = INFINITY;
       for (const Run& r : runs) {
@@ -388,20 +465,43 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("\n%d pairs. Ratio = length / best length any planner found for the pair (all budgets).\n", total_pairs);
-  std::printf("post = LOSPO + refinePath %s (skyroute, %.0f m spacing, at most %d vertices, up to %d passes, RRT* gets %.0f%% of the budget "
-              "and LOSPO + refinement the rest) or simplifyMax (OMPL, after its full budget, untimed)\n\n",
-              ours.refine ? "on" : "off", ours.spacing_m, ours.max_vertices, ours.passes, 100 * ours.plan_share);
+  std::printf("Budgets in thread CPU time. post = LOSPO + refinePath %s (skyroute, %.0f m spacing, at most %d vertices, "
+              "up to %d passes) or PathSimplifier (OMPL). Inside protocol: RRT* gets %.0f%% of the budget, OMPL's planner "
+              "%.0f%%, post-processing the rest. After protocol ([after] for ours, no tag for OMPL): the planner gets the "
+              "whole budget, then LOSPO + refinePath / simplifyMax untimed. post ms = CPU ms of the post-processing.\n\n",
+              ours.refine ? "on" : "off", ours.spacing_m, ours.max_vertices, ours.passes, 100 * ours.plan_share,
+              100 * ompl_plan_share);
   std::printf("| planner | budget ms | solved | median raw | p90 raw | median post | p90 post | median post ms |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
-  std::vector<std::string> names{"skyroute RRT*", "skyroute RRT* LOSPO only"};
-  for (const OurOptions& variant : variants) names.push_back(variant.name);
-  for (const auto& n : ompl_planners) names.push_back("OMPL " + n);
+  std::vector<std::string> names;
+  if (protocol_inside) {
+    names = {"skyroute RRT*", "skyroute RRT* LOSPO only"};
+    for (const OurOptions& variant : variants) names.push_back(variant.name);
+    for (const auto& n : ompl_planners) names.push_back("OMPL " + n + " [inside]");
+  }
+  if (protocol_after) {
+    names.push_back(ours_after.name);
+    for (const auto& n : ompl_planners) names.push_back("OMPL " + n);
+  }
   for (double b : budgets) {
     for (const auto& n : names) {
       std::printf("| %s | %.0f | %d/%d | %.3f | %.3f | %.3f | %.3f | %.1f |\n", n.c_str(), b, solved_count[{n, b}],
                   total_pairs, quantile(ratios[{n, b, false}], 0.5), quantile(ratios[{n, b, false}], 0.9),
                   quantile(ratios[{n, b, true}], 0.5), quantile(ratios[{n, b, true}], 0.9),
                   quantile(simplify_times[{n, b}], 0.5));
+    }
+  }
+  // The comparison: ours against InformedRRTstar + simplifier under the same protocol.
+  std::printf("\nMedian post ratio to five places, ours against OMPL InformedRRTstar + simplifier:\n\n");
+  std::printf("| protocol | budget ms | ours | InformedRRTstar | ours raw | InformedRRTstar raw |\n|---|---|---|---|---|---|\n");
+  const std::vector<std::tuple<std::string, std::string, std::string>> protocols{
+      {"inside", "skyroute RRT*", "OMPL InformedRRTstar [inside]"}, {"after", ours_after.name, "OMPL InformedRRTstar"}};
+  for (const auto& [protocol, mine, theirs] : protocols) {
+    if (!ratios.count({mine, budgets.front(), true}) || !ratios.count({theirs, budgets.front(), true})) continue;
+    for (double b : budgets) {
+      std::printf("| %s | %.0f | %.5f | %.5f | %.5f | %.5f |\n", protocol.c_str(), b, quantile(ratios[{mine, b, true}], 0.5),
+                  quantile(ratios[{theirs, b, true}], 0.5), quantile(ratios[{mine, b, false}], 0.5),
+                  quantile(ratios[{theirs, b, false}], 0.5));
     }
   }
   return 0;

@@ -155,6 +155,7 @@ class Search {
            Clock::time_point t0) {
     std::vector<std::pair<std::size_t, double>> near;
     std::vector<std::uint32_t> candidates;
+    std::vector<std::pair<double, std::uint32_t>> by_cost;
     while (true) {
       result.stop_reason = stop.reason(result.iterations);
       if (result.stop_reason == TerminationCondition::Reason::kNone && outer) {
@@ -179,13 +180,15 @@ class Search {
 
       // ChooseBestParent: cheapest neighbour (by cost through it) with a valid motion; the nearest
       // node is known valid, so candidates costlier than it need no check.
-      const double radius = std::min(max_step_, rewireRadius());
-      nearWithin(x_new, radius, near);
+      if (options_.k_nearest) {
+        nearestK(x_new, rewireK(), near);
+      } else {
+        nearWithin(x_new, std::min(max_step_, rewireRadius()), near);
+      }
       candidates.clear();
       for (const auto& [idx, d2] : near) candidates.push_back(static_cast<std::uint32_t>(idx));
       if (std::find(candidates.begin(), candidates.end(), nearest) == candidates.end()) candidates.push_back(nearest);
-      std::vector<std::pair<double, std::uint32_t>> by_cost;
-      by_cost.reserve(candidates.size());
+      by_cost.clear();
       for (std::uint32_t c : candidates) by_cost.emplace_back(nodes_[c].cost + (nodes_[c].p - x_new).norm(), c);
       std::sort(by_cost.begin(), by_cost.end());
       std::uint32_t parent = nearest;
@@ -200,17 +203,24 @@ class Search {
       }
       const std::uint32_t added = addNode(x_new, parent, cost);
 
-      // Rewire: neighbours reached more cheaply through the new node take it as their parent.
+      // Rewire: neighbours reached more cheaply through the new node take it as their parent. A
+      // neighbour that even then cannot lie on a path shorter than the best one (its cost plus
+      // the straight line to the goal is no shorter) is skipped: no path through it or its
+      // subtree can beat the best, so the motion check would buy nothing.
       std::sort(candidates.begin(), candidates.end());
       for (std::uint32_t c : candidates) {
         if (c == parent) continue;
         const double through_new = cost + (nodes_[c].p - x_new).norm();
-        if (through_new < nodes_[c].cost - 1e-9 && motionValid(x_new, nodes_[c].p)) reparent(c, added, through_new);
+        if (through_new >= nodes_[c].cost - 1e-9) continue;
+        if (through_new + (nodes_[c].p - goal_).norm() >= best_cost_) continue;
+        if (motionValid(x_new, nodes_[c].p)) reparent(c, added, through_new);
       }
 
-      // Goal connection.
+      // Goal connection, only when it would beat the best path so far (the same bound).
       const double d_goal = (x_new - goal_).norm();
-      if (d_goal <= max_step_ && (d_goal == 0.0 || motionValid(x_new, goal_))) goal_parents_.push_back(added);
+      if (d_goal <= max_step_ && cost + d_goal < best_cost_ - 1e-9 && (d_goal == 0.0 || motionValid(x_new, goal_))) {
+        goal_parents_.push_back(added);
+      }
       updateBestSolution(result, t0);
     }
   }
@@ -250,6 +260,14 @@ class Search {
 
   std::uint64_t motionChecks() const { return motion_checks_; }
 
+  // k-nearest RRT*: k = ceil(rewire_factor * e * (1 + 1/d) * log n), n the nodes that count for the
+  // radius (the informed set's once a path exists, as rewireRadius()).
+  std::size_t rewireK() const {
+    const double n = static_cast<double>(informedActive() ? informed_nodes_ + 1 : nodes_.size() + 1);
+    const double k_rrt = options_.rewire_factor * std::numbers::e * (1.0 + 1.0 / 3.0);
+    return static_cast<std::size_t>(std::ceil(k_rrt * std::log(std::max(n, 2.0))));
+  }
+
   // Karaman and Frazzoli's radius for the space where samples are drawn now. Once a path exists
   // that is the informed set (when smaller than the box), and only the nodes inside it count, as
   // in OMPL's InformedRRTstar with pruning: the formula assumes n uniform samples over the volume,
@@ -270,6 +288,7 @@ class Search {
   std::uint32_t addNode(const Eigen::Vector3d& p, std::uint32_t parent, double cost) {
     const auto id = static_cast<std::uint32_t>(nodes_.size());
     nodes_.push_back(Node{p, cost, parent, {}});
+    pruned_.push_back(0);
     if (parent != kNoParent) nodes_[parent].children.push_back(id);
     if (informedActive() && informed_.contains(p, best_cost_)) ++informed_nodes_;
     index_.addPoints(id, id);
@@ -331,6 +350,17 @@ class Search {
     index_.findNeighbors(result, x.data(), nanoflann::SearchParams(32, 0.0f, false));
   }
 
+  void nearestK(const Eigen::Vector3d& x, std::size_t k, std::vector<std::pair<std::size_t, double>>& out) const {
+    k = std::min(k, nodes_.size());
+    knn_idx_.resize(k);
+    knn_d2_.resize(k);
+    nanoflann::KNNResultSet<double, std::size_t> result(k);
+    result.init(knn_idx_.data(), knn_d2_.data());
+    index_.findNeighbors(result, x.data(), nanoflann::SearchParams());
+    out.clear();
+    for (std::size_t i = 0; i < result.size(); ++i) out.emplace_back(knn_idx_[i], knn_d2_[i]);
+  }
+
   void updateBestSolution(RrtStarResult& result, Clock::time_point t0) {
     double best = std::numeric_limits<double>::infinity();
     std::uint32_t best_parent = kNoParent;
@@ -348,7 +378,14 @@ class Search {
     ++result.solution_improvements;
     if (informedActive()) {
       informed_nodes_ = 0;
-      for (const Node& node : nodes_) informed_nodes_ += informed_.contains(node.p, best_cost_) ? 1 : 0;
+      for (std::uint32_t i = 0; i < nodes_.size(); ++i) {
+        if (informed_.contains(nodes_[i].p, best_cost_)) {
+          ++informed_nodes_;
+        } else if (options_.prune_tree && !pruned_[i]) {
+          pruned_[i] = 1;
+          index_.removePoint(i);
+        }
+      }
     }
   }
 
@@ -375,6 +412,9 @@ class Search {
   double best_cost_ = std::numeric_limits<double>::infinity();
   std::size_t informed_nodes_ = 0;  // nodes inside the informed set of best_cost_
   std::uint64_t motion_checks_ = 0;
+  std::vector<char> pruned_;  // 1: removed from index_ (options.prune_tree)
+  mutable std::vector<std::size_t> knn_idx_;  // scratch for nearestK
+  mutable std::vector<double> knn_d2_;
 };
 
 }  // namespace

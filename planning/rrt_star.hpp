@@ -45,6 +45,16 @@ struct RrtStarOptions {
   bool allow_approximate = false;
   // Try the straight start -> goal motion first: when it is valid it is the optimum, return it.
   bool try_direct_first = true;
+  // Near set for ChooseBestParent and Rewire: false = the nodes within Karaman and Frazzoli's
+  // rewiring radius (capped at the steering range), true = the k nearest nodes with
+  // k = ceil(rewire_factor * e * (1 + 1/d) * log(n)) (k-nearest RRT*, OMPL's default).
+  bool k_nearest = false;
+  // Once a path exists, drop from the nearest-neighbour index every node outside the informed set
+  // of the best path (no path through such a node can be shorter; OMPL's InformedRRTstar prunes
+  // likewise), so new nodes steer from, connect to and rewire only nodes that can still improve
+  // the solution. The nodes stay in the tree (their subtrees keep valid parents). Only with
+  // informed_sampling.
+  bool prune_tree = false;
 };
 
 struct RrtStarResult {

@@ -1,7 +1,12 @@
 // When a planner must stop: a deadline, an iteration budget, or a cancel request, whichever first.
 // Planners take one of these instead of loose flags (as OMPL's PlannerTerminationCondition), so the
 // daemon can cancel an in-flight plan from another thread.
+// A deadline is either wall-clock (steady clock) or in the calling thread's CPU time: the latter
+// makes benchmarks on a shared, loaded machine compare planners on the work they did rather than
+// on how often the scheduler let them run.
 #pragma once
+
+#include <time.h>
 
 #include <atomic>
 #include <chrono>
@@ -28,6 +33,22 @@ class TerminationCondition {
   static TerminationCondition afterMilliseconds(double budget_ms) {
     return after(std::chrono::nanoseconds(static_cast<std::int64_t>(budget_ms * 1e6)));
   }
+  // Deadline in CPU time of the calling thread: only meaningful when shouldStop() is asked from
+  // the thread that built the condition (each thread has its own CPU clock).
+  static TerminationCondition afterThreadCpu(std::chrono::nanoseconds budget) {
+    TerminationCondition t;
+    t.cpu_deadline_ = threadCpuNow() + budget;
+    return t;
+  }
+  static TerminationCondition afterThreadCpuMilliseconds(double budget_ms) {
+    return afterThreadCpu(std::chrono::nanoseconds(static_cast<std::int64_t>(budget_ms * 1e6)));
+  }
+  // CPU time consumed so far by the calling thread.
+  static std::chrono::nanoseconds threadCpuNow() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
+  }
   TerminationCondition& withIterationBudget(std::uint64_t iterations) {
     max_iterations_ = iterations;
     return *this;
@@ -44,14 +65,16 @@ class TerminationCondition {
     if (cancel_ && cancel_->load(std::memory_order_relaxed)) return Reason::kCancelled;
     if (iterations_done >= max_iterations_) return Reason::kIterations;
     if (deadline_ && Clock::now() >= *deadline_) return Reason::kDeadline;
+    if (cpu_deadline_ && threadCpuNow() >= *cpu_deadline_) return Reason::kDeadline;
     return Reason::kNone;
   }
-  bool hasDeadline() const { return deadline_.has_value(); }
+  bool hasDeadline() const { return deadline_.has_value() || cpu_deadline_.has_value(); }
   // The shared cancel flag (nullptr when none), for work outside the planners that must stop too.
   const std::atomic<bool>* cancelFlag() const { return cancel_.get(); }
 
  private:
   std::optional<Clock::time_point> deadline_;
+  std::optional<std::chrono::nanoseconds> cpu_deadline_;  // thread CPU time
   std::uint64_t max_iterations_ = std::numeric_limits<std::uint64_t>::max();
   std::shared_ptr<std::atomic<bool>> cancel_;
 };

@@ -3,6 +3,7 @@
 #include "planning/rrt_star.hpp"
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
@@ -154,6 +155,14 @@ TEST_P(EveryRrtStar, UnreachableGoalEndsWithAClearStatusWithinTheBudget) {
   EXPECT_GE(by_time.time_s, 0.1 - 1e-3);
   EXPECT_LT(by_time.time_s, 1.0);
   EXPECT_TRUE(by_time.path_m.empty());
+  // Deadline in the thread's CPU time: the same status, and the thread did spend the budget.
+  const auto cpu_before = TerminationCondition::threadCpuNow();
+  const RrtStarResult by_cpu = planOk(world, options(1), s, g, TerminationCondition::afterThreadCpuMilliseconds(50));
+  const auto cpu_spent = TerminationCondition::threadCpuNow() - cpu_before;
+  EXPECT_EQ(by_cpu.status, RrtStarStatus::kTimeout);
+  EXPECT_EQ(by_cpu.stop_reason, TerminationCondition::Reason::kDeadline);
+  EXPECT_GE(cpu_spent, std::chrono::milliseconds(50));
+  EXPECT_GT(by_cpu.iterations, 0u);
   // Iteration budget: no path.
   const RrtStarResult by_count = planOk(world, options(1), s, g, TerminationCondition().withIterationBudget(2000));
   EXPECT_EQ(by_count.status, RrtStarStatus::kNoPath);
@@ -209,6 +218,22 @@ INSTANTIATE_TEST_SUITE_P(
                                     RrtStarOptions o;
                                     o.max_step_m = 8.0;
                                     o.goal_bias = 0.1;
+                                    return o;
+                                  }},
+                      PlannerCase{"k_nearest", [] {
+                                    RrtStarOptions o;
+                                    o.k_nearest = true;
+                                    return o;
+                                  }},
+                      PlannerCase{"pruned", [] {
+                                    RrtStarOptions o;
+                                    o.prune_tree = true;
+                                    return o;
+                                  }},
+                      PlannerCase{"pruned_k_nearest", [] {
+                                    RrtStarOptions o;
+                                    o.prune_tree = true;
+                                    o.k_nearest = true;
                                     return o;
                                   }}),
     [](const ::testing::TestParamInfo<PlannerCase>& info) { return info.param.name; });
