@@ -14,8 +14,11 @@
 //    as inserting into every queue at every update, at a fraction of the queue operations.
 // Memory: n+1 maps of g/rhs (plus the queues, which hold only inconsistent cells).
 // Beyond the seed: the goals' maps can be planned on several threads (they share nothing but the
-// read-only move table; same results), and, off by default, a goal whose repair in one step costs
-// more than a set fraction of planning it from scratch is planned afresh (setFreshPlanFraction).
+// read-only move table; same results), and, off by default: a goal whose repair in one step costs
+// more than a set fraction of planning it from scratch is planned afresh (setFreshPlanFraction) or,
+// for a mission point, deferred (setDeferGoalMaps: its costs then come from the other points' maps,
+// moves being symmetric); and a goal's map is planned from scratch by a Dijkstra bucket sweep
+// rather than the seed's D* Lite searches on large grids (setSweepMinCells). All exact.
 #pragma once
 
 #include <atomic>
