@@ -114,6 +114,40 @@ TEST(DStarLite, ReplanningMatchesDijkstraWhileStartMovesAndCellsChange) {
   }
 }
 
+// The move table, built at once or refreshed cell by cell after changes, allows exactly the moves
+// moveCost allows, for each move rule.
+TEST(GridMoveTable, MasksMatchMoveCost) {
+  std::mt19937 rng(11);
+  for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
+    GridLayer grid = randomGrid(37, 23, 0.3, rng);
+    GridMoveTable table(grid, moves);
+    for (int round = 0; round < 2; ++round) {
+      for (int y = 0; y < grid.height(); ++y) {
+        for (int x = 0; x < grid.width(); ++x) {
+          const GridCell c{x, y};
+          for (int k = 0; k < 8; ++k) {
+            const GridOffset d = kGridOffsets[static_cast<std::size_t>(k)];
+            const bool allowed = moveCost(grid, c, d, moves) < kInfiniteCost;
+            ASSERT_EQ(((table.mask(grid.index(c)) >> k) & 1u) != 0, allowed) << x << "," << y << " move " << k;
+            if (allowed) {
+              ASSERT_EQ(table.cost(k), moveCost(grid, c, d, moves));
+            }
+          }
+        }
+      }
+      // Flip some cells and let the table follow them.
+      std::vector<GridCell> changed;
+      for (int i = 0; i < 40; ++i) {
+        const GridCell c{std::uniform_int_distribution<int>(0, grid.width() - 1)(rng),
+                         std::uniform_int_distribution<int>(0, grid.height() - 1)(rng)};
+        const std::vector<GridCell> one{c};
+        for (const GridCell& d : grid.setStaticBlocked(one, !grid.staticBlocked(c))) changed.push_back(d);
+      }
+      table.update(changed);
+    }
+  }
+}
+
 // The bucket sweep (dstarSweepInitialize) leaves what D* Lite needs: g of every settled cell is
 // Dijkstra's, rhs is the minimum over the successors everywhere, every inconsistent cell is in the
 // frontier queue once, a search from any start stops at once, and repairs after changes are exact.
