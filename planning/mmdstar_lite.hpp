@@ -119,7 +119,8 @@ class MmdStarLite final : public MissionSearch {
     std::uint64_t plan_expansions = 0;  // of its last planning from scratch (lines 34-42)
     // setDeferGoalMaps: the map is stale, the costs come from the other goals' maps and, for the
     // vehicle, from vehicle_path (vehicle cell .. goal, empty when none) and vehicle_cost.
-    // The route is found again lazily (route_stale) when the vehicle leaves it.
+    // The route is found again lazily (route_stale) when the vehicle leaves it, by the const
+    // readers (cost, path, nextCell): like the rest of the planner, not for concurrent callers.
     bool deferred = false;
     mutable bool route_stale = false;
     mutable std::vector<GridCell> vehicle_path;
