@@ -9,9 +9,13 @@
 //
 //   habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N]
 //               [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP]
+//               [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N]
 // --budget-s: wall budget per HAB-PP run (default 120); --stable: stable_iterations override;
 // --rrt-iterations: RRT* budget (0 skips that row); --no-hab: only the reference rows;
-// --weights: eq. (2) weights instead of the paper's 1/3 each.
+// --weights: eq. (2) weights instead of the paper's 1/3 each; --near-k: the RRT* species' k-nearest
+// near set on (1) or off (0); --output-routes: top ranked routes the output stage may use;
+// --stop-top: the RRT*-only change rule of the stopping rule on (1) or off (0); --draws: draws of
+// x_rand per RRT* step.
 //
 // Writes nothing; docs/benchmarks/habpp.md records its output.
 #include <algorithm>
@@ -174,6 +178,10 @@ int main(int argc, char** argv) {
   int stable = 0;  // 0: the default HabPpParameters::stable_iterations
   long long rrt_iterations = -1;  // RRT* + LOSPO iteration budget; -1: the map's; 0 skips the row
   bool hab = true;
+  int near_k = -1;          // --near-k 0|1: HabPpParameters::rrt_near_nearest; -1: the default
+  int output_routes = -1;   // --output-routes N: HabPpParameters::output_ranked_routes; -1: the default
+  int stop_top = -1;        // --stop-top 0|1: HabPpParameters::rrt_stop_top_paths; -1: the default
+  int draws = -1;           // --draws N: HabPpParameters::rrt_draws_per_step; -1: the default
   double weights[3] = {-1.0, -1.0, -1.0};  // w_L, w_A, w_P of eq. (2); negative: the paper's 1/3 each
   std::vector<std::string> wanted;
   for (int i = 1; i < argc; ++i) {
@@ -184,11 +192,15 @@ int main(int argc, char** argv) {
     else if (a == "--stable" && i + 1 < argc) stable = std::atoi(argv[++i]);
     else if (a == "--rrt-iterations" && i + 1 < argc) rrt_iterations = std::atoll(argv[++i]);
     else if (a == "--no-hab") hab = false;
+    else if (a == "--near-k" && i + 1 < argc) near_k = std::atoi(argv[++i]);
+    else if (a == "--output-routes" && i + 1 < argc) output_routes = std::atoi(argv[++i]);
+    else if (a == "--stop-top" && i + 1 < argc) stop_top = std::atoi(argv[++i]);
+    else if (a == "--draws" && i + 1 < argc) draws = std::atoi(argv[++i]);
     else if (a == "--weights" && i + 1 < argc) {
       if (std::sscanf(argv[++i], "%lf,%lf,%lf", &weights[0], &weights[1], &weights[2]) != 3) return 2;
     }
     else {
-      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N] [--rrt-iterations N] [--no-hab]\n");
+      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N] [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP] [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N]\n");
       return 2;
     }
   }
@@ -237,46 +249,77 @@ int main(int argc, char** argv) {
     const long long rrt_budget = rrt_iterations < 0 ? static_cast<long long>(c.rrt_iterations) : rrt_iterations;
     if (rrt_budget > 0) rrtStarLospoRow(grid, c.start, c.goal, runs, static_cast<std::uint64_t>(rrt_budget));
     const double reference = mean(theta.length);
-    for (bool improved : {false, true}) {
-      if (!hab) break;
-      HabPpParameters params = improved ? HabPpParameters::improved() : HabPpParameters{};
-      if (stable > 0) params.stable_iterations = stable;
-      if (weights[0] >= 0.0) {
-        params.w_length = weights[0];
-        params.w_angle = weights[1];
-        params.w_points = weights[2];
-      }
+    if (!hab) continue;
+    // The two planners alternate run by run (seed s of HAB-PP, then seed s of Improved HAB-PP), so
+    // a change of the machine's load during the benchmark weighs on both alike.
+    struct Row {
+      HabPpParameters params;
       Stats s;
       double iterations = 0.0, first_iteration = 0.0;
       std::vector<double> ranked_length;  // before the output stage
       int first_by_rrt = 0;
       double rrt_paths = 0.0;
-      for (int r = 0; r < runs; ++r) {
-        const HabPpResult res = planHabPp(grid, c.start, c.goal, params, 1000 + static_cast<std::uint64_t>(r),
+    };
+    Row rows[2];
+    for (int k = 0; k < 2; ++k) {
+      HabPpParameters& params = rows[k].params;
+      params = k == 1 ? HabPpParameters::improved() : HabPpParameters{};
+      if (stable > 0) params.stable_iterations = stable;
+      if (near_k >= 0) params.rrt_near_nearest = near_k != 0;
+      if (output_routes > 0) params.output_ranked_routes = output_routes;
+      if (stop_top >= 0) params.rrt_stop_top_paths = stop_top != 0;
+      if (draws > 0) params.rrt_draws_per_step = draws;
+      if (weights[0] >= 0.0) {
+        params.w_length = weights[0];
+        params.w_angle = weights[1];
+        params.w_points = weights[2];
+      }
+    }
+    std::vector<double> first_ratio, total_ratio;  // Improved / HAB-PP per seed, both found
+    for (int r = 0; r < runs; ++r) {
+      double first[2] = {-1.0, -1.0}, total[2] = {-1.0, -1.0};
+      for (int k = 0; k < 2; ++k) {
+        Row& row = rows[k];
+        const HabPpResult res = planHabPp(grid, c.start, c.goal, row.params, 1000 + static_cast<std::uint64_t>(r),
                                           TerminationCondition::after(std::chrono::nanoseconds(
                                               static_cast<std::int64_t>(budget_s * 1e9))));
-        if (res.first_path_cpu_s >= 0.0) s.first_s.push_back(res.first_path_cpu_s);
-        iterations += static_cast<double>(res.iterations) / runs;
-        first_iteration += static_cast<double>(res.first_path_iteration) / runs;
+        if (res.first_path_cpu_s >= 0.0) row.s.first_s.push_back(res.first_path_cpu_s);
+        row.iterations += static_cast<double>(res.iterations) / runs;
+        row.first_iteration += static_cast<double>(res.first_path_iteration) / runs;
         if (!hasPath(res.status)) continue;
-        ++s.solved;
-        if (res.status == HabPpStatus::kConverged) ++s.converged;
-        s.total_s.push_back(res.total_cpu_s);
-        s.length.push_back(res.length_cells);
-        s.angle.push_back(res.angle_change_rad);
-        ranked_length.push_back(res.ranked_length_cells);
-        first_by_rrt += res.first_path_by_rrt ? 1 : 0;
-        rrt_paths += static_cast<double>(res.rrt_arrivals) / runs;
+        first[k] = res.first_path_cpu_s;
+        total[k] = res.total_cpu_s;
+        ++row.s.solved;
+        if (res.status == HabPpStatus::kConverged) ++row.s.converged;
+        row.s.total_s.push_back(res.total_cpu_s);
+        row.s.length.push_back(res.length_cells);
+        row.s.angle.push_back(res.angle_change_rad);
+        row.ranked_length.push_back(res.ranked_length_cells);
+        row.first_by_rrt += res.first_path_by_rrt ? 1 : 0;
+        row.rrt_paths += static_cast<double>(res.rrt_arrivals) / runs;
       }
-      printRow(improved ? "Improved HAB-PP" : "HAB-PP", s, runs);
+      if (first[0] > 0.0 && first[1] > 0.0) {
+        first_ratio.push_back(first[1] / first[0]);
+        total_ratio.push_back(total[1] / total[0]);
+      }
+    }
+    for (int k = 0; k < 2; ++k) {
+      const Row& row = rows[k];
+      const Stats& s = row.s;
+      printRow(k == 1 ? "Improved HAB-PP" : "HAB-PP", s, runs);
       std::printf("|   (details) | length vs Theta*: mean %+.2f%%, best %+.2f%% (best ranked path before the output "
                   "stage: mean %+.2f%%, best %+.2f%%); iterations: first path %.0f, total %.0f; first path by the "
                   "RRT* species in %d runs; RRT* paths per run %.1f |\n",
                   100.0 * (mean(s.length) / reference - 1.0), 100.0 * (minOf(s.length) / reference - 1.0),
-                  100.0 * (mean(ranked_length) / reference - 1.0), 100.0 * (minOf(ranked_length) / reference - 1.0),
-                  first_iteration, iterations, first_by_rrt, rrt_paths);
-      std::fflush(stdout);
+                  100.0 * (mean(row.ranked_length) / reference - 1.0), 100.0 * (minOf(row.ranked_length) / reference - 1.0),
+                  row.first_iteration, row.iterations, row.first_by_rrt, row.rrt_paths);
     }
+    std::printf("\nImproved vs HAB-PP: mean times %+.1f%% first path, %+.1f%% total; per seed (both found, %zu "
+                "seeds) median ratio %+.1f%% first path, %+.1f%% total\n",
+                100.0 * (mean(rows[1].s.first_s) / mean(rows[0].s.first_s) - 1.0),
+                100.0 * (mean(rows[1].s.total_s) / mean(rows[0].s.total_s) - 1.0), first_ratio.size(),
+                100.0 * (median(first_ratio) - 1.0), 100.0 * (median(total_ratio) - 1.0));
+    std::fflush(stdout);
   }
   return 0;
 }

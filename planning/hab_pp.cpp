@@ -71,8 +71,10 @@ Status HabPpParameters::validate() const {
     return bad("angle_eval_epsilon_rad", "must be > 0");
   }
   if (output_corridor_cells < -1) return bad("output_corridor_cells", "must be >= -1");
+  if (output_ranked_routes < 1) return bad("output_ranked_routes", "must be >= 1");
   if (stable_iterations < 1) return bad("stable_iterations", "must be >= 1");
   if (rrt_nodes_after_solution < 1) return bad("rrt_nodes_after_solution", "must be >= 1");
+  if (rrt_draws_per_step < 1) return bad("rrt_draws_per_step", "must be >= 1");
   return Status::success();
 }
 
@@ -574,6 +576,9 @@ GridCell PheromoneField::sample(Rng& rng) const {
 
 namespace {
 
+// Where a path in the pool of one iteration came from.
+enum class Origin : std::uint8_t { kRanked, kAnts, kTrees };
+
 struct Ant {
   int base_radius = 1;
   bool expanding = false;
@@ -611,7 +616,8 @@ class Colony {
     for (int i = 0; i < params.rrt_ants; ++i) rrt_.emplace_back(grid, start, goal, params);
   }
 
-  // One iteration n_I of Table 2 (lines 6-27). Returns whether the ranked list changed.
+  // One iteration n_I of Table 2 (lines 6-27). Returns whether the ranked list changed, as the
+  // stopping rule counts it (see HabPpParameters::rrt_stop_top_paths).
   bool iterate(Rng& rng, HabPpResult& stats) {
     std::vector<Path> arrivals;
     for (Ant& ant : ants_) {
@@ -620,6 +626,7 @@ class Colony {
         ++stats.ant_arrivals;
       }
     }
+    const std::size_t ant_count = arrivals.size();  // arrivals[ant_count..] came from the trees
     for (RrtAnt& tree : rrt_) {
       if (std::optional<Path> p = tree.step(pheromone_, rrt_rng_)) {
         arrivals.push_back(tightenPath(grid_, *p, params_.tighten_passes));
@@ -629,23 +636,43 @@ class Colony {
     bool changed = false;
     if (!arrivals.empty()) {
       std::vector<Path> pool = ranked_;
+      // Where each pool path came from (kRanked: the list itself; the arrivals' species otherwise;
+      // a crossover child takes its arrival's), for the stopping rule.
+      std::vector<Origin> origin(pool.size(), Origin::kRanked);
       const std::size_t parents = std::min<std::size_t>(ranked_.size(), params_.crossover_paths);
       for (std::size_t r = 0; r < parents; ++r) {
-        for (const Path& a : arrivals) {
-          for (Path& child : crossover(grid_, ranked_[r], a, params_.crossover_points)) {
+        for (std::size_t k = 0; k < arrivals.size(); ++k) {
+          for (Path& child : crossover(grid_, ranked_[r], arrivals[k], params_.crossover_points)) {
             pool.push_back(relaxPruned(grid_, std::move(child), params_.tighten_passes));  // children come pruned
+            origin.push_back(k < ant_count ? Origin::kAnts : Origin::kTrees);
             ++stats.crossover_children;
           }
         }
       }
-      for (Path& a : arrivals) pool.push_back(std::move(a));
-      changed = rank(pool);
+      for (std::size_t k = 0; k < arrivals.size(); ++k) {
+        pool.push_back(std::move(arrivals[k]));
+        origin.push_back(k < ant_count ? Origin::kAnts : Origin::kTrees);
+      }
+      const std::size_t top = std::min<std::size_t>(ranked_.size(), std::max(1, params_.crossover_paths));
+      const std::vector<Path> top_before(ranked_.begin(), ranked_.begin() + static_cast<std::ptrdiff_t>(top));
+      bool entered[3] = {false, false, false};
+      changed = rank(pool, origin, entered);
+      const bool only_trees_entered = entered[static_cast<int>(Origin::kTrees)] && !entered[static_cast<int>(Origin::kAnts)];
+      if (changed && only_trees_entered && params_.rrt_stop_top_paths) {
+        // Only RRT* paths (or their crossover children) entered the list: unless they changed
+        // its top paths, the stopping rule's count goes on.
+        const std::size_t top_now = std::min<std::size_t>(ranked_.size(), std::max(1, params_.crossover_paths));
+        changed = top_now != top_before.size() || !std::equal(top_before.begin(), top_before.end(), ranked_.begin());
+      }
     }
     pheromone_.updateCells(ranked_cells_, ranked_eval_);
     return changed;
   }
 
   const std::vector<Path>& ranked() const { return ranked_; }
+  // The shortest path that has been in the ranked list at any iteration (eq. (2) may have pushed
+  // it out since for paths with fewer points or less turning).
+  const Path& shortestRanked() const { return shortest_ranked_; }
 
  private:
   void restart(Ant& ant) {
@@ -696,8 +723,9 @@ class Colony {
     return arrived;
   }
 
-  // Lines 23-25: evaluate (eq. 2), sort, drop duplicates, cut to N_R.
-  bool rank(std::vector<Path>& pool) {
+  // Lines 23-25: evaluate (eq. 2), sort, drop duplicates, cut to N_R. entered[origin] is set when
+  // a path of that origin that was not in the list before is in it now.
+  bool rank(std::vector<Path>& pool, const std::vector<Origin>& origin, bool entered[3]) {
     const std::vector<double> eval = evaluate(pool, params_);
     std::vector<std::size_t> order(pool.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -716,12 +744,22 @@ class Colony {
     for (std::size_t i : order) {
       if (!next.empty() && next.back() == pool[i]) continue;  // equal paths sort next to each other
       if (next.size() >= static_cast<std::size_t>(params_.ranked_paths)) break;
+      if (i >= ranked_.size() && std::find(ranked_.begin(), ranked_.end(), pool[i]) == ranked_.end()) {
+        entered[static_cast<int>(origin[i])] = true;
+      }
       next.push_back(pool[i]);
       next_eval.push_back(eval[i]);
       // The pool starts with the ranked list itself, whose cells are known.
       next_cells.push_back(i < ranked_cells_.size() ? ranked_cells_[i] : pheromone_.pathCells(pool[i]));
     }
     const bool changed = next != ranked_;
+    for (const Path& p : next) {
+      const double length = polylineLength(p);
+      if (shortest_ranked_.empty() || length < shortest_ranked_length_ - 1e-9) {
+        shortest_ranked_ = p;
+        shortest_ranked_length_ = length;
+      }
+    }
     ranked_ = std::move(next);
     ranked_eval_ = std::move(next_eval);
     ranked_cells_ = std::move(next_cells);
@@ -740,6 +778,8 @@ class Colony {
   std::vector<Path> ranked_;
   std::vector<double> ranked_eval_;
   std::vector<std::vector<std::uint32_t>> ranked_cells_;  // pheromone cells of each ranked path
+  Path shortest_ranked_;
+  double shortest_ranked_length_ = 0.0;
   std::vector<double> weights_;
   std::vector<GridCell> candidates_;  // reused by every ant step
   Rng rrt_rng_;
@@ -840,9 +880,15 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
   }
   if (!colony.ranked().empty()) {
     result.ranked_length_cells = polylineLength(colony.ranked().front());
+    const std::vector<habpp::Path>& ranked = colony.ranked();
+    const std::size_t count = std::min<std::size_t>(ranked.size(), static_cast<std::size_t>(params.output_ranked_routes));
+    std::vector<habpp::Path> routes(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(count));
+    if (params.output_ranked_routes > 1 && std::find(routes.begin(), routes.end(), colony.shortestRanked()) == routes.end()) {
+      routes.push_back(colony.shortestRanked());
+    }
     result.path = params.output_corridor_cells >= 0
-                      ? habpp::tautPath(grid, colony.ranked().front(), params.output_corridor_cells, params.tighten_passes)
-                      : colony.ranked().front();
+                      ? habpp::tautPath(grid, routes, params.output_corridor_cells, params.tighten_passes)
+                      : ranked.front();
     result.length_cells = polylineLength(result.path);
     result.angle_change_rad = polylineAngleChange(result.path);
   } else {

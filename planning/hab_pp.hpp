@@ -65,12 +65,34 @@ struct HabPpParameters {
   int max_ant_steps = 0;             // an ant that walked this many steps restarts; 0: 2 * (width + height)
   int crossover_points = 2;          // crossings used per pair of paths in the path crossover
   int rrt_nodes_after_solution = 150;  // an RRT* tree restarts after this many nodes past its first path
+  // Near set of the RRT* species, Choice: Table 3's Near(x_new, V) is the nodes within r_RRT, of
+  // which only the k = ceil(2e ln(n + 1)) nearest are kept (n nodes; the k-nearest RRT* of Karaman
+  // and Frazzoli), so choose-parent and rewire stay O(log n) while a tree fills a large map (on the
+  // 160x170 apartment map a tree grows to ~17 000 nodes before a first path, and r_RRT = 30 holds
+  // ~1 800 of them: the trees cost 3x the 170 ants per iteration; with the cap ~1.2x).
+  // false: all nodes within r_RRT.
+  bool rrt_near_nearest = true;
+  // Draws of x_rand per RRT* step, Choice: a draw that cannot grow the tree (the sample or the
+  // steered point is already a node) is redrawn, up to this many draws in all.
+  int rrt_draws_per_step = 8;
+  // Stopping rule of Improved HAB-PP, Choice: in an iteration in which only RRT* paths arrived, the
+  // ranked list counts as changed only when its top N_P paths (the crossover parents, which steer
+  // the colony) changed. Section 4 gives the RRT* species fast first paths and leaves optimising to
+  // the ants; a tree restarted after its path (rrt_nodes_after_solution) brings fresh, slightly
+  // different paths that enter low in the list and would otherwise keep restarting the count.
+  // false: every change counts, as for the ants. No effect without RRT* ants.
+  bool rrt_stop_top_paths = true;
   // Passes of vertex relocation in the arrival pruning (see habpp::tightenPath); 0: greedy pruning only.
   int tighten_passes = 64;
   // Output stage (planning/hab_pp_output.hpp): the best ranked path is made taut in a corridor of
   // this many cells around its route once the colony stops; -1: the stage is off (the output is
   // the best ranked path as it is), 0: greedy shortcut and vertex relaxation only.
   int output_corridor_cells = 2;
+  // Output stage, Choice: the corridor is the union of the corridors of this many top ranked paths
+  // (1: the best ranked path's alone). The ranked list under eq. (2), with the paper's equal
+  // weights, puts fewer points and less turning above length, so the shortest route the colony
+  // holds is often not the first; the union lets the stage take it (see tautPath).
+  int output_ranked_routes = 30;
   // Goal closeness in the visibility field eta (see GridFields::visibility): false, the straight-line
   // distance to the goal; true, the shortest 8-connected grid distance around the obstacles.
   bool geodesic_visibility = false;

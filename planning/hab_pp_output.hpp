@@ -1,7 +1,8 @@
 // The output stage of HAB-PP and Improved HAB-PP: after the colony stops, the best ranked path is
-// made taut within its route. The colony chooses the route (which doors, which side of each
-// obstacle); this stage only removes the slack the ants' discrete steps leave in it, so the output
-// approaches the any-angle optimum of that route.
+// made taut within its route, or within the routes of the top ranked paths. The colony chooses the
+// routes (which doors, which side of each obstacle); this stage removes the slack the ants'
+// discrete steps leave in them and, given several ranked routes, picks the shortest way through
+// them, so the output approaches the any-angle optimum of the colony's best route.
 #pragma once
 
 #include "planning/hab_pp.hpp"
@@ -23,5 +24,13 @@ namespace skyroute::habpp {
 // grid (the corridor only removes free cells), and it is never longer than the input.
 // corridor_cells <= 0: step 2 on the input only.
 Path tautPath(const GridLayer& grid, const Path& path, int corridor_cells, int tighten_passes);
+
+// The same over several routes with common endpoints (the top ranked paths, best first): step 1
+// runs twice, in the corridor of routes[0] and in the union of the corridors of all routes, whose
+// shortest way may join pieces of different routes where they meet (as the path crossover does);
+// step 2 takes routes[0] as the input. Never longer than tautPath(grid, routes[0], ...); every cell
+// it passes lies within corridor_cells of a cell some ranked route touched, so it never takes a
+// door or gap that no ranked route went through or right past. routes must not be empty.
+Path tautPath(const GridLayer& grid, const std::vector<Path>& routes, int corridor_cells, int tighten_passes);
 
 }  // namespace skyroute::habpp

@@ -22,6 +22,8 @@ RrtAnt::RrtAnt(const GridLayer& grid, GridCell start, GridCell goal, const HabPp
       step_cells_(params.rrt_step_cells),
       near_radius_cells_(params.rrt_near_radius_cells),
       nodes_after_solution_(params.rrt_nodes_after_solution),
+      near_nearest_(params.rrt_near_nearest),
+      draws_per_step_(params.rrt_draws_per_step),
       node_at_(grid.cellCount(), -1) {
   reset();
 }
@@ -32,15 +34,45 @@ void RrtAnt::reset() {
   kd_.clear();
   nodes_.push_back(Node{start_, -1, 0.0});
   kd_.push_back(KdLinks{});
+  kd_root_ = 0;
+  kd_rebuild_at_ = kFirstRebuild;
   node_at_[grid_->index(start_)] = 0;
   goal_node_ = -1;
   reported_goal_cost_ = std::numeric_limits<double>::infinity();
   nodes_since_solution_ = 0;
 }
 
+int RrtAnt::kdBuild(std::vector<int>& ids, std::size_t lo, std::size_t hi, int depth) {
+  if (lo >= hi) return -1;
+  const std::size_t mid = lo + (hi - lo) / 2;
+  // Median by the splitting coordinate, ties by index, so the rebuilt tree is deterministic.
+  // Nodes equal to the median's coordinate may fall on either side: the searches' bounds
+  // (|diff| across the splitting line) hold for <= on the left and >= on the right.
+  std::nth_element(ids.begin() + static_cast<std::ptrdiff_t>(lo), ids.begin() + static_cast<std::ptrdiff_t>(mid),
+                   ids.begin() + static_cast<std::ptrdiff_t>(hi), [&](int a, int b) {
+                     const int ca = coord(nodes_[a].cell, depth), cb = coord(nodes_[b].cell, depth);
+                     return ca != cb ? ca < cb : a < b;
+                   });
+  const int node = ids[mid];
+  kd_[node].left = kdBuild(ids, lo, mid, depth + 1);
+  kd_[node].right = kdBuild(ids, mid + 1, hi, depth + 1);
+  return node;
+}
+
 void RrtAnt::kdInsert(int node) {
+  if (nodes_.size() >= kd_rebuild_at_) {
+    // The tree grows outwards from the start, so insertion in growth order unbalances the k-d
+    // tree (a search then visits a large part of it); rebuild it balanced whenever the node count
+    // doubles (amortised O(log n) per node).
+    kd_rebuild_at_ *= 2;
+    std::vector<int> ids(nodes_.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+    for (KdLinks& k : kd_) k = KdLinks{};
+    kd_root_ = kdBuild(ids, 0, ids.size(), 0);
+    return;
+  }
   const GridCell c = nodes_[node].cell;
-  int at = 0;
+  int at = kd_root_;
   for (int depth = 0;; ++depth) {
     int& next = coord(c, depth) < coord(nodes_[at].cell, depth) ? kd_[at].left : kd_[at].right;
     if (next < 0) {
@@ -54,8 +86,29 @@ void RrtAnt::kdInsert(int node) {
 int RrtAnt::nearest(GridCell c) const {
   int best = -1;
   long long best_d2 = std::numeric_limits<long long>::max();
+  // A grown tree usually holds a node within a few cells of the sample: scan the square of radius
+  // kRingCells around it in node_at_ first (the k-d tree, built in growth order, is far from
+  // balanced). A node found within kRingCells (Euclidean) is the nearest, since every node outside
+  // the square is farther; ties go to the lowest index, as in the k-d search, so the answer is the
+  // same node either way.
+  const int x0 = std::max(0, c.x - kRingCells), x1 = std::min(grid_->width() - 1, c.x + kRingCells);
+  const int y0 = std::max(0, c.y - kRingCells), y1 = std::min(grid_->height() - 1, c.y + kRingCells);
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      const int node = node_at_[grid_->index(GridCell{x, y})];
+      if (node < 0) continue;
+      const long long d2 = dist2(nodes_[node].cell, c);
+      if (d2 < best_d2 || (d2 == best_d2 && node < best)) {
+        best_d2 = d2;
+        best = node;
+      }
+    }
+  }
+  if (best >= 0 && best_d2 <= static_cast<long long>(kRingCells) * kRingCells) return best;
+  best = -1;
+  best_d2 = std::numeric_limits<long long>::max();
   kd_stack_.clear();
-  kd_stack_.push_back(KdVisit{0, 0, 0});
+  kd_stack_.push_back(KdVisit{kd_root_, 0, 0});
   while (!kd_stack_.empty()) {
     const KdVisit v = kd_stack_.back();
     kd_stack_.pop_back();
@@ -79,20 +132,45 @@ int RrtAnt::nearest(GridCell c) const {
 void RrtAnt::near(GridCell c, std::vector<int>& out) const {
   out.clear();
   const double r = near_radius_cells_;
+  // k-nearest cap (see HabPpParameters::rrt_near_nearest): a max-heap of the k best (d2, index).
+  const std::size_t k = near_nearest_ ? static_cast<std::size_t>(std::ceil(2.0 * std::exp(1.0) *
+                                                                           std::log(static_cast<double>(nodes_.size()) + 1.0)))
+                                      : 0;
+  heap_.clear();
   kd_stack_.clear();
-  kd_stack_.push_back(KdVisit{0, 0, 0});
+  kd_stack_.push_back(KdVisit{kd_root_, 0, 0});
   while (!kd_stack_.empty()) {
     const KdVisit v = kd_stack_.back();
     kd_stack_.pop_back();
     if (static_cast<double>(v.bound_d2) > r * r + 1e-9) continue;
-    if (dist(nodes_[v.node].cell, c) <= r) out.push_back(v.node);
+    if (k > 0 && heap_.size() >= k && v.bound_d2 > heap_.front().first) continue;
+    if (dist(nodes_[v.node].cell, c) <= r) {
+      if (k == 0) {
+        out.push_back(v.node);
+      } else {
+        const std::pair<long long, int> e{dist2(nodes_[v.node].cell, c), v.node};
+        if (heap_.size() < k) {
+          heap_.push_back(e);
+          std::push_heap(heap_.begin(), heap_.end());
+        } else if (e < heap_.front()) {
+          std::pop_heap(heap_.begin(), heap_.end());
+          heap_.back() = e;
+          std::push_heap(heap_.begin(), heap_.end());
+        }
+      }
+    }
     const long long diff = coord(c, v.depth) - coord(nodes_[v.node].cell, v.depth);
     const int near_side = diff < 0 ? kd_[v.node].left : kd_[v.node].right;
     const int far_side = diff < 0 ? kd_[v.node].right : kd_[v.node].left;
     if (far_side >= 0) kd_stack_.push_back(KdVisit{far_side, v.depth + 1, std::max(v.bound_d2, diff * diff)});
     if (near_side >= 0) kd_stack_.push_back(KdVisit{near_side, v.depth + 1, v.bound_d2});
   }
-  // The traversal order depends only on the tree, so it is deterministic; no sort needed.
+  // The traversal order depends only on the tree, so it is deterministic; no sort needed. The
+  // k nearest come nearest first (ties by index).
+  if (k > 0) {
+    std::sort_heap(heap_.begin(), heap_.end());
+    for (const auto& [d2, node] : heap_) out.push_back(node);
+  }
 }
 
 void RrtAnt::setParent(int node, int parent) {
@@ -184,10 +262,11 @@ std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
   }
   // Choice: a draw that cannot grow the tree (the sample, or the steered point, is already a node,
   // as most draws are once the pheromone concentrates on the ranked paths the tree has covered) is
-  // redrawn, up to kDrawsPerStep times, so each step adds a node as section 4 intends.
+  // redrawn, up to HabPpParameters::rrt_draws_per_step times in all, so each step adds a node as
+  // section 4 intends.
   int from = -1;
   GridCell target{};
-  for (int draw = 0; draw < kDrawsPerStep && from < 0; ++draw) {
+  for (int draw = 0; draw < draws_per_step_ && from < 0; ++draw) {
     const GridCell rand = pheromone.sample(rng);
     if (node_at_[grid_->index(rand)] >= 0) continue;
     const int n = nearest(rand);

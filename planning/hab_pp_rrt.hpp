@@ -42,7 +42,7 @@ class RrtAnt {
   int nearest(GridCell c) const;
   // The point a step from base towards rand reaches; nothing when it cannot leave base.
   std::optional<GridCell> steer(GridCell base, GridCell rand) const;
-  static constexpr int kDrawsPerStep = 8;
+  static constexpr int kRingCells = 3;  // nearest(): the square scanned before the k-d tree
   // Nodes within r_RRT of c, in k-d traversal order (deterministic), into out.
   void near(GridCell c, std::vector<int>& out) const;
   int addNode(GridCell cell, const std::vector<int>& near_nodes, int fallback_parent);
@@ -56,9 +56,11 @@ class RrtAnt {
   double step_cells_;
   double near_radius_cells_;
   int nodes_after_solution_;
+  bool near_nearest_;
+  int draws_per_step_;
 
-  // Nodes also form a 2D k-d tree (insertion order, splitting on x at even depths and y at odd
-  // ones; node i of the RRT* is k-d node i), so nearest() and near() visit O(log n) nodes on
+  // Nodes also form a 2D k-d tree (splitting on x at even depths and y at odd ones; node i of
+  // the RRT* is k-d node i; inserted in growth order and rebuilt balanced as the tree doubles), so nearest() and near() visit O(log n) nodes on
   // average instead of scanning the tree or rings of buckets (a sample far from the tree, as the
   // pheromone field gives near the goal, made a ring search scan most of the map). Squared
   // distances are exact integers; ties go to the lowest index, as in a scan of every node.
@@ -67,6 +69,10 @@ class RrtAnt {
     int right = -1;
   };
   void kdInsert(int node);
+  int kdBuild(std::vector<int>& ids, std::size_t lo, std::size_t hi, int depth);
+  static constexpr std::size_t kFirstRebuild = 64;
+  int kd_root_ = 0;
+  std::size_t kd_rebuild_at_ = kFirstRebuild;
   std::vector<Node> nodes_;
   std::vector<KdLinks> kd_;
   std::vector<int> node_at_;  // node index of each grid cell, -1 if none
@@ -78,6 +84,7 @@ class RrtAnt {
   };
   mutable std::vector<KdVisit> kd_stack_;
   mutable std::vector<std::pair<double, int>> scratch_;
+  mutable std::vector<std::pair<long long, int>> heap_;  // near(): the k nearest so far
   std::vector<int> near_nodes_;
   std::vector<int> goal_near_;
   std::vector<int> subtree_stack_;

@@ -107,5 +107,49 @@ TEST(HabPpOutput, KeepsTheRouteOfTheInput) {
   EXPECT_GT(polylineLength(out), 30.0);
 }
 
+// Several ranked routes: the best ranked one goes through the far door, a lower ranked one through
+// the near door. The union of their corridors lets the output take the shorter route, which the
+// colony did find; with the best ranked route alone it keeps the far door. The output never takes
+// a door that no given route passes.
+TEST(HabPpOutput, TakesTheShortestOfTheRankedRoutes) {
+  const GridLayer g = gridFromText({
+      "....................",
+      "....................",
+      "....................",
+      "##.#################",
+      "....................",
+      "....................",
+      "....................",
+      "....................",
+      "....................",
+      "#####.############.#",
+      "....................",
+      "....................",
+      "....................",
+      "....................",
+      "....................",
+  });
+  const GridCell start{2, 1}, goal{2, 14};
+  const Path via_far_door{start, {2, 3}, {3, 5}, {8, 6}, {14, 7}, {18, 8}, {18, 12}, goal};
+  const Path via_near_door{start, {2, 3}, {4, 6}, {5, 9}, {4, 12}, goal};
+  ASSERT_EQ(pathProblem(g, via_near_door, start, goal), "");
+  auto passes = [](const Path& p, GridCell door) {
+    for (std::size_t s = 0; s + 1 < p.size(); ++s) {
+      for (GridCell c : GridLayer::segmentCells(p[s], p[s + 1])) {
+        if (c == door) return true;
+      }
+    }
+    return false;
+  };
+  const Path alone = habpp::tautPath(g, std::vector<Path>{via_far_door}, 2, 64);
+  EXPECT_TRUE(passes(alone, GridCell{18, 9}));
+  const Path both = habpp::tautPath(g, std::vector<Path>{via_far_door, via_near_door}, 2, 64);
+  EXPECT_EQ(pathProblem(g, both, start, goal), "");
+  EXPECT_TRUE(passes(both, GridCell{5, 9}));
+  EXPECT_FALSE(passes(both, GridCell{18, 9}));
+  EXPECT_LE(polylineLength(both), polylineLength(habpp::tautPath(g, via_near_door, 2, 64)) + 1e-9);
+  EXPECT_LT(polylineLength(both), 16.0);
+}
+
 }  // namespace
 }  // namespace skyroute

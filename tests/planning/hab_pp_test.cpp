@@ -379,6 +379,40 @@ TEST(HabPpRrtAnt, GrowsOneNodePerStepAndReturnsValidPaths) {
   EXPECT_TRUE(tree.reachedGoal());
 }
 
+// A tree past several rebuilds of its k-d tree (at 64, 128, ... nodes), with the k-nearest near
+// set and with every node within r_RRT: its paths stay valid and rewiring pulls them to near the
+// straight line on an open map (a wrong nearest or near set would leave detours).
+TEST(HabPpRrtAnt, NearSetVariantsConvergeOnAnOpenMap) {
+  const GridLayer g(60, 40);
+  const GridCell start{0, 0}, goal{59, 39};
+  const double straight = std::hypot(59.0, 39.0);
+  for (bool k_nearest : {true, false}) {
+    SCOPED_TRACE(k_nearest ? "k nearest" : "all within r_RRT");
+    HabPpParameters p = HabPpParameters::improved();
+    p.rrt_near_nearest = k_nearest;
+    p.rrt_step_cells = 6;  // short steps, so the first path bends and rewiring has work to do
+    p.rrt_near_radius_cells = 10;
+    p.rrt_nodes_after_solution = 1000000;  // no restart: the tree keeps improving its path
+    const habpp::GridFields f(g, goal, p);
+    const habpp::PheromoneField tau(f, p);
+    habpp::RrtAnt tree(g, start, goal, p);
+    habpp::Rng rng(11);
+    std::optional<Path> last;
+    for (int i = 0; i < 1500; ++i) {
+      if (std::optional<Path> found = tree.step(tau, rng)) {
+        EXPECT_EQ(pathProblem(g, *found, start, goal), "");
+        if (last) {
+          EXPECT_LT(polylineLength(*found), polylineLength(*last)) << "a reported path improves on the last";
+        }
+        last = found;
+      }
+    }
+    ASSERT_TRUE(last.has_value());
+    EXPECT_GT(tree.nodeCount(), 1000u);
+    EXPECT_LT(polylineLength(*last), straight * 1.03);
+  }
+}
+
 // ---- the planner ---------------------------------------------------------------------------------
 
 TEST(HabPp, PathsAreValidAndNearTheAnyAngleOptimum) {
