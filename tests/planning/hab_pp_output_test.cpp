@@ -67,11 +67,9 @@ TEST(HabPpOutput, NeverLongerAndAlwaysValidOnRandomMaps) {
   EXPECT_GT(shortened, 40) << "the wandering paths do get shorter";
 }
 
-// One door (x = 2) in the upper wall, two (x = 5 and x = 18) in the lower; the input goes through
-// the far one. The output pulls taut through the same door (the near door lies outside the
-// corridor), so the route stays the colony's choice.
-TEST(HabPpOutput, KeepsTheRouteOfTheInput) {
-  const GridLayer g = gridFromText({
+// One door (x = 2) in the upper wall, two (x = 5 and x = 18) in the lower.
+GridLayer threeDoorMap() {
+  return gridFromText({
       "....................",
       "....................",
       "....................",
@@ -88,6 +86,22 @@ TEST(HabPpOutput, KeepsTheRouteOfTheInput) {
       "....................",
       "....................",
   });
+}
+
+// Whether a segment of p touches cell c.
+bool passes(const Path& p, GridCell c) {
+  for (std::size_t s = 0; s + 1 < p.size(); ++s) {
+    for (GridCell q : GridLayer::segmentCells(p[s], p[s + 1])) {
+      if (q == c) return true;
+    }
+  }
+  return false;
+}
+
+// The input goes through the far door of the lower wall. The output pulls taut through the same door (the near door lies outside the
+// corridor), so the route stays the colony's choice.
+TEST(HabPpOutput, KeepsTheRouteOfTheInput) {
+  const GridLayer g = threeDoorMap();
   // The lower leg runs 3 rows below the wall, so the near door lies outside the corridor (2 cells);
   // a path that ran along the wall right past that door would have it in its corridor (see
   // hab_pp_output.hpp).
@@ -98,11 +112,7 @@ TEST(HabPpOutput, KeepsTheRouteOfTheInput) {
   const Path out = habpp::tautPath(g, via_far_door, 2, 64);
   EXPECT_EQ(pathProblem(g, out, start, goal), "");
   EXPECT_LT(polylineLength(out), polylineLength(via_far_door) - 1.0);
-  bool through_far_door = false;
-  for (std::size_t s = 0; s + 1 < out.size(); ++s) {
-    for (GridCell c : GridLayer::segmentCells(out[s], out[s + 1])) through_far_door |= (c == GridCell{18, 9});
-  }
-  EXPECT_TRUE(through_far_door);
+  EXPECT_TRUE(passes(out, GridCell{18, 9}));
   // Through the far door the route is over 30 cells; through the near one (x = 5) about 14.
   EXPECT_GT(polylineLength(out), 30.0);
 }
@@ -112,35 +122,11 @@ TEST(HabPpOutput, KeepsTheRouteOfTheInput) {
 // colony did find; with the best ranked route alone it keeps the far door. The output never takes
 // a door that no given route passes.
 TEST(HabPpOutput, TakesTheShortestOfTheRankedRoutes) {
-  const GridLayer g = gridFromText({
-      "....................",
-      "....................",
-      "....................",
-      "##.#################",
-      "....................",
-      "....................",
-      "....................",
-      "....................",
-      "....................",
-      "#####.############.#",
-      "....................",
-      "....................",
-      "....................",
-      "....................",
-      "....................",
-  });
+  const GridLayer g = threeDoorMap();
   const GridCell start{2, 1}, goal{2, 14};
   const Path via_far_door{start, {2, 3}, {3, 5}, {8, 6}, {14, 7}, {18, 8}, {18, 12}, goal};
   const Path via_near_door{start, {2, 3}, {4, 6}, {5, 9}, {4, 12}, goal};
   ASSERT_EQ(pathProblem(g, via_near_door, start, goal), "");
-  auto passes = [](const Path& p, GridCell door) {
-    for (std::size_t s = 0; s + 1 < p.size(); ++s) {
-      for (GridCell c : GridLayer::segmentCells(p[s], p[s + 1])) {
-        if (c == door) return true;
-      }
-    }
-    return false;
-  };
   const Path alone = habpp::tautPath(g, std::vector<Path>{via_far_door}, 2, 64);
   EXPECT_TRUE(passes(alone, GridCell{18, 9}));
   const Path both = habpp::tautPath(g, std::vector<Path>{via_far_door, via_near_door}, 2, 64);
