@@ -203,22 +203,23 @@ class Search {
       }
       const std::uint32_t added = addNode(x_new, parent, cost);
 
-      // Rewire: neighbours reached more cheaply through the new node take it as their parent. A
-      // neighbour that even then cannot lie on a path shorter than the best one (its cost plus
-      // the straight line to the goal is no shorter) is skipped: no path through it or its
-      // subtree can beat the best, so the motion check would buy nothing.
+      // Rewire: neighbours reached more cheaply through the new node take it as their parent.
+      // With skip_hopeless_checks, a neighbour that even then cannot lie on a path shorter than
+      // the best one (its cost plus the straight line to the goal is no shorter) is skipped: no
+      // path through it or its subtree can beat the best, so the motion check would buy nothing.
+      const double hopeless_m = options_.skip_hopeless_checks ? best_cost_ : std::numeric_limits<double>::infinity();
       std::sort(candidates.begin(), candidates.end());
       for (std::uint32_t c : candidates) {
         if (c == parent) continue;
         const double through_new = cost + (nodes_[c].p - x_new).norm();
         if (through_new >= nodes_[c].cost - 1e-9) continue;
-        if (through_new + (nodes_[c].p - goal_).norm() >= best_cost_) continue;
+        if (through_new + (nodes_[c].p - goal_).norm() >= hopeless_m) continue;
         if (motionValid(x_new, nodes_[c].p)) reparent(c, added, through_new);
       }
 
-      // Goal connection, only when it would beat the best path so far (the same bound).
+      // Goal connection (with skip_hopeless_checks only when it would beat the best path so far).
       const double d_goal = (x_new - goal_).norm();
-      if (d_goal <= max_step_ && cost + d_goal < best_cost_ - 1e-9 && (d_goal == 0.0 || motionValid(x_new, goal_))) {
+      if (d_goal <= max_step_ && cost + d_goal < hopeless_m - 1e-9 && (d_goal == 0.0 || motionValid(x_new, goal_))) {
         goal_parents_.push_back(added);
       }
       updateBestSolution(result, t0);

@@ -55,6 +55,12 @@ struct RrtStarOptions {
   // the solution. The nodes stay in the tree (their subtrees keep valid parents). Only with
   // informed_sampling.
   bool prune_tree = false;
+  // Once a path exists, skip the motion checks that cannot lead to a shorter one: rewiring a
+  // neighbour whose cost through the new node plus its straight line to the goal is no shorter
+  // than the best path (no path through it or its subtree can be), and connecting a new node to
+  // the goal when that path would not be shorter. Fewer checks per iteration; off by default so
+  // existing callers (the route planner, the replanner) keep their trees exactly.
+  bool skip_hopeless_checks = false;
 };
 
 struct RrtStarResult {

@@ -235,6 +235,12 @@ INSTANTIATE_TEST_SUITE_P(
                                     o.prune_tree = true;
                                     o.k_nearest = true;
                                     return o;
+                                  }},
+                      PlannerCase{"skip_hopeless", [] {
+                                    RrtStarOptions o;
+                                    o.skip_hopeless_checks = true;
+                                    o.goal_bias = 0.1;
+                                    return o;
                                   }}),
     [](const ::testing::TestParamInfo<PlannerCase>& info) { return info.param.name; });
 
