@@ -206,6 +206,22 @@ TEST_P(EveryRrtStar, StraightLineWhenTheGoalIsInSight) {
   EXPECT_DOUBLE_EQ(d.length_m, (g - s).norm());
 }
 
+// The near-set and tree-pruning switches (skip_hopeless with the benchmark's goal bias 0.1 and
+// rewire factor 2).
+std::function<RrtStarOptions()> searchOptions(bool k_nearest, bool prune_tree, bool skip_hopeless) {
+  return [=] {
+    RrtStarOptions o;
+    o.k_nearest = k_nearest;
+    o.prune_tree = prune_tree;
+    o.skip_hopeless_checks = skip_hopeless;
+    if (skip_hopeless) {
+      o.goal_bias = 0.1;
+      o.rewire_factor = 2.0;
+    }
+    return o;
+  };
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Configurations, EveryRrtStar,
     ::testing::Values(PlannerCase{"informed", [] { return RrtStarOptions{}; }},
@@ -220,28 +236,10 @@ INSTANTIATE_TEST_SUITE_P(
                                     o.goal_bias = 0.1;
                                     return o;
                                   }},
-                      PlannerCase{"k_nearest", [] {
-                                    RrtStarOptions o;
-                                    o.k_nearest = true;
-                                    return o;
-                                  }},
-                      PlannerCase{"pruned", [] {
-                                    RrtStarOptions o;
-                                    o.prune_tree = true;
-                                    return o;
-                                  }},
-                      PlannerCase{"pruned_k_nearest", [] {
-                                    RrtStarOptions o;
-                                    o.prune_tree = true;
-                                    o.k_nearest = true;
-                                    return o;
-                                  }},
-                      PlannerCase{"skip_hopeless", [] {
-                                    RrtStarOptions o;
-                                    o.skip_hopeless_checks = true;
-                                    o.goal_bias = 0.1;
-                                    return o;
-                                  }}),
+                      PlannerCase{"k_nearest", searchOptions(true, false, false)},
+                      PlannerCase{"pruned", searchOptions(false, true, false)},
+                      PlannerCase{"pruned_k_nearest", searchOptions(true, true, false)},
+                      PlannerCase{"skip_hopeless", searchOptions(false, false, true)}),
     [](const ::testing::TestParamInfo<PlannerCase>& info) { return info.param.name; });
 
 TEST(RrtStar, BadArgumentsAreErrorsNamingTheField) {
