@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <tuple>
 
 #include <fcl/geometry/octree/octree.h>
 #include <fcl/geometry/shape/box.h>
@@ -97,6 +98,15 @@ double distance(const Geometry& g1, const fcl::Transform3d& tf1, const Geometry&
   fcl::DistanceRequestd request;
   fcl::DistanceResultd result;
   return fcl::distance(&g1, tf1, &g2, tf2, request, result);
+}
+
+// The part of the snapshot's window in which a vehicle leaving its focus can be somewhere between
+// `near_m` and `far_m` from it (the whole window without a time band); empty when t1 < t0.
+std::pair<double, double> bandWindow(const ObstacleSnapshot& snapshot, double near_m, double far_m) {
+  const double t0 = snapshot.time_s, t1 = snapshot.time_s + snapshot.window_s;
+  if (!(snapshot.band_fast_mps > 0.0) || !(snapshot.band_slow_mps > 0.0)) return {t0, t1};
+  return {std::max(t0, t0 + near_m / snapshot.band_fast_mps - snapshot.band_slack_s),
+          std::min(t1, t0 + far_m / snapshot.band_slow_mps + snapshot.band_slack_s)};
 }
 
 // A moving obstacle that cannot reach the snapshot's focus region within its window is left out.
@@ -237,7 +247,13 @@ bool CollisionWorld::isPointValidImpl(const Eigen::Vector3d& p_m, std::optional<
     }
     if (focus && o.moving() && ignoredBySnapshot(o, *focus)) continue;
     if (o.moving() && window_s > 0.0) {
-      const auto [from, to] = o.trackDuring(*t_s, *t_s + window_s);
+      double t0 = *t_s, t1 = *t_s + window_s;
+      if (focus) {
+        const double d = (p_m - focus->focus_m).norm();
+        std::tie(t0, t1) = bandWindow(*focus, d, d);
+        if (t1 < t0) continue;
+      }
+      const auto [from, to] = o.trackDuring(t0, t1);
       if (pointSegmentDistance(p_m, from, to) <= o.boundingRadius() + r) return false;
       continue;
     }
@@ -274,7 +290,13 @@ bool CollisionWorld::isSegmentValidImpl(const Eigen::Vector3d& a_m, const Eigen:
     const Obstacle& o = e.obstacle;
     if (focus && o.moving() && ignoredBySnapshot(o, *focus)) continue;
     if (o.moving() && t_s && window_s > 0.0) {  // everywhere it passes during the window
-      const auto [from, to] = o.trackDuring(*t_s, *t_s + window_s);
+      double t0 = *t_s, t1 = *t_s + window_s;
+      if (focus) {
+        std::tie(t0, t1) = bandWindow(*focus, pointSegmentDistance(focus->focus_m, a_m, b_m),
+                                      std::max((a_m - focus->focus_m).norm(), (b_m - focus->focus_m).norm()));
+        if (t1 < t0) continue;
+      }
+      const auto [from, to] = o.trackDuring(t0, t1);
       if (segmentSegmentDistance(a_m, b_m, from, to) <= o.boundingRadius() + r) return false;
       continue;
     }

@@ -27,6 +27,15 @@ struct ObstacleSnapshot {
   double window_s = 0.0;  // > 0: each blocks the stretch of track it covers in [time, time + window]
   Eigen::Vector3d focus_m = Eigen::Vector3d::Zero();
   double focus_radius_m = std::numeric_limits<double>::infinity();
+  // Time band (with a window; off while band_fast_mps is 0): a vehicle leaving focus_m at `time`
+  // is at distance d from it no sooner than d / band_fast_mps and, flying on, no later than
+  // d / band_slow_mps, so a place at distance d is blocked only by where the obstacles are in
+  // that interval widened by band_slack_s (clipped to the window). Without it a vehicle whose
+  // current position an obstacle will sweep later in the window could not plan away from there.
+  // A planning heuristic, not a guarantee: the caller checks the trajectory in time.
+  double band_fast_mps = 0.0;
+  double band_slow_mps = 0.0;
+  double band_slack_s = 0.0;
 };
 
 struct CollisionWorldOptions {

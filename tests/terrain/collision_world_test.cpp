@@ -318,6 +318,36 @@ TEST(CollisionWorld, MovingObstacleAtKnownTimes) {
   EXPECT_TRUE(world->isPointValid(origin, 10.0));
 }
 
+TEST(CollisionWorld, SnapshotTimeBandBlocksOnlyWhileTheVehicleCanBeThere) {
+  auto world = makeWorld(5.0, 30.0, 5000.0);
+  const double z = 1500.0;
+  // A 100 m sphere reaching the origin at t = 20 s (from 1200 m west, at 60 m/s).
+  Obstacle o = makeObstacle(8, ObstacleShape::kSphere, Eigen::Vector3d(100, 0, 0), Eigen::Vector3d::Zero());
+  o.motion = BackAndForth{{-1200, 0, z}, {1200, 0, z}, 60.0, 0.0};
+  world->upsertObstacle(o);
+  ObstacleSnapshot snapshot;
+  snapshot.time_s = 0.0;
+  snapshot.window_s = 30.0;
+  snapshot.focus_m = Eigen::Vector3d(0, 0, z);  // the vehicle is at the origin now
+  const Eigen::Vector3d origin(0, 0, z);
+  EXPECT_FALSE(world->isPointValid(origin, snapshot));  // the whole window: it passes here at 20 s
+  snapshot.band_fast_mps = 60.0;
+  snapshot.band_slow_mps = 20.0;
+  snapshot.band_slack_s = 3.0;
+  EXPECT_TRUE(world->isPointValid(origin, snapshot));  // the vehicle is gone by 3 s
+  // 400 m east: reached between 6.7 s and 20 s (+-3 s); the obstacle is there at 26.7 s: free.
+  EXPECT_TRUE(world->isPointValid(Eigen::Vector3d(400, 0, z), snapshot));
+  // 400 m west: the obstacle is there at 13.3 s, inside that band: blocked.
+  EXPECT_FALSE(world->isPointValid(Eigen::Vector3d(-400, 0, z), snapshot));
+  // A segment west from the origin to 600 m: blocked where the band meets the obstacle.
+  EXPECT_FALSE(world->isSegmentValid(origin, Eigen::Vector3d(-600, 0, z), snapshot));
+  EXPECT_TRUE(world->isSegmentValid(origin, Eigen::Vector3d(300, 0, z), snapshot));
+  // Never looser than the window itself: a point the obstacle never nears in the window is free
+  // either way, and without a window nothing changes.
+  snapshot.window_s = 5.0;  // it only gets from -1200 to -900 m
+  EXPECT_TRUE(world->isPointValid(Eigen::Vector3d(-400, 0, z), snapshot));
+}
+
 TEST(CollisionWorld, TerrainDistanceFromOctree) {
   auto world = makeWorld(5.0, 30.0, 5000.0);
   const double g = world->terrain().heightAt(0.0, 0.0);
