@@ -58,7 +58,18 @@ double cruiseSpeed(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Veh
 
 // Time to cover length_m with speed min(cruise, accelerating from v0, braking to v1) at accel a.
 double trapezoidTime(double length_m, double v0, double v1, double cruise, double accel) {
-  v0 = std::min(v0, cruise);
+  // Faster than the cruise speed at the start (a replan taking over from a vehicle flying faster
+  // than this segment allows, e.g. before a climb): it slows down to cruise first. Timing it as
+  // if it started at cruise gave the segment too much time for its fixed start velocity, and
+  // the curve overshot.
+  if (v0 > cruise) {
+    const double slowing_m = (v0 * v0 - cruise * cruise) / (2.0 * accel);
+    if (slowing_m >= length_m) {
+      const double end = std::sqrt(std::max(0.0, v0 * v0 - 2.0 * accel * length_m));
+      return 2.0 * length_m / (v0 + end);
+    }
+    return (v0 - cruise) / accel + trapezoidTime(length_m - slowing_m, cruise, v1, cruise, accel);
+  }
   v1 = std::min(v1, cruise);
   const double s_accel = (cruise * cruise - v0 * v0) / (2.0 * accel);
   const double s_brake = (cruise * cruise - v1 * v1) / (2.0 * accel);

@@ -243,6 +243,8 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
   int timing_from_round = 0;  // the round the current knots and times were laid out in
   // Worst violation / limit ratio before the last uniform stretch (it must keep falling).
   double previous_uniform_worst = std::numeric_limits<double>::infinity();
+  double previous_local_worst = std::numeric_limits<double>::infinity();
+  int growing_rounds = 0;  // stretch rounds in a row whose worst violation grew
 
   for (int round = 0;; ++round) {
     Result<std::vector<Segment>> segments = solveMinimumSnapSpline(knots, durations, options.boundary);
@@ -377,6 +379,8 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
       if (Status s = layOut(); !s) return s.error();
       timing_from_round = round + 1;
       previous_uniform_worst = std::numeric_limits<double>::infinity();
+      previous_local_worst = std::numeric_limits<double>::infinity();
+      growing_rounds = 0;
       continue;
     }
 
@@ -417,6 +421,16 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
       double worst = 1.0;
       for (const auto& [s, f] : stretch) worst = std::max(worst, f);
       const double margin = 1.03;
+      // Stretching a segment whose start velocity is given makes the curve overshoot instead of
+      // easing it; when the worst violation grew two rounds running, more rounds only diverge
+      // (a replan once spent 0.5 s stretching its first segment to 500 s).
+      growing_rounds = worst > previous_local_worst ? growing_rounds + 1 : 0;
+      previous_local_worst = worst;
+      if (growing_rounds >= 2) {
+        report.failure_reason = "stretching in time makes the violation worse (" + format("%.2f", worst) +
+                                " x the limit; " + describe(violations.front()) + "); the end conditions or the path must change";
+        break;
+      }
       if (round - timing_from_round < local_rounds) {
         std::vector<double> factor(durations.size(), 1.0);
         for (const auto& [s, f] : stretch) {

@@ -151,6 +151,35 @@ TEST(Feasibility, ReportsWhyItCannotRepair) {
   EXPECT_NE(corner->report.failure_reason.find("turn_radius"), std::string::npos) << corner->report.failure_reason;
 }
 
+TEST(Feasibility, StopsWhenStretchingAGivenStartVelocityOnlyMakesItWorse) {
+  // A takeover state from a replan (45 m/s, 25 degrees off the path, accelerating sideways with
+  // 12 m/s^3 of jerk): the first 100 m knot asks for more than the vehicle has, and a longer
+  // first segment only lets the curve run further off before it must come back. The build must
+  // say so after a few rounds instead of stretching that segment to hundreds of seconds.
+  VehicleLimits limits;
+  limits.v_ref_mps = 50.0;
+  limits.max_speed_mps = 60.0;
+  limits.max_accel_mps2 = 10.0;
+  limits.max_climb_mps = 15.0;
+  limits.max_descent_mps = 15.0;
+  TrajectoryOptions options;
+  options.boundary.start.velocity_mps = Eigen::Vector3d(40.7, 19.4, -0.2);
+  options.boundary.start.acceleration_mps2 = Eigen::Vector3d(2.3, 3.8, 0.2);
+  options.boundary.start.jerk_mps3 = Eigen::Vector3d(-3.5, 11.2, 1.1);
+  const Eigen::Vector3d p0(0, 0, 500), d(62.7, 77.4, -3.3);
+  const std::vector<Eigen::Vector3d> path{p0, p0 + d, p0 + 10.0 * d};
+  auto built = buildTrajectory(path, limits, options);
+  ASSERT_TRUE(built.ok());
+  EXPECT_EQ(built->report.status, TrajectoryStatus::kInfeasible);
+  EXPECT_LT(built->report.repair_rounds, options.max_repair_rounds) << built->report.failure_reason;
+  EXPECT_LT(built->trajectory.duration_s(), 200.0);
+  EXPECT_NE(built->report.failure_reason.find("worse"), std::string::npos) << built->report.failure_reason;
+  // The same path from rest is feasible: the stop is about the start state, not the path.
+  auto from_rest = buildTrajectory(path, limits);
+  ASSERT_TRUE(from_rest.ok());
+  EXPECT_NE(from_rest->report.status, TrajectoryStatus::kInfeasible) << from_rest->report.failure_reason;
+}
+
 TEST(Feasibility, TimedMotionCheckSeesMovingObstacles) {
   // A 40 m sphere crosses the straight line x = 0..3000 at x = 1500, moving along +y at 30 m/s,
   // at y = 0 at world time 50 s. The check gets trajectory times; an independent dense sweep
