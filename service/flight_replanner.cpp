@@ -26,7 +26,7 @@ Result<std::unique_ptr<FlightReplanner>> FlightReplanner::start(std::shared_ptr<
   r->options_ = options;
   TerminationCondition stop;
   if (options.cancel) stop.withCancelFlag(options.cancel);
-  auto first = r->bestCandidate([&](int attempt) { return std::optional<AttemptPlan>(wholePlan(points_m, {}, attempt)); },
+  auto first = r->bestCandidate([&](int attempt) { return std::optional<AttemptPlan>(r->wholePlan(points_m, {}, attempt)); },
                                 start_world_s, nullptr, stop);
   if (!first.ok()) return first.error();
   r->adopt(std::move(first->route), std::move(first->points), start_world_s);
@@ -56,7 +56,9 @@ RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>&
                                              const TrajectoryState* state, int attempt, int variant,
                                              double conflict_in_s, const std::optional<Rejoin>& rejoin) const {
   RouteOptions route = options_.route;
-  route.seed = options_.route.seed + 1000ULL * revision_ + static_cast<std::uint64_t>(attempt);
+  // A cycle after a failed one draws other paths (the same seeds would repeat its failure).
+  route.seed = options_.route.seed + 1000ULL * revision_ + 100ULL * static_cast<std::uint64_t>(failed_cycles_) +
+               static_cast<std::uint64_t>(attempt);
   if (state) {
     if (options_.replan_leg_max_iterations > 0) route.leg_max_iterations = options_.replan_leg_max_iterations;
     if (options_.replan_max_repair_rounds >= 0) {
@@ -65,8 +67,12 @@ RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>&
   }
   // Attempts look further ahead first (a path clear of where the obstacles will be), then less far
   // and with less room (a vehicle already near an obstacle must be allowed to start there).
-  static constexpr double kWindowScale[] = {1.0, 2.0, 0.5, 0.0};
-  static constexpr double kMarginScale[] = {1.0, 1.0, 0.5, 0.0};
+  // Variant 2 keeps the window and the margin but blocks each place only while the vehicle can
+  // be there (a time band round its distance from the takeover point): an obstacle that will
+  // sweep the vehicle's current position later in the window then no longer walls it in.
+  static constexpr double kWindowScale[] = {1.0, 2.0, 1.0, 0.0};
+  static constexpr double kMarginScale[] = {1.0, 1.0, 1.0, 0.0};
+  static constexpr bool kTimeBand[] = {false, false, true, false};
   const int k = std::clamp(variant, 0, 3);
   ObstacleSnapshot snapshot;
   snapshot.time_s = at_world_s;
@@ -82,6 +88,11 @@ RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>&
     if (o.moving()) fastest = std::max(fastest, o.motion->speed_mps);
   }
   snapshot.focus_radius_m = (limits_.max_speed_mps + fastest) * options_.horizon_s;
+  if (kTimeBand[k]) {
+    snapshot.band_fast_mps = limits_.max_speed_mps;
+    snapshot.band_slow_mps = options_.band_slow_factor * limits_.v_ref_mps;
+    snapshot.band_slack_s = options_.band_slack_s;
+  }
   route.snapshot = snapshot;
   route.trajectory_start_world_s = at_world_s;
   route.moving_check_horizon_s = 0.0;  // conflicts in time are judged here, over the horizon
@@ -179,12 +190,13 @@ Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
 }
 
 FlightReplanner::AttemptPlan FlightReplanner::wholePlan(const std::vector<Eigen::Vector3d>& route_points,
-                                                       const std::vector<Eigen::Vector3d>& current_path, int attempt) {
+                                                       const std::vector<Eigen::Vector3d>& current_path, int attempt) const {
   AttemptPlan plan;
   plan.points = route_points;
   plan.current_path = current_path;
   plan.route_points = route_points;
-  plan.variant = std::min(attempt, 3);
+  // After failed cycles the later variants come first: the deadline may leave room for few.
+  plan.variant = std::min(attempt + failed_cycles_, 3);
   return plan;
 }
 
@@ -489,14 +501,17 @@ ReplanStep FlightReplanner::step(double now_s) {
   result.latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   if (!best.ok()) {
     result.failure = best.error();
+    ++failed_cycles_;
     return result;
   }
   if (!(best->conflict_s > current_conflict)) {
     result.failure = make_error(ErrorCode::kUnreachable, "replan", "no candidate meets its first obstacle later than the current trajectory");
+    ++failed_cycles_;
     return result;
   }
   adopt(std::move(best->route), std::move(best->points), takeover_s);
   ++revision_;
+  failed_cycles_ = 0;
   result.replanned = true;
   return result;
 }

@@ -38,6 +38,11 @@ struct ReplanOptions {
   bool local_repair = true;
   double rejoin_after_s = 8.0;
   bool local_retime = true;         // local attempts also fly the current path slower
+  // The time band of the third attempt's obstacle snapshot: a place at distance d from the
+  // takeover point is blocked by where the obstacles are between d / max speed and
+  // d / (band_slow_factor V_ref), widened by band_slack_s.
+  double band_slow_factor = 0.4;
+  double band_slack_s = 3.0;
   RouteOptions route;               // per-leg budget, LOSPO, trajectory options
   // Wall-clock budget of one replan, from the conflict check to the new trajectory, all attempts
   // included (the RRT* and LOSPO stop at it; the trajectory build and check of the path in hand
@@ -132,8 +137,8 @@ class FlightReplanner {
   // the rejoin would be the end of the trajectory anyway (a whole replan is the same problem).
   std::optional<AttemptPlan> localPlan(const std::vector<Eigen::Vector3d>& route_points, double takeover_s,
                                        double conflict_s, int attempt) const;
-  static AttemptPlan wholePlan(const std::vector<Eigen::Vector3d>& route_points,
-                               const std::vector<Eigen::Vector3d>& current_path, int attempt);
+  AttemptPlan wholePlan(const std::vector<Eigen::Vector3d>& route_points,
+                        const std::vector<Eigen::Vector3d>& current_path, int attempt) const;
   // The current path over a local stretch as a planned route (no search), for retiming.
   Result<PlannedRoute> currentStretch(const AttemptPlan& plan) const;
   // The local candidate joined with the current trajectory from the rejoin knot on.
@@ -158,6 +163,7 @@ class FlightReplanner {
   std::vector<double> waypoint_times_world_s_; // when it reaches each of route_.waypoints_m
   double start_world_s_ = 0.0;
   std::uint32_t revision_ = 0;
+  int failed_cycles_ = 0;  // replanning cycles in a row that found nothing better
 };
 
 }  // namespace skyroute
