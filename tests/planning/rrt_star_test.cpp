@@ -6,6 +6,7 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <ostream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -28,6 +29,9 @@ struct PlannerCase {
   std::string name;
   std::function<RrtStarOptions()> options;
 };
+
+// Test listings show the case's name, not its bytes.
+void PrintTo(const PlannerCase& c, std::ostream* out) { *out << c.name; }
 
 class EveryRrtStar : public ::testing::TestWithParam<PlannerCase> {
  protected:
