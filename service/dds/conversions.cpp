@@ -4,6 +4,7 @@
 #include <cstring>
 #include <sstream>
 #include <string>
+#include <type_traits>
 
 namespace skyroute::dds {
 
@@ -88,9 +89,19 @@ std::optional<Error> required(const char* s, const std::string& field) {
 
 std::string text(const char* s) { return s != nullptr ? std::string(s) : std::string(); }
 
+// A wire enum's value as an integer, read from its bytes: a sample may carry any value, and
+// loading one outside the enumerators through the enum type is undefined (UBSan flags it).
 template <class Enum>
-std::optional<Error> enumInRange(Enum v, int last, const std::string& field) {
-  const int i = static_cast<int>(v);
+int rawEnumValue(const Enum& v) {
+  std::underlying_type_t<Enum> raw;
+  static_assert(sizeof raw == sizeof v);
+  std::memcpy(&raw, &v, sizeof raw);
+  return static_cast<int>(raw);
+}
+
+template <class Enum>
+std::optional<Error> enumInRange(const Enum& v, int last, const std::string& field) {
+  const int i = rawEnumValue(v);
   if (i >= 0 && i <= last) return std::nullopt;
   return invalid(field, "has an unknown value " + std::to_string(i));
 }
