@@ -9,13 +9,17 @@
 //
 //   habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N]
 //               [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP]
-//               [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N]
+//               [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N] [--published]
+//               [--shared-tree 0|1] [--sample-eta 0|1] [--rest 0|1] [--after-solution N] [--corridor N] [--only 0|1]
 // --budget-s: wall budget per HAB-PP run (default 120); --stable: stable_iterations override;
 // --rrt-iterations: RRT* budget (0 skips that row); --no-hab: only the reference rows;
 // --weights: eq. (2) weights instead of the paper's 1/3 each; --near-k: the RRT* species' k-nearest
 // near set on (1) or off (0); --output-routes: top ranked routes the output stage may use;
 // --stop-top: the RRT*-only change rule of the stopping rule on (1) or off (0); --draws: draws of
-// x_rand per RRT* step.
+// x_rand per RRT* step; --published: the Improved row runs section 4 as published
+// (HabPpParameters::improvedAsPublished: five trees from the start, no joining, no resting);
+// --shared-tree, --sample-eta, --rest, --after-solution, --corridor: the HabPpParameters of those names;
+// --only 0|1: run HAB-PP (0) or Improved HAB-PP (1) alone, for profiling.
 //
 // Writes nothing; docs/benchmarks/habpp.md records its output.
 #include <algorithm>
@@ -182,6 +186,13 @@ int main(int argc, char** argv) {
   int output_routes = -1;   // --output-routes N: HabPpParameters::output_ranked_routes; -1: the default
   int stop_top = -1;        // --stop-top 0|1: HabPpParameters::rrt_stop_top_paths; -1: the default
   int draws = -1;           // --draws N: HabPpParameters::rrt_draws_per_step; -1: the default
+  int shared_tree = -1;     // --shared-tree 0|1: HabPpParameters::rrt_shared_tree; -1: the default
+  bool published = false;   // --published: Improved HAB-PP as section 4 publishes it (improvedAsPublished)
+  int rest = -1;            // --rest 0|1: HabPpParameters::rrt_rest_when_full
+  int after_solution = -1;  // --after-solution N: HabPpParameters::rrt_nodes_after_solution
+  int corridor = -2;        // --corridor N: HabPpParameters::output_corridor_cells
+  int only = -1;            // --only 0|1: run HAB-PP (0) or Improved HAB-PP (1) alone (profiling)
+  int sample_eta = -1;      // --sample-eta 0|1: HabPpParameters::rrt_sample_visibility; -1: the default
   double weights[3] = {-1.0, -1.0, -1.0};  // w_L, w_A, w_P of eq. (2); negative: the paper's 1/3 each
   std::vector<std::string> wanted;
   for (int i = 1; i < argc; ++i) {
@@ -196,11 +207,18 @@ int main(int argc, char** argv) {
     else if (a == "--output-routes" && i + 1 < argc) output_routes = std::atoi(argv[++i]);
     else if (a == "--stop-top" && i + 1 < argc) stop_top = std::atoi(argv[++i]);
     else if (a == "--draws" && i + 1 < argc) draws = std::atoi(argv[++i]);
+    else if (a == "--shared-tree" && i + 1 < argc) shared_tree = std::atoi(argv[++i]);
+    else if (a == "--sample-eta" && i + 1 < argc) sample_eta = std::atoi(argv[++i]);
+    else if (a == "--published") published = true;
+    else if (a == "--rest" && i + 1 < argc) rest = std::atoi(argv[++i]);
+    else if (a == "--corridor" && i + 1 < argc) corridor = std::atoi(argv[++i]);
+    else if (a == "--after-solution" && i + 1 < argc) after_solution = std::atoi(argv[++i]);
+    else if (a == "--only" && i + 1 < argc) only = std::atoi(argv[++i]);
     else if (a == "--weights" && i + 1 < argc) {
       if (std::sscanf(argv[++i], "%lf,%lf,%lf", &weights[0], &weights[1], &weights[2]) != 3) return 2;
     }
     else {
-      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N] [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP] [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N]\n");
+      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N] [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP] [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N] [--published] [--shared-tree 0|1] [--sample-eta 0|1] [--rest 0|1] [--after-solution N] [--corridor N] [--only 0|1]\n");
       return 2;
     }
   }
@@ -257,18 +275,23 @@ int main(int argc, char** argv) {
       Stats s;
       double iterations = 0.0, first_iteration = 0.0;
       std::vector<double> ranked_length;  // before the output stage
-      int first_by_rrt = 0;
-      double rrt_paths = 0.0;
+      int first_by_rrt = 0, first_by_join = 0;
+      double rrt_paths = 0.0, joined_paths = 0.0;
     };
     Row rows[2];
     for (int k = 0; k < 2; ++k) {
       HabPpParameters& params = rows[k].params;
-      params = k == 1 ? HabPpParameters::improved() : HabPpParameters{};
+      params = k == 0 ? HabPpParameters{} : published ? HabPpParameters::improvedAsPublished() : HabPpParameters::improved();
       if (stable > 0) params.stable_iterations = stable;
       if (near_k >= 0) params.rrt_near_nearest = near_k != 0;
       if (output_routes > 0) params.output_ranked_routes = output_routes;
       if (stop_top >= 0) params.rrt_stop_top_paths = stop_top != 0;
       if (draws > 0) params.rrt_draws_per_step = draws;
+      if (shared_tree >= 0) params.rrt_shared_tree = shared_tree != 0;
+      if (sample_eta >= 0) params.rrt_sample_visibility = sample_eta != 0;
+      if (corridor >= -1) params.output_corridor_cells = corridor;
+      if (after_solution >= 0) params.rrt_nodes_after_solution = after_solution;
+      if (rest >= 0) params.rrt_rest_when_full = rest != 0;
       if (weights[0] >= 0.0) {
         params.w_length = weights[0];
         params.w_angle = weights[1];
@@ -279,6 +302,7 @@ int main(int argc, char** argv) {
     for (int r = 0; r < runs; ++r) {
       double first[2] = {-1.0, -1.0}, total[2] = {-1.0, -1.0};
       for (int k = 0; k < 2; ++k) {
+        if (only >= 0 && k != only) continue;
         Row& row = rows[k];
         const HabPpResult res = planHabPp(grid, c.start, c.goal, row.params, 1000 + static_cast<std::uint64_t>(r),
                                           TerminationCondition::after(std::chrono::nanoseconds(
@@ -296,7 +320,9 @@ int main(int argc, char** argv) {
         row.s.angle.push_back(res.angle_change_rad);
         row.ranked_length.push_back(res.ranked_length_cells);
         row.first_by_rrt += res.first_path_by_rrt ? 1 : 0;
+        row.first_by_join += res.first_path_by_join ? 1 : 0;
         row.rrt_paths += static_cast<double>(res.rrt_arrivals) / runs;
+        row.joined_paths += static_cast<double>(res.joined_arrivals) / runs;
       }
       if (first[0] > 0.0 && first[1] > 0.0) {
         first_ratio.push_back(first[1] / first[0]);
@@ -309,10 +335,12 @@ int main(int argc, char** argv) {
       printRow(k == 1 ? "Improved HAB-PP" : "HAB-PP", s, runs);
       std::printf("|   (details) | length vs Theta*: mean %+.2f%%, best %+.2f%% (best ranked path before the output "
                   "stage: mean %+.2f%%, best %+.2f%%); iterations: first path %.0f, total %.0f; first path by the "
-                  "RRT* species in %d runs; RRT* paths per run %.1f |\n",
+                  "RRT* species in %d runs, by an ant finishing along a tree in %d runs; RRT* paths per run %.1f, "
+                  "paths finished along a tree per run %.1f |\n",
                   100.0 * (mean(s.length) / reference - 1.0), 100.0 * (minOf(s.length) / reference - 1.0),
                   100.0 * (mean(row.ranked_length) / reference - 1.0), 100.0 * (minOf(row.ranked_length) / reference - 1.0),
-                  row.first_iteration, row.iterations, row.first_by_rrt, row.rrt_paths);
+                  row.first_iteration, row.iterations, row.first_by_rrt, row.first_by_join, row.rrt_paths,
+                  row.joined_paths);
     }
     std::printf("\nImproved vs HAB-PP: mean times %+.1f%% first path, %+.1f%% total; per seed (both found, %zu "
                 "seeds) median ratio %+.1f%% first path, %+.1f%% total\n",

@@ -73,8 +73,11 @@ Status HabPpParameters::validate() const {
   if (output_corridor_cells < -1) return bad("output_corridor_cells", "must be >= -1");
   if (output_ranked_routes < 1) return bad("output_ranked_routes", "must be >= 1");
   if (stable_iterations < 1) return bad("stable_iterations", "must be >= 1");
-  if (rrt_nodes_after_solution < 1) return bad("rrt_nodes_after_solution", "must be >= 1");
+  if (rrt_nodes_after_solution < 0) return bad("rrt_nodes_after_solution", "must be >= 0 (0: never restart)");
   if (rrt_draws_per_step < 1) return bad("rrt_draws_per_step", "must be >= 1");
+  if (rrt_ants_join_tree && !rrt_tree_from_goal) {
+    return bad("rrt_ants_join_tree", "needs rrt_tree_from_goal (an ant can only finish along a tree that ends at the goal)");
+  }
   return Status::success();
 }
 
@@ -483,6 +486,16 @@ PheromoneField::PheromoneField(const GridFields& fields, const HabPpParameters& 
       active_.push_back(static_cast<std::uint32_t>(i));
     }
   }
+  if (params.rrt_ants > 0 && params.rrt_sample_visibility) {
+    eta_beta_.assign(tau_.size(), 0.0);
+    floor_eta_cumulative_.reserve(free_cells_.size());
+    double sum = 0.0;
+    for (std::size_t i : free_cells_) {
+      eta_beta_[i] = powExponent(fields.visibility(grid.cellOf(i)), params.beta);
+      sum += eta_beta_[i];
+      floor_eta_cumulative_.push_back(sum);
+    }
+  }
 }
 
 void PheromoneField::nextStamp() {
@@ -541,6 +554,7 @@ void PheromoneField::updateCells(const std::vector<std::vector<std::uint32_t>>& 
   }
   active_.resize(kept);
   excess_stale_ = true;
+  excess_eta_stale_ = true;
 }
 
 GridCell PheromoneField::sample(Rng& rng) const {
@@ -558,6 +572,7 @@ GridCell PheromoneField::sample(Rng& rng) const {
       excess_cumulative_.push_back(sum);
     }
     excess_stale_ = false;
+    excess_eta_stale_ = true;  // excess_cells_ is shared with sampleWithVisibility()
   }
   const double excess = excess_cumulative_.empty() ? 0.0 : excess_cumulative_.back();
   const double floor_total = floor_weight * static_cast<double>(free_cells_.size());
@@ -569,6 +584,37 @@ GridCell PheromoneField::sample(Rng& rng) const {
     return grid.cellOf(excess_cells_[k]);
   }
   const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>((r - excess) / floor_weight), free_cells_.size() - 1);
+  return grid.cellOf(free_cells_[k]);
+}
+
+GridCell PheromoneField::sampleWithVisibility(Rng& rng) const {
+  if (floor_eta_cumulative_.empty()) return sample(rng);  // built only for a colony with RRT* ants
+  const GridLayer& grid = fields_->grid();
+  const double floor_weight = powExponent(params_.pheromone_min, params_.alpha);
+  if (excess_eta_stale_) {
+    excess_cells_.clear();
+    excess_eta_cumulative_.clear();
+    double sum = 0.0;
+    for (std::uint32_t i : active_) {
+      sum += (powExponent(tau_[i], params_.alpha) - floor_weight) * eta_beta_[i];
+      excess_cells_.push_back(i);
+      excess_eta_cumulative_.push_back(sum);
+    }
+    excess_eta_stale_ = false;
+    excess_stale_ = true;  // excess_cells_ is shared with sample()
+  }
+  const double excess = excess_eta_cumulative_.empty() ? 0.0 : excess_eta_cumulative_.back();
+  const double floor_total = floor_weight * floor_eta_cumulative_.back();
+  const double r = std::uniform_real_distribution<double>(0.0, excess + floor_total)(rng);
+  if (r < excess) {
+    const auto it = std::upper_bound(excess_eta_cumulative_.begin(), excess_eta_cumulative_.end(), r);
+    const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - excess_eta_cumulative_.begin()),
+                                                excess_cells_.size() - 1);
+    return grid.cellOf(excess_cells_[k]);
+  }
+  const auto it = std::upper_bound(floor_eta_cumulative_.begin(), floor_eta_cumulative_.end(), (r - excess) / floor_weight);
+  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - floor_eta_cumulative_.begin()),
+                                              free_cells_.size() - 1);
   return grid.cellOf(free_cells_[k]);
 }
 
@@ -613,22 +659,34 @@ class Colony {
     add(params.far_sighted_ants, params.far_sighted_radius, false);
     add(params.sight_general_ants, params.general_radius, true);
     add(params.sight_far_sighted_ants, params.far_sighted_radius, true);
-    for (int i = 0; i < params.rrt_ants; ++i) rrt_.emplace_back(grid, start, goal, params);
+    const int trees = params.rrt_shared_tree ? std::min(params.rrt_ants, 1) : params.rrt_ants;
+    for (int i = 0; i < trees; ++i) {
+      if (params.rrt_tree_from_goal) rrt_.emplace_back(grid, goal, start, params);
+      else rrt_.emplace_back(grid, start, goal, params);
+    }
   }
 
   // One iteration n_I of Table 2 (lines 6-27). Returns whether the ranked list changed, as the
   // stopping rule counts it (see HabPpParameters::rrt_stop_top_paths).
   bool iterate(Rng& rng, HabPpResult& stats) {
     std::vector<Path> arrivals;
+    const bool list_full = ranked_.size() >= static_cast<std::size_t>(params_.ranked_paths);
+    joining_ = params_.rrt_ants_join_tree && !list_full && !rrt_.empty();
     for (Ant& ant : ants_) {
       if (std::optional<Path> p = step(ant, rng)) {
         arrivals.push_back(std::move(*p));
         ++stats.ant_arrivals;
+        if (joined_) ++stats.joined_arrivals;
       }
     }
     const std::size_t ant_count = arrivals.size();  // arrivals[ant_count..] came from the trees
-    for (RrtAnt& tree : rrt_) {
+    // Each RRT* ant adds one node: to the species' one tree, or each to its own.
+    const bool trees_rest = params_.rrt_rest_when_full && list_full;
+    for (int k = 0; k < (trees_rest ? 0 : params_.rrt_ants); ++k) {
+      RrtAnt& tree = rrt_[rrt_.size() == 1 ? 0 : static_cast<std::size_t>(k)];
+      ++stats.rrt_steps;
       if (std::optional<Path> p = tree.step(pheromone_, rrt_rng_)) {
+        if (params_.rrt_tree_from_goal) std::reverse(p->begin(), p->end());
         arrivals.push_back(tightenPath(grid_, *p, params_.tighten_passes));
         ++stats.rrt_arrivals;
       }
@@ -640,8 +698,15 @@ class Colony {
       // a crossover child takes its arrival's), for the stopping rule.
       std::vector<Origin> origin(pool.size(), Origin::kRanked);
       const std::size_t parents = std::min<std::size_t>(ranked_.size(), params_.crossover_paths);
+      // An arrival equal to an earlier one of this iteration gives the same children (which the
+      // ranking drops as duplicates), and a path crossed with itself gives nothing new: skip both.
+      std::vector<std::uint8_t> repeat(arrivals.size(), 0);
+      for (std::size_t k = 1; k < arrivals.size(); ++k) {
+        for (std::size_t e = 0; e < k && repeat[k] == 0; ++e) repeat[k] = arrivals[e] == arrivals[k] ? 1 : 0;
+      }
       for (std::size_t r = 0; r < parents; ++r) {
         for (std::size_t k = 0; k < arrivals.size(); ++k) {
+          if (repeat[k] != 0 || arrivals[k] == ranked_[r]) continue;
           for (Path& child : crossover(grid_, ranked_[r], arrivals[k], params_.crossover_points)) {
             pool.push_back(relaxPruned(grid_, std::move(child), params_.tighten_passes));  // children come pruned
             origin.push_back(k < ant_count ? Origin::kAnts : Origin::kTrees);
@@ -717,7 +782,24 @@ class Colony {
     mark(ant, j);
     ++ant.steps;
     pruneLastStep(grid_, ant.path);
-    if (!(j == goal_)) return std::nullopt;
+    joined_ = false;
+    if (!(j == goal_)) {
+      // rrt_ants_join_tree: next to a node of a tree from the goal, finish along its branch.
+      if (!joining_) return std::nullopt;
+      int node = -1;
+      const RrtAnt* tree = nullptr;
+      for (const RrtAnt& t : rrt_) {
+        if ((node = t.nodeNear(j)) >= 0) {
+          tree = &t;
+          break;
+        }
+      }
+      if (tree == nullptr) return std::nullopt;
+      const Path branch = tree->branchToRoot(node);  // node first, the goal last
+      if (!(branch.front() == j)) ant.path.push_back(branch.front());
+      ant.path.insert(ant.path.end(), branch.begin() + 1, branch.end());
+      joined_ = true;
+    }
     Path arrived = tightenPath(grid_, ant.path, params_.tighten_passes);
     restart(ant);
     return arrived;
@@ -782,6 +864,8 @@ class Colony {
   double shortest_ranked_length_ = 0.0;
   std::vector<double> weights_;
   std::vector<GridCell> candidates_;  // reused by every ant step
+  bool joining_ = false;  // this iteration, ants may finish along a tree (rrt_ants_join_tree)
+  bool joined_ = false;   // the path step() just returned was finished along a tree
   Rng rrt_rng_;
 };
 
@@ -863,6 +947,7 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
       result.first_path_cpu_s = cpu_seconds();
       result.first_path_iteration = result.iterations;
       result.first_path_by_rrt = result.rrt_arrivals > 0;
+      result.first_path_by_join = result.joined_arrivals > 0;
     }
     // Table 2's termination: the ranked list stops changing. Choice: unchanged for
     // stable_iterations iterations once it holds N_R paths; while it holds fewer (a small map may

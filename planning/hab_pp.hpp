@@ -64,7 +64,10 @@ struct HabPpParameters {
   int stable_iterations = 60;        // L_R unchanged this many iterations stops the plan (see planHabPp)
   int max_ant_steps = 0;             // an ant that walked this many steps restarts; 0: 2 * (width + height)
   int crossover_points = 2;          // crossings used per pair of paths in the path crossover
-  int rrt_nodes_after_solution = 150;  // an RRT* tree restarts after this many nodes past its first path
+  // An RRT* tree starts over from its root after this many nodes past its first path, so it keeps
+  // bringing fresh paths; 0 (default): never, the tree keeps growing and rewiring as in Table 3, so
+  // its path keeps improving and its branches, which the ants join, keep getting shorter.
+  int rrt_nodes_after_solution = 0;
   // Near set of the RRT* species, Choice: Table 3's Near(x_new, V) is the nodes within r_RRT, of
   // which only the k = ceil(2e ln(n + 1)) nearest are kept (n nodes; the k-nearest RRT* of Karaman
   // and Frazzoli), so choose-parent and rewire stay O(log n) while a tree fills a large map (on the
@@ -75,11 +78,38 @@ struct HabPpParameters {
   // Draws of x_rand per RRT* step, Choice: a draw that cannot grow the tree (the sample or the
   // steered point is already a node) is redrawn, up to this many draws in all.
   int rrt_draws_per_step = 8;
+  // One tree for the species, Choice: the N_RA RRT* ants grow one tree together, each adding one
+  // node per ant step (section 4: the species grows its tree "one node at a time" in step with the
+  // ants), as the other species share one pheromone field. One tree of 5n nodes reaches across a
+  // map long before the first of five trees of n nodes does. false: each RRT* ant grows its own.
+  bool rrt_shared_tree = true;
+  // Root of the tree, DEPARTURE from Table 3 (V <- {x_start}): the tree grows from the goal, and a
+  // path it finds (when it reaches the start) is handed over reversed. Together with
+  // rrt_ants_join_tree this makes the species meet the ants half way. false: rooted at the start.
+  bool rrt_tree_from_goal = true;
+  // Ants finish along the tree, DEPARTURE from section 4 (which shares paths only through the
+  // pheromone field and the ranked list): while the ranked list holds fewer than N_R paths, an ant
+  // that steps onto a tree node, or next to one in sight, completes its path along the tree's
+  // branch to the goal; the path is pruned and ranked like any arrival. Needs rrt_tree_from_goal.
+  // Why: on maze-like maps (Moving AI 8room: one-cell doors) a tree from the start needs ~12 500
+  // nodes to reach the goal, several times what the ants need, so the species as published never
+  // brings the first path there (docs/benchmarks/habpp.md measures both).
+  bool rrt_ants_join_tree = true;
+  // The species rests once the ranked list holds N_R paths (option, default off): section 4 gives
+  // the trees fast first paths and leaves optimising them to the ants, and a tree step costs as
+  // much as tens of ant steps, so resting makes the plan faster (office -34 % total time against
+  // -20 %) but the trees no longer improve the routes (Boston +3.5 % length against +2.1 %).
+  bool rrt_rest_when_full = false;
+  // Sampling of the RRT* species, Choice: x_rand by roulette wheel over the free cells with weight
+  // tau^alpha * eta^beta (the cell terms of eq. (1)), so a tree from the start keeps the colony's
+  // pull towards the goal after the initial pheromone (tau = eta) has evaporated. false (default):
+  // weight tau^alpha alone, as section 4 says; a tree from the goal gains nothing from the pull.
+  bool rrt_sample_visibility = false;
   // Stopping rule of Improved HAB-PP, Choice: in an iteration in which only RRT* paths arrived, the
   // ranked list counts as changed only when its top N_P paths (the crossover parents, which steer
   // the colony) changed. Section 4 gives the RRT* species fast first paths and leaves optimising to
-  // the ants; a tree restarted after its path (rrt_nodes_after_solution) brings fresh, slightly
-  // different paths that enter low in the list and would otherwise keep restarting the count.
+  // the ants; a growing tree keeps bringing slightly shorter paths that enter low in the list and
+  // would otherwise keep restarting the count.
   // false: every change counts, as for the ants. No effect without RRT* ants.
   bool rrt_stop_top_paths = true;
   // Passes of vertex relocation in the arrival pruning (see habpp::tightenPath); 0: greedy pruning only.
@@ -97,10 +127,21 @@ struct HabPpParameters {
   // distance to the goal; true, the shortest 8-connected grid distance around the obstacles.
   bool geodesic_visibility = false;
 
-  // The improved planner of seed 004: the same colony plus N_RA = 5 RRT* ants.
+  // The improved planner of seed 004: the same colony plus N_RA = 5 RRT* ants (one tree from the
+  // goal that the ants may join, see above).
   static HabPpParameters improved() {
     HabPpParameters p;
     p.rrt_ants = 5;
+    return p;
+  }
+  // Section 4 as published: five trees from the start, sharing paths only through the pheromone
+  // field and the ranked list, growing in every iteration.
+  static HabPpParameters improvedAsPublished() {
+    HabPpParameters p = improved();
+    p.rrt_shared_tree = false;
+    p.rrt_tree_from_goal = false;
+    p.rrt_ants_join_tree = false;
+    p.rrt_rest_when_full = false;
     return p;
   }
   int totalAnts() const {
@@ -139,8 +180,11 @@ struct HabPpResult {
   std::uint64_t iterations = 0;      // n_I
   std::uint64_t first_path_iteration = 0;
   bool first_path_by_rrt = false;    // an RRT* tree brought a path in the first path's iteration
-  std::uint64_t ant_arrivals = 0;    // paths brought by the ants
+  bool first_path_by_join = false;   // an ant that joined a tree brought a path in that iteration
+  std::uint64_t ant_arrivals = 0;    // paths brought by the ants (joined ones included)
+  std::uint64_t joined_arrivals = 0;  // of those, paths an ant completed along a tree
   std::uint64_t rrt_arrivals = 0;    // paths brought by the RRT* species
+  std::uint64_t rrt_steps = 0;       // nodes the RRT* ants tried to add (one per RRT* ant per iteration until they rest)
   std::uint64_t crossover_children = 0;  // valid paths made by the path crossover
   TerminationCondition::Reason stop_reason = TerminationCondition::Reason::kNone;
 };
@@ -257,6 +301,9 @@ class PheromoneField {
   // tau^alpha - pheromone_min^alpha of the cells above it, a cumulative table over those cells only,
   // rebuilt on the first draw after each update. One random number picks the part and the cell.
   GridCell sample(Rng& rng) const;
+  // The same with weight tau^alpha * eta^beta (HabPpParameters::rrt_sample_visibility). The floor
+  // part is a fixed cumulative table of pheromone_min^alpha * eta^beta over the free cells.
+  GridCell sampleWithVisibility(Rng& rng) const;
   // Cells above the floor now (the rest hold exactly pheromone_min). Exposed for the tests.
   std::size_t activeCount() const { return active_.size(); }
 
@@ -275,6 +322,10 @@ class PheromoneField {
   mutable std::vector<double> excess_cumulative_;   // running sum of the excess over excess_cells_
   mutable std::vector<std::uint32_t> excess_cells_;  // the active cells (all free), in active_ order
   mutable bool excess_stale_ = true;
+  std::vector<double> eta_beta_;             // eta^beta per cell (free cells), for sampleWithVisibility
+  std::vector<double> floor_eta_cumulative_;  // running sum of eta^beta over free_cells_
+  mutable std::vector<double> excess_eta_cumulative_;
+  mutable bool excess_eta_stale_ = true;
   void nextStamp();
 };
 

@@ -15,15 +15,16 @@ double dist(GridCell a, GridCell b) { return std::sqrt(static_cast<double>(dist2
 int coord(GridCell c, int depth) { return (depth & 1) == 0 ? c.x : c.y; }
 }  // namespace
 
-RrtAnt::RrtAnt(const GridLayer& grid, GridCell start, GridCell goal, const HabPpParameters& params)
+RrtAnt::RrtAnt(const GridLayer& grid, GridCell root, GridCell target, const HabPpParameters& params)
     : grid_(&grid),
-      start_(start),
-      goal_(goal),
+      root_(root),
+      target_(target),
       step_cells_(params.rrt_step_cells),
       near_radius_cells_(params.rrt_near_radius_cells),
       nodes_after_solution_(params.rrt_nodes_after_solution),
       near_nearest_(params.rrt_near_nearest),
       draws_per_step_(params.rrt_draws_per_step),
+      sample_visibility_(params.rrt_sample_visibility),
       node_at_(grid.cellCount(), -1) {
   reset();
 }
@@ -32,13 +33,13 @@ void RrtAnt::reset() {
   for (const Node& n : nodes_) node_at_[grid_->index(n.cell)] = -1;
   nodes_.clear();
   kd_.clear();
-  nodes_.push_back(Node{start_, -1, 0.0});
+  nodes_.push_back(Node{root_, -1, 0.0});
   kd_.push_back(KdLinks{});
   kd_root_ = 0;
   kd_rebuild_at_ = kFirstRebuild;
-  node_at_[grid_->index(start_)] = 0;
-  goal_node_ = -1;
-  reported_goal_cost_ = std::numeric_limits<double>::infinity();
+  node_at_[grid_->index(root_)] = 0;
+  target_node_ = -1;
+  reported_target_cost_ = std::numeric_limits<double>::infinity();
   nodes_since_solution_ = 0;
 }
 
@@ -61,7 +62,7 @@ int RrtAnt::kdBuild(std::vector<int>& ids, std::size_t lo, std::size_t hi, int d
 
 void RrtAnt::kdInsert(int node) {
   if (nodes_.size() >= kd_rebuild_at_) {
-    // The tree grows outwards from the start, so insertion in growth order unbalances the k-d
+    // The tree grows outwards from its root, so insertion in growth order unbalances the k-d
     // tree (a search then visits a large part of it); rebuild it balanced whenever the node count
     // doubles (amortised O(log n) per node).
     kd_rebuild_at_ *= 2;
@@ -232,6 +233,25 @@ void RrtAnt::rewire(int node, const std::vector<int>& near_nodes) {
   }
 }
 
+int RrtAnt::nodeNear(GridCell c) const {
+  if (const int n = node_at_[grid_->index(c)]; n >= 0) return n;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      const GridCell q{c.x + dx, c.y + dy};
+      if (!grid_->inside(q)) continue;
+      const int n = node_at_[grid_->index(q)];
+      if (n >= 0 && grid_->lineOfSight(c, q)) return n;
+    }
+  }
+  return -1;
+}
+
+Path RrtAnt::branchToRoot(int node) const {
+  Path p;
+  for (int i = node; i >= 0; i = nodes_[i].parent) p.push_back(nodes_[i].cell);
+  return p;
+}
+
 Path RrtAnt::pathTo(int node) const {
   Path p;
   for (int i = node; i >= 0; i = nodes_[i].parent) p.push_back(nodes_[i].cell);
@@ -256,7 +276,7 @@ std::optional<GridCell> RrtAnt::steer(GridCell base, GridCell rand) const {
 }
 
 std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
-  if (goal_node_ >= 0 && nodes_since_solution_ >= nodes_after_solution_) {
+  if (target_node_ >= 0 && nodes_after_solution_ > 0 && nodes_since_solution_ >= nodes_after_solution_) {
     reset();
     ++restarts_;
   }
@@ -267,7 +287,7 @@ std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
   int from = -1;
   GridCell target{};
   for (int draw = 0; draw < draws_per_step_ && from < 0; ++draw) {
-    const GridCell rand = pheromone.sample(rng);
+    const GridCell rand = sample_visibility_ ? pheromone.sampleWithVisibility(rng) : pheromone.sample(rng);
     if (node_at_[grid_->index(rand)] >= 0) continue;
     const int n = nearest(rand);
     if (std::optional<GridCell> t = steer(nodes_[n].cell, rand); t && node_at_[grid_->index(*t)] < 0) {
@@ -279,19 +299,19 @@ std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
   near(target, near_nodes_);
   const int id = addNode(target, near_nodes_, from);
   rewire(id, near_nodes_);
-  if (goal_node_ >= 0) ++nodes_since_solution_;
+  if (target_node_ >= 0) ++nodes_since_solution_;
 
-  // Connect the goal when it is within one extension and in sight; afterwards it is an ordinary
+  // Connect the target when it is within one extension and in sight; afterwards it is an ordinary
   // node that rewiring may improve.
-  if (target == goal_) {
-    goal_node_ = id;
-  } else if (goal_node_ < 0 && dist(target, goal_) <= step_cells_ && grid_->lineOfSight(target, goal_)) {
-    near(goal_, goal_near_);
-    goal_node_ = addNode(goal_, goal_near_, id);
+  if (target == target_) {
+    target_node_ = id;
+  } else if (target_node_ < 0 && dist(target, target_) <= step_cells_ && grid_->lineOfSight(target, target_)) {
+    near(target_, target_near_);
+    target_node_ = addNode(target_, target_near_, id);
   }
-  if (goal_node_ >= 0 && nodes_[goal_node_].cost + 1e-9 < reported_goal_cost_) {
-    reported_goal_cost_ = nodes_[goal_node_].cost;
-    return pathTo(goal_node_);
+  if (target_node_ >= 0 && nodes_[target_node_].cost + 1e-9 < reported_target_cost_) {
+    reported_target_cost_ = nodes_[target_node_].cost;
+    return pathTo(target_node_);
   }
   return std::nullopt;
 }

@@ -1,8 +1,9 @@
 // The RRT* species of Improved HAB-PP (seed 004, section 4): an RRT* tree on integer grid
-// coordinates rooted at the start that grows one node per ant step, picks the point to grow towards
-// by roulette wheel on the shared pheromone field instead of uniform sampling, and hands every path
-// it finds (and every later improvement of it) to the colony's ranked list, whose pheromone it
-// samples in turn. Extension length s_RRT and rewiring radius r_RRT are larger than a stand-alone
+// coordinates that grows one node per RRT* ant step, picks the point to grow towards by roulette
+// wheel on the shared pheromone field instead of uniform sampling, and hands every path it finds
+// (and every later improvement of it) to the colony's ranked list, whose pheromone it samples in
+// turn. Rooted at the start as in Table 3, or at the goal (HabPpParameters::rrt_tree_from_goal),
+// where the ants can finish along its branches (nodeNear, branchToRoot). Extension length s_RRT and rewiring radius r_RRT are larger than a stand-alone
 // RRT* would use, for fast rather than optimal paths (the ants optimise).
 #pragma once
 
@@ -15,17 +16,22 @@ namespace skyroute::habpp {
 
 class RrtAnt {
  public:
-  RrtAnt(const GridLayer& grid, GridCell start, GridCell goal, const HabPpParameters& params);
+  // A tree rooted at `root` that looks for `target` (the start and the goal, or the other way round).
+  RrtAnt(const GridLayer& grid, GridCell root, GridCell target, const HabPpParameters& params);
 
   // One RRT* iteration (Table 3, lines 5-32) with x_rand drawn from the pheromone field. Returns a
-  // start-to-goal path when the tree first reaches the goal or lowers the goal's cost.
+  // root-to-target path when the tree first reaches the target or lowers the target's cost.
   // Choice (steering): a blocked step is halved until free and visible, see hab_pp_rrt.cpp.
-  // Choice: a tree that has grown rrt_nodes_after_solution nodes past its first path starts over
-  // from the start, like an arrived ant, so the species keeps bringing fresh paths.
+  // Option: a tree that has grown rrt_nodes_after_solution (> 0) nodes past its first path starts
+  // over from the root, like an arrived ant, so the species keeps bringing fresh paths.
   std::optional<Path> step(const PheromoneField& pheromone, Rng& rng);
 
   std::size_t nodeCount() const { return nodes_.size(); }
-  bool reachedGoal() const { return goal_node_ >= 0; }
+  // A node at c or at one of its 8 neighbours in sight of c; -1 if none.
+  int nodeNear(GridCell c) const;
+  // The tree's branch from node to the root, node first.
+  Path branchToRoot(int node) const;
+  bool reachedTarget() const { return target_node_ >= 0; }
   std::uint64_t restarts() const { return restarts_; }
 
  private:
@@ -51,13 +57,14 @@ class RrtAnt {
   Path pathTo(int node) const;
 
   const GridLayer* grid_;
-  GridCell start_;
-  GridCell goal_;
+  GridCell root_;
+  GridCell target_;
   double step_cells_;
   double near_radius_cells_;
   int nodes_after_solution_;
   bool near_nearest_;
   int draws_per_step_;
+  bool sample_visibility_;
 
   // Nodes also form a 2D k-d tree (splitting on x at even depths and y at odd ones; node i of
   // the RRT* is k-d node i; inserted in growth order and rebuilt balanced as the tree doubles), so nearest() and near() visit O(log n) nodes on
@@ -86,10 +93,10 @@ class RrtAnt {
   mutable std::vector<std::pair<double, int>> scratch_;
   mutable std::vector<std::pair<long long, int>> heap_;  // near(): the k nearest so far
   std::vector<int> near_nodes_;
-  std::vector<int> goal_near_;
+  std::vector<int> target_near_;
   std::vector<int> subtree_stack_;
-  int goal_node_ = -1;
-  double reported_goal_cost_ = 0.0;  // goal cost last handed to the colony (infinity: none yet)
+  int target_node_ = -1;
+  double reported_target_cost_ = 0.0;  // goal cost last handed to the colony (infinity: none yet)
   int nodes_since_solution_ = 0;
   std::uint64_t restarts_ = 0;
 };

@@ -358,6 +358,41 @@ TEST(HabPpPheromone, SamplingIsProportionalToTauToTheAlpha) {
   EXPECT_NEAR(hits / double(n), expected, 0.01);
 }
 
+// rrt_sample_visibility: x_rand with weight tau^alpha * eta^beta. Cells 0 and 1 at tau = 1, the
+// rest at the floor; the expected share of cells 0-1 follows from the visibility field itself.
+TEST(HabPpPheromone, SamplingWithVisibilityIsProportionalToTauAlphaTimesEtaBeta) {
+  const GridLayer g(10, 1);
+  HabPpParameters p = HabPpParameters::improved();
+  p.rrt_sample_visibility = true;
+  p.pheromone_min = 0.1;
+  p.beta = 2.0;  // a stronger pull than the paper's 1, so the two weightings differ clearly
+  const habpp::GridFields f(g, GridCell{9, 0}, p);
+  habpp::PheromoneField tau(f, p);
+  for (int i = 0; i < 300; ++i) tau.update({}, {});
+  for (int i = 0; i < 300; ++i) tau.update({{{0, 0}, {1, 0}}}, {1.0});
+  double inside = 0.0, all = 0.0;
+  for (int x = 0; x < 10; ++x) {
+    const double w = std::pow(tau.at(GridCell{x, 0}), 2.0) * std::pow(f.visibility(GridCell{x, 0}), 2.0);
+    all += w;
+    if (x <= 1) inside += w;
+  }
+  const double expected = inside / all;
+  const double tau_only = 2.0 / (2.0 + 8.0 * 0.01);
+  ASSERT_GT(std::abs(expected - tau_only), 0.05) << "the test must tell the two weightings apart";
+  habpp::Rng rng(13);
+  int hits = 0;
+  const int n = 40000;
+  for (int i = 0; i < n; ++i) hits += tau.sampleWithVisibility(rng).x <= 1 ? 1 : 0;
+  EXPECT_NEAR(hits / double(n), expected, 0.01);
+  // Most cells near the goal end: the pull of eta shows in the floor part too.
+  for (int i = 0; i < 300; ++i) tau.update({}, {});  // all back at the floor
+  int near_goal = 0;
+  for (int i = 0; i < n; ++i) near_goal += tau.sampleWithVisibility(rng).x >= 5 ? 1 : 0;
+  double far_w = 0.0, near_w = 0.0;
+  for (int x = 0; x < 10; ++x) (x >= 5 ? near_w : far_w) += std::pow(f.visibility(GridCell{x, 0}), 2.0);
+  EXPECT_NEAR(near_goal / double(n), near_w / (near_w + far_w), 0.01);
+}
+
 TEST(HabPpRrtAnt, GrowsOneNodePerStepAndReturnsValidPaths) {
   const auto maps = knownMaps();
   const auto& m = maps[2];  // corridor
@@ -376,7 +411,7 @@ TEST(HabPpRrtAnt, GrowsOneNodePerStepAndReturnsValidPaths) {
   }
   ASSERT_TRUE(found.has_value());
   EXPECT_EQ(pathProblem(m.grid, *found, m.start, m.goal), "");
-  EXPECT_TRUE(tree.reachedGoal());
+  EXPECT_TRUE(tree.reachedTarget());
 }
 
 // A tree past several rebuilds of its k-d tree (at 64, 128, ... nodes), with the k-nearest near
@@ -392,7 +427,7 @@ TEST(HabPpRrtAnt, NearSetVariantsConvergeOnAnOpenMap) {
     p.rrt_near_nearest = k_nearest;
     p.rrt_step_cells = 6;  // short steps, so the first path bends and rewiring has work to do
     p.rrt_near_radius_cells = 10;
-    p.rrt_nodes_after_solution = 1000000;  // no restart: the tree keeps improving its path
+    p.rrt_nodes_after_solution = 0;  // no restart: the tree keeps improving its path
     const habpp::GridFields f(g, goal, p);
     const habpp::PheromoneField tau(f, p);
     habpp::RrtAnt tree(g, start, goal, p);
@@ -413,19 +448,61 @@ TEST(HabPpRrtAnt, NearSetVariantsConvergeOnAnOpenMap) {
   }
 }
 
+// rrt_tree_from_goal: a tree rooted at the goal looks for the start; every node's branch runs to
+// the goal through segments in sight, and nodeNear finds a node at a cell or next to it in sight.
+TEST(HabPpRrtAnt, TreeFromTheGoalReachesTheStartAndItsBranchesEndAtTheGoal) {
+  const auto maps = knownMaps();
+  const auto& m = maps[2];  // corridor
+  HabPpParameters p = HabPpParameters::improved();
+  p.rrt_step_cells = 8;
+  p.rrt_near_radius_cells = 8;
+  const habpp::GridFields f(m.grid, m.goal, p);
+  const habpp::PheromoneField tau(f, p);
+  habpp::RrtAnt tree(m.grid, m.goal, m.start, p);
+  habpp::Rng rng(7);
+  std::optional<Path> found;
+  for (int i = 0; i < 5000 && !found; ++i) found = tree.step(tau, rng);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_EQ(pathProblem(m.grid, *found, m.goal, m.start), "") << "root (goal) to target (start)";
+  int checked = 0;
+  for (int y = 0; y < m.grid.height(); ++y) {
+    for (int x = 0; x < m.grid.width(); ++x) {
+      const GridCell c{x, y};
+      if (m.grid.blocked(c)) continue;
+      const int node = tree.nodeNear(c);
+      if (node < 0) continue;
+      const Path branch = tree.branchToRoot(node);
+      ASSERT_FALSE(branch.empty());
+      EXPECT_LE(std::max(std::abs(branch.front().x - c.x), std::abs(branch.front().y - c.y)), 1);
+      EXPECT_TRUE(m.grid.lineOfSight(c, branch.front()));
+      EXPECT_EQ(pathProblem(m.grid, branch, branch.front(), m.goal), "");
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 10);
+}
+
 // ---- the planner ---------------------------------------------------------------------------------
 
 TEST(HabPp, PathsAreValidAndNearTheAnyAngleOptimum) {
   // Tolerances: exact on the open field (the pruned path is the straight segment), 5% elsewhere
   // with these small colonies (measured: single wall +4.3%, the vertices stay at cells the ants
   // visited; the benchmark measures the paper's colony).
-  for (bool improved : {false, true}) {
+  // Variant 0: HAB-PP; 1: Improved HAB-PP; 2: Improved HAB-PP as section 4 publishes it.
+  for (int variant : {0, 1, 2}) {
+    const bool improved = variant > 0;
+    HabPpParameters params = smallColony(improved);
+    if (variant == 2) {
+      params.rrt_shared_tree = false;
+      params.rrt_tree_from_goal = false;
+      params.rrt_ants_join_tree = false;
+    }
     for (const auto& m : knownMaps()) {
       const double optimum = testing::visibilityGraphOptimum(m.grid, m.start, m.goal);
       for (std::uint64_t seed : {1u, 2u}) {
-        const HabPpResult r = planHabPp(m.grid, m.start, m.goal, smallColony(improved), seed,
+        const HabPpResult r = planHabPp(m.grid, m.start, m.goal, params, seed,
                                         TerminationCondition::afterMilliseconds(20000));
-        SCOPED_TRACE(m.name + (improved ? " improved" : " original") + " seed " + std::to_string(seed));
+        SCOPED_TRACE(m.name + " variant " + std::to_string(variant) + " seed " + std::to_string(seed));
         ASSERT_EQ(r.status, HabPpStatus::kConverged) << r.message;
         EXPECT_EQ(pathProblem(m.grid, r.path, m.start, m.goal), "");
         EXPECT_NEAR(r.length_cells, polylineLength(r.path), 1e-9);
@@ -436,7 +513,13 @@ TEST(HabPp, PathsAreValidAndNearTheAnyAngleOptimum) {
         EXPECT_LE(r.first_path_time_s, r.total_time_s);
         EXPECT_LE(r.first_path_iteration, r.iterations);
         if (improved) {
-          EXPECT_GT(r.rrt_arrivals, 0u);
+          EXPECT_GT(r.rrt_arrivals + r.joined_arrivals, 0u) << "the RRT* species contributed paths";
+          EXPECT_GT(r.rrt_steps, 0u);
+        } else {
+          EXPECT_EQ(r.rrt_steps, 0u);
+        }
+        if (variant != 1) {
+          EXPECT_EQ(r.joined_arrivals, 0u);
         }
       }
     }
@@ -464,30 +547,116 @@ TEST(HabPp, SameSeedRepeatsExactly) {
   EXPECT_GT(iterations.size(), 1u);
 }
 
-// Choice: the RRT* species has its own random stream, so with one seed the ants of both planners
-// walk alike until a tree brings a path: Improved's first path comes no later than HAB-PP's, and at
-// the same iteration when the ants brought it. The output stage never lengthens the ranked path.
+// Choice: the RRT* species has its own random stream, and finishing along a tree draws nothing,
+// so with one seed the ants of both planners walk alike until a tree brings a path or an ant
+// finishes along one: Improved's first path comes no later than HAB-PP's, and at the same
+// iteration when the ants brought it on their own (exercised with joining off, where the trees
+// seldom win on these small maps). The output stage never lengthens the ranked path.
 TEST(HabPp, CommonRandomNumbersAndTheOutputStage) {
   const auto maps = knownMaps();
   int by_ants = 0;
   for (const auto& m : maps) {
     for (std::uint64_t seed : {3u, 4u, 5u}) {
       const HabPpResult plain = planHabPp(m.grid, m.start, m.goal, smallColony(false), seed);
-      const HabPpResult improved = planHabPp(m.grid, m.start, m.goal, smallColony(true), seed);
-      ASSERT_TRUE(hasPath(plain.status) && hasPath(improved.status)) << m.name;
+      ASSERT_TRUE(hasPath(plain.status)) << m.name;
       EXPECT_FALSE(plain.first_path_by_rrt);
-      EXPECT_LE(improved.first_path_iteration, plain.first_path_iteration) << m.name << " seed " << seed;
-      if (!improved.first_path_by_rrt) {
-        EXPECT_EQ(improved.first_path_iteration, plain.first_path_iteration) << m.name << " seed " << seed;
-        ++by_ants;
-      }
-      for (const HabPpResult* r : {&plain, &improved}) {
-        EXPECT_LE(r->length_cells, r->ranked_length_cells + 1e-9);
-        EXPECT_EQ(pathProblem(m.grid, r->path, m.start, m.goal), "");
+      EXPECT_FALSE(plain.first_path_by_join);
+      for (bool join : {true, false}) {
+        HabPpParameters p = smallColony(true);
+        p.rrt_ants_join_tree = join;
+        const HabPpResult improved = planHabPp(m.grid, m.start, m.goal, p, seed);
+        ASSERT_TRUE(hasPath(improved.status)) << m.name;
+        SCOPED_TRACE(m.name + " seed " + std::to_string(seed) + (join ? " joining" : " not joining"));
+        EXPECT_LE(improved.first_path_iteration, plain.first_path_iteration);
+        if (!improved.first_path_by_rrt && !improved.first_path_by_join) {
+          EXPECT_EQ(improved.first_path_iteration, plain.first_path_iteration);
+          ++by_ants;
+        }
+        for (const HabPpResult* r : {&plain, &improved}) {
+          EXPECT_LE(r->length_cells, r->ranked_length_cells + 1e-9);
+          EXPECT_EQ(pathProblem(m.grid, r->path, m.start, m.goal), "");
+        }
       }
     }
   }
   EXPECT_GT(by_ants, 0) << "some first paths came from the ants, so the equality was exercised";
+}
+
+// rrt_ants_join_tree: on a map of rooms joined by one-cell doors, where ants and trees alone take
+// long, ants that step next to the tree from the goal finish along it: such paths arrive, they are
+// valid, and the first path comes no later than HAB-PP's (common random numbers). Off, none arrive.
+TEST(HabPp, AntsFinishAlongTheTreeFromTheGoal) {
+  const GridLayer g = gridFromText({
+      "..........#.........#..........",
+      "..........#.........#..........",
+      "..........#.........#..........",
+      "...............................",
+      "..........#.........#..........",
+      "..........#.........#..........",
+      "#####.#########.#######.#######",
+      "..........#.........#..........",
+      "..........#.........#..........",
+      "...............................",
+      "..........#.........#..........",
+      "..........#.........#..........",
+      "#####.#########.#######.#######",
+      "..........#.........#..........",
+      "..........#.........#..........",
+      "...............................",
+      "..........#.........#..........",
+      "..........#.........#..........",
+  });
+  const GridCell start{0, 0}, goal{30, 17};
+  int joined_first = 0;
+  for (std::uint64_t seed : {1u, 2u, 3u, 4u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const HabPpResult plain = planHabPp(g, start, goal, smallColony(false), seed);
+    const HabPpResult joined = planHabPp(g, start, goal, smallColony(true), seed);
+    ASSERT_TRUE(hasPath(plain.status) && hasPath(joined.status)) << joined.message;
+    EXPECT_GT(joined.joined_arrivals, 0u);
+    EXPECT_LE(joined.joined_arrivals, joined.ant_arrivals);
+    EXPECT_EQ(pathProblem(g, joined.path, start, goal), "");
+    EXPECT_LE(joined.first_path_iteration, plain.first_path_iteration);
+    joined_first += joined.first_path_by_join ? 1 : 0;
+    HabPpParameters off = smallColony(true);
+    off.rrt_ants_join_tree = false;
+    const HabPpResult apart = planHabPp(g, start, goal, off, seed);
+    ASSERT_TRUE(hasPath(apart.status));
+    EXPECT_EQ(apart.joined_arrivals, 0u);
+    EXPECT_FALSE(apart.first_path_by_join);
+  }
+  EXPECT_GT(joined_first, 0) << "some first paths were finished along the tree";
+}
+
+// One tree for the species or one per RRT* ant; trees that rest once the list is full. Each
+// variant repeats exactly from its seed; resting trees stop taking steps, growing ones take one
+// per RRT* ant per iteration.
+TEST(HabPp, SpeciesLayoutAndRestingTrees) {
+  const auto maps = knownMaps();
+  const auto& m = maps[1];  // single wall
+  for (bool shared : {true, false}) {
+    for (bool rest : {false, true}) {
+      SCOPED_TRACE(std::string(shared ? "shared tree" : "one tree per ant") + (rest ? ", resting" : ", growing"));
+      HabPpParameters p = smallColony(true);
+      p.rrt_shared_tree = shared;
+      p.rrt_rest_when_full = rest;
+      p.ranked_paths = 3;  // a list this short fills up on this map
+      const HabPpResult a = planHabPp(m.grid, m.start, m.goal, p, 9);
+      const HabPpResult b = planHabPp(m.grid, m.start, m.goal, p, 9);
+      ASSERT_EQ(a.status, HabPpStatus::kConverged);
+      EXPECT_EQ(pathProblem(m.grid, a.path, m.start, m.goal), "");
+      EXPECT_TRUE(sameCells(a.path, b.path));
+      EXPECT_EQ(a.iterations, b.iterations);
+      EXPECT_EQ(a.rrt_steps, b.rrt_steps);
+      const std::uint64_t every_iteration = static_cast<std::uint64_t>(p.rrt_ants) * a.iterations;
+      if (rest) {
+        EXPECT_LT(a.rrt_steps, every_iteration) << "the list filled up and the trees stopped";
+        EXPECT_GT(a.rrt_steps, 0u);
+      } else {
+        EXPECT_EQ(a.rrt_steps, every_iteration);
+      }
+    }
+  }
 }
 
 TEST(HabPp, BadEndpointsAndUnreachableGoalEndWithAClearStatus) {
@@ -539,6 +708,15 @@ TEST(HabPp, TerminationConditionAndParameterErrors) {
   EXPECT_NE(planHabPp(m.grid, m.start, m.goal, bad, 1).message.find("sight_max_radius"), std::string::npos);
   EXPECT_TRUE(HabPpParameters{}.validate().ok());
   EXPECT_TRUE(HabPpParameters::improved().validate().ok());
+  EXPECT_TRUE(HabPpParameters::improvedAsPublished().validate().ok());
+  bad = HabPpParameters::improved();
+  bad.rrt_tree_from_goal = false;  // ants cannot finish along a tree that ends at the start
+  r = planHabPp(m.grid, m.start, m.goal, bad, 1);
+  EXPECT_EQ(r.status, HabPpStatus::kInvalidParameters);
+  EXPECT_NE(r.message.find("rrt_ants_join_tree"), std::string::npos);
+  bad = HabPpParameters::improved();
+  bad.rrt_nodes_after_solution = -1;
+  EXPECT_NE(planHabPp(m.grid, m.start, m.goal, bad, 1).message.find("rrt_nodes_after_solution"), std::string::npos);
   EXPECT_EQ(HabPpParameters{}.totalAnts(), 170);
 }
 
