@@ -10,7 +10,7 @@
 //   habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N]
 //               [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP]
 //               [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N] [--published]
-//               [--shared-tree 0|1] [--sample-eta 0|1] [--rest 0|1] [--after-solution N] [--corridor N] [--only 0|1]
+//               [--shared-tree 0|1] [--sample-eta 0|1] [--rest 0|1] [--node-redraws N] [--tree-route 0|1] [--after-solution N] [--corridor N] [--only 0|1]
 // --budget-s: wall budget per HAB-PP run (default 120); --stable: stable_iterations override;
 // --rrt-iterations: RRT* budget (0 skips that row); --no-hab: only the reference rows;
 // --weights: eq. (2) weights instead of the paper's 1/3 each; --near-k: the RRT* species' k-nearest
@@ -18,7 +18,7 @@
 // --stop-top: the RRT*-only change rule of the stopping rule on (1) or off (0); --draws: draws of
 // x_rand per RRT* step; --published: the Improved row runs section 4 as published
 // (HabPpParameters::improvedAsPublished: five trees from the start, no joining, no resting);
-// --shared-tree, --sample-eta, --rest, --after-solution, --corridor: the HabPpParameters of those names;
+// --shared-tree, --sample-eta, --rest, --node-redraws, --tree-route, --after-solution, --corridor: the HabPpParameters of those names;
 // --only 0|1: run HAB-PP (0) or Improved HAB-PP (1) alone, for profiling.
 //
 // Writes nothing; docs/benchmarks/habpp.md records its output.
@@ -188,6 +188,7 @@ int main(int argc, char** argv) {
   int draws = -1;           // --draws N: HabPpParameters::rrt_draws_per_step; -1: the default
   int shared_tree = -1;     // --shared-tree 0|1: HabPpParameters::rrt_shared_tree; -1: the default
   bool published = false;   // --published: Improved HAB-PP as section 4 publishes it (improvedAsPublished)
+  int node_redraws = -1, tree_route = -1;
   int rest = -1;            // --rest 0|1: HabPpParameters::rrt_rest_when_full
   int after_solution = -1;  // --after-solution N: HabPpParameters::rrt_nodes_after_solution
   int corridor = -2;        // --corridor N: HabPpParameters::output_corridor_cells
@@ -211,6 +212,8 @@ int main(int argc, char** argv) {
     else if (a == "--sample-eta" && i + 1 < argc) sample_eta = std::atoi(argv[++i]);
     else if (a == "--published") published = true;
     else if (a == "--rest" && i + 1 < argc) rest = std::atoi(argv[++i]);
+    else if (a == "--node-redraws" && i + 1 < argc) node_redraws = std::atoi(argv[++i]);
+    else if (a == "--tree-route" && i + 1 < argc) tree_route = std::atoi(argv[++i]);
     else if (a == "--corridor" && i + 1 < argc) corridor = std::atoi(argv[++i]);
     else if (a == "--after-solution" && i + 1 < argc) after_solution = std::atoi(argv[++i]);
     else if (a == "--only" && i + 1 < argc) only = std::atoi(argv[++i]);
@@ -218,7 +221,7 @@ int main(int argc, char** argv) {
       if (std::sscanf(argv[++i], "%lf,%lf,%lf", &weights[0], &weights[1], &weights[2]) != 3) return 2;
     }
     else {
-      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N] [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP] [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N] [--published] [--shared-tree 0|1] [--sample-eta 0|1] [--rest 0|1] [--after-solution N] [--corridor N] [--only 0|1]\n");
+      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N] [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP] [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N] [--published] [--shared-tree 0|1] [--sample-eta 0|1] [--rest 0|1] [--node-redraws N] [--tree-route 0|1] [--after-solution N] [--corridor N] [--only 0|1]\n");
       return 2;
     }
   }
@@ -292,6 +295,8 @@ int main(int argc, char** argv) {
       if (corridor >= -1) params.output_corridor_cells = corridor;
       if (after_solution >= 0) params.rrt_nodes_after_solution = after_solution;
       if (rest >= 0) params.rrt_rest_when_full = rest != 0;
+      if (node_redraws >= 0) params.rrt_node_redraws = node_redraws;
+      if (tree_route >= 0) params.output_tree_route = tree_route != 0;
       if (weights[0] >= 0.0) {
         params.w_length = weights[0];
         params.w_angle = weights[1];

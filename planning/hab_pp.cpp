@@ -75,6 +75,7 @@ Status HabPpParameters::validate() const {
   if (stable_iterations < 1) return bad("stable_iterations", "must be >= 1");
   if (rrt_nodes_after_solution < 0) return bad("rrt_nodes_after_solution", "must be >= 0 (0: never restart)");
   if (rrt_draws_per_step < 1) return bad("rrt_draws_per_step", "must be >= 1");
+  if (rrt_node_redraws < 0) return bad("rrt_node_redraws", "must be >= 0");
   if (rrt_ants_join_tree && !rrt_tree_from_goal) {
     return bad("rrt_ants_join_tree", "needs rrt_tree_from_goal (an ant can only finish along a tree that ends at the goal)");
   }
@@ -688,6 +689,11 @@ class Colony {
       if (std::optional<Path> p = tree.step(pheromone_, rrt_rng_)) {
         if (params_.rrt_tree_from_goal) std::reverse(p->begin(), p->end());
         arrivals.push_back(tightenPath(grid_, *p, params_.tighten_passes));
+        if (const double length = polylineLength(arrivals.back());
+            best_tree_path_.empty() || length < best_tree_length_ - 1e-9) {
+          best_tree_path_ = arrivals.back();
+          best_tree_length_ = length;
+        }
         ++stats.rrt_arrivals;
       }
     }
@@ -738,6 +744,8 @@ class Colony {
   // The shortest path that has been in the ranked list at any iteration (eq. (2) may have pushed
   // it out since for paths with fewer points or less turning).
   const Path& shortestRanked() const { return shortest_ranked_; }
+  // The shortest path the RRT* species has brought (pruned as on arrival); empty if none.
+  const Path& bestTreePath() const { return best_tree_path_; }
 
  private:
   void restart(Ant& ant) {
@@ -861,6 +869,8 @@ class Colony {
   std::vector<double> ranked_eval_;
   std::vector<std::vector<std::uint32_t>> ranked_cells_;  // pheromone cells of each ranked path
   Path shortest_ranked_;
+  Path best_tree_path_;
+  double best_tree_length_ = 0.0;
   double shortest_ranked_length_ = 0.0;
   std::vector<double> weights_;
   std::vector<GridCell> candidates_;  // reused by every ant step
@@ -970,6 +980,10 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
     std::vector<habpp::Path> routes(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(count));
     if (params.output_ranked_routes > 1 && std::find(routes.begin(), routes.end(), colony.shortestRanked()) == routes.end()) {
       routes.push_back(colony.shortestRanked());
+    }
+    if (params.output_tree_route && !colony.bestTreePath().empty() &&
+        std::find(routes.begin(), routes.end(), colony.bestTreePath()) == routes.end()) {
+      routes.push_back(colony.bestTreePath());
     }
     result.path = params.output_corridor_cells >= 0
                       ? habpp::tautPath(grid, routes, params.output_corridor_cells, params.tighten_passes)

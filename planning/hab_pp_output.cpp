@@ -62,6 +62,7 @@ Path tautPath(const GridLayer& grid, const std::vector<Path>& routes, int corrid
     }
   };
   offer(tightenPath(grid, path, tighten_passes));
+  for (std::size_t k = 1; k < routes.size(); ++k) offer(routes[k]);  // each route as it is, when shorter
   if (corridor_cells > 0) {
     // The first route's corridor alone, then the union of all routes' corridors: Theta* is not
     // exactly optimal, so the wider corridor is not guaranteed to give the shorter path; the

@@ -28,7 +28,8 @@ Path tautPath(const GridLayer& grid, const Path& path, int corridor_cells, int t
 // The same over several routes with common endpoints (the top ranked paths, best first): step 1
 // runs twice, in the corridor of routes[0] and in the union of the corridors of all routes, whose
 // shortest way may join pieces of different routes where they meet (as the path crossover does);
-// step 2 takes routes[0] as the input. Never longer than tautPath(grid, routes[0], ...); every cell
+// step 2 takes routes[0] as the input; each other route is a candidate as it is. Never longer than
+// tautPath(grid, routes[0], ...) or than any of the routes (that join the same endpoints); every cell
 // it passes lies within corridor_cells of a cell some ranked route touched, so it never takes a
 // door or gap that no ranked route went through or right past. routes must not be empty.
 Path tautPath(const GridLayer& grid, const std::vector<Path>& routes, int corridor_cells, int tighten_passes);

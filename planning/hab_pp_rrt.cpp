@@ -25,6 +25,7 @@ RrtAnt::RrtAnt(const GridLayer& grid, GridCell root, GridCell target, const HabP
       near_nearest_(params.rrt_near_nearest),
       draws_per_step_(params.rrt_draws_per_step),
       sample_visibility_(params.rrt_sample_visibility),
+      node_redraws_(params.rrt_node_redraws),
       node_at_(grid.cellCount(), -1) {
   reset();
 }
@@ -283,12 +284,17 @@ std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
   // Choice: a draw that cannot grow the tree (the sample, or the steered point, is already a node,
   // as most draws are once the pheromone concentrates on the ranked paths the tree has covered) is
   // redrawn, up to HabPpParameters::rrt_draws_per_step times in all, so each step adds a node as
-  // section 4 intends.
+  // section 4 intends; a sample that lands on a node is rejected by one lookup and does not count
+  // towards those draws, up to HabPpParameters::rrt_node_redraws times.
   int from = -1;
   GridCell target{};
+  int node_draws = 0;
   for (int draw = 0; draw < draws_per_step_ && from < 0; ++draw) {
     const GridCell rand = sample_visibility_ ? pheromone.sampleWithVisibility(rng) : pheromone.sample(rng);
-    if (node_at_[grid_->index(rand)] >= 0) continue;
+    if (node_at_[grid_->index(rand)] >= 0) {
+      if (node_draws++ < node_redraws_) --draw;  // a draw on a node costs one lookup: it does not count
+      continue;
+    }
     const int n = nearest(rand);
     if (std::optional<GridCell> t = steer(nodes_[n].cell, rand); t && node_at_[grid_->index(*t)] < 0) {
       from = n;

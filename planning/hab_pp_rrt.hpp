@@ -65,6 +65,7 @@ class RrtAnt {
   bool near_nearest_;
   int draws_per_step_;
   bool sample_visibility_;
+  int node_redraws_;
 
   // Nodes also form a 2D k-d tree (splitting on x at even depths and y at odd ones; node i of
   // the RRT* is k-d node i; inserted in growth order and rebuilt balanced as the tree doubles), so nearest() and near() visit O(log n) nodes on

@@ -135,6 +135,10 @@ TEST(HabPpOutput, TakesTheShortestOfTheRankedRoutes) {
   EXPECT_FALSE(passes(both, GridCell{18, 9}));
   EXPECT_LE(polylineLength(both), polylineLength(habpp::tautPath(g, via_near_door, 2, 64)) + 1e-9);
   EXPECT_LT(polylineLength(both), 16.0);
+  // Without a corridor search the shorter route still wins, as it is.
+  const Path no_search = habpp::tautPath(g, std::vector<Path>{via_far_door, via_near_door}, 0, 64);
+  EXPECT_LE(polylineLength(no_search), polylineLength(via_near_door) + 1e-9);
+  EXPECT_TRUE(passes(no_search, GridCell{5, 9}));
 }
 
 }  // namespace

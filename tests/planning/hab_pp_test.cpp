@@ -448,6 +448,36 @@ TEST(HabPpRrtAnt, NearSetVariantsConvergeOnAnOpenMap) {
   }
 }
 
+// rrt_node_redraws: under a field whose pheromone sits on cells the tree already covers, samples
+// that land on a node are drawn again without counting, so the tree keeps growing about one node
+// per step; without them most steps add nothing.
+TEST(HabPpRrtAnt, RedrawsOfSamplesOnNodesKeepTheTreeGrowing) {
+  const GridLayer g(40, 40);
+  const GridCell root{0, 0}, target{39, 39};
+  std::size_t nodes[2] = {0, 0};
+  for (int redraws : {0, 64}) {
+    HabPpParameters p = HabPpParameters::improved();
+    p.rrt_node_redraws = redraws;
+    p.rrt_step_cells = 3;
+    const habpp::GridFields f(g, target, p);
+    habpp::PheromoneField tau(f, p);
+    for (int i = 0; i < 100; ++i) tau.update({}, {});
+    // Pheromone on rows 0-2 (120 cells at 1; the other 1 480 at the floor, 0.05^2 = 0.0025 each on
+    // the wheel): 97 % of the wheel on cells the tree covers in its first ~150 steps.
+    for (int i = 0; i < 100; ++i) tau.update({{{0, 0}, {39, 0}}, {{0, 1}, {39, 1}}, {{0, 2}, {39, 2}}}, {1.0, 1.0, 1.0});
+    habpp::RrtAnt tree(g, root, target, p);
+    habpp::Rng rng(21);
+    for (int i = 0; i < 400; ++i) {
+      if (std::optional<Path> found = tree.step(tau, rng)) {
+        EXPECT_EQ(pathProblem(g, *found, root, target), "");
+      }
+    }
+    nodes[redraws == 0 ? 0 : 1] = tree.nodeCount();
+  }
+  EXPECT_GT(nodes[1], nodes[0] + 100) << "without redraws " << nodes[0] << " nodes, with " << nodes[1];
+  EXPECT_GE(nodes[1], 300u) << "most steps add a node";
+}
+
 // rrt_tree_from_goal: a tree rooted at the goal looks for the start; every node's branch runs to
 // the goal through segments in sight, and nodeNear finds a node at a cell or next to it in sight.
 TEST(HabPpRrtAnt, TreeFromTheGoalReachesTheStartAndItsBranchesEndAtTheGoal) {
