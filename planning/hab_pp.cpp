@@ -554,69 +554,48 @@ void PheromoneField::updateCells(const std::vector<std::vector<std::uint32_t>>& 
     }
   }
   active_.resize(kept);
-  excess_stale_ = true;
-  excess_eta_stale_ = true;
+  excess_table_ = ExcessTable::kStale;
 }
 
-GridCell PheromoneField::sample(Rng& rng) const {
+GridCell PheromoneField::sample(Rng& rng) const { return sampleWeighted(rng, false); }
+
+GridCell PheromoneField::sampleWithVisibility(Rng& rng) const {
+  // eta^beta is tabulated only for a colony with RRT* ants and rrt_sample_visibility.
+  return sampleWeighted(rng, !floor_eta_cumulative_.empty());
+}
+
+GridCell PheromoneField::sampleWeighted(Rng& rng, bool with_eta) const {
   const GridLayer& grid = fields_->grid();
   const double floor_weight = powExponent(params_.pheromone_min, params_.alpha);
-  if (excess_stale_) {
+  const ExcessTable wanted = with_eta ? ExcessTable::kWithEta : ExcessTable::kPheromoneOnly;
+  if (excess_table_ != wanted) {
     excess_cells_.clear();
     excess_cumulative_.clear();
     double sum = 0.0;
     excess_cells_.reserve(active_.size());
     excess_cumulative_.reserve(active_.size());
     for (std::uint32_t i : active_) {  // all free: blocked cells stay at the floor
-      sum += powExponent(tau_[i], params_.alpha) - floor_weight;
+      sum += (powExponent(tau_[i], params_.alpha) - floor_weight) * (with_eta ? eta_beta_[i] : 1.0);
       excess_cells_.push_back(i);
       excess_cumulative_.push_back(sum);
     }
-    excess_stale_ = false;
-    excess_eta_stale_ = true;  // excess_cells_ is shared with sampleWithVisibility()
+    excess_table_ = wanted;
   }
   const double excess = excess_cumulative_.empty() ? 0.0 : excess_cumulative_.back();
-  const double floor_total = floor_weight * static_cast<double>(free_cells_.size());
-  const double r = std::uniform_real_distribution<double>(0.0, excess + floor_total)(rng);
+  const double floor_sum = with_eta ? floor_eta_cumulative_.back() : static_cast<double>(free_cells_.size());
+  const double r = std::uniform_real_distribution<double>(0.0, excess + floor_weight * floor_sum)(rng);
   if (r < excess) {
     const auto it = std::upper_bound(excess_cumulative_.begin(), excess_cumulative_.end(), r);
     const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - excess_cumulative_.begin()),
                                                 excess_cells_.size() - 1);
     return grid.cellOf(excess_cells_[k]);
   }
-  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>((r - excess) / floor_weight), free_cells_.size() - 1);
-  return grid.cellOf(free_cells_[k]);
-}
-
-GridCell PheromoneField::sampleWithVisibility(Rng& rng) const {
-  if (floor_eta_cumulative_.empty()) return sample(rng);  // built only for a colony with RRT* ants
-  const GridLayer& grid = fields_->grid();
-  const double floor_weight = powExponent(params_.pheromone_min, params_.alpha);
-  if (excess_eta_stale_) {
-    excess_cells_.clear();
-    excess_eta_cumulative_.clear();
-    double sum = 0.0;
-    for (std::uint32_t i : active_) {
-      sum += (powExponent(tau_[i], params_.alpha) - floor_weight) * eta_beta_[i];
-      excess_cells_.push_back(i);
-      excess_eta_cumulative_.push_back(sum);
-    }
-    excess_eta_stale_ = false;
-    excess_stale_ = true;  // excess_cells_ is shared with sample()
-  }
-  const double excess = excess_eta_cumulative_.empty() ? 0.0 : excess_eta_cumulative_.back();
-  const double floor_total = floor_weight * floor_eta_cumulative_.back();
-  const double r = std::uniform_real_distribution<double>(0.0, excess + floor_total)(rng);
-  if (r < excess) {
-    const auto it = std::upper_bound(excess_eta_cumulative_.begin(), excess_eta_cumulative_.end(), r);
-    const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - excess_eta_cumulative_.begin()),
-                                                excess_cells_.size() - 1);
-    return grid.cellOf(excess_cells_[k]);
-  }
-  const auto it = std::upper_bound(floor_eta_cumulative_.begin(), floor_eta_cumulative_.end(), (r - excess) / floor_weight);
-  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - floor_eta_cumulative_.begin()),
-                                              free_cells_.size() - 1);
-  return grid.cellOf(free_cells_[k]);
+  const double at = (r - excess) / floor_weight;  // a position in the floor part, in floor cells
+  const std::size_t k =
+      with_eta ? static_cast<std::size_t>(std::upper_bound(floor_eta_cumulative_.begin(), floor_eta_cumulative_.end(), at) -
+                                          floor_eta_cumulative_.begin())
+               : static_cast<std::size_t>(at);
+  return grid.cellOf(free_cells_[std::min<std::size_t>(k, free_cells_.size() - 1)]);
 }
 
 // ---- the colony ----------------------------------------------------------------------------------

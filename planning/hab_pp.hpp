@@ -333,11 +333,14 @@ class PheromoneField {
   std::vector<std::uint8_t> in_active_;
   mutable std::vector<double> excess_cumulative_;   // running sum of the excess over excess_cells_
   mutable std::vector<std::uint32_t> excess_cells_;  // the active cells (all free), in active_ order
-  mutable bool excess_stale_ = true;
+  // Which weighting the excess table holds; the update makes it stale.
+  enum class ExcessTable : std::uint8_t { kStale, kPheromoneOnly, kWithEta };
+  mutable ExcessTable excess_table_ = ExcessTable::kStale;
   std::vector<double> eta_beta_;             // eta^beta per cell (free cells), for sampleWithVisibility
   std::vector<double> floor_eta_cumulative_;  // running sum of eta^beta over free_cells_
-  mutable std::vector<double> excess_eta_cumulative_;
-  mutable bool excess_eta_stale_ = true;
+  // sample() (with_eta false: the floor part is a uniform draw) and sampleWithVisibility() (true:
+  // the floor part and the excess weighted by eta^beta).
+  GridCell sampleWeighted(Rng& rng, bool with_eta) const;
   void nextStamp();
 };
 

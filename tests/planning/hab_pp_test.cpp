@@ -393,15 +393,26 @@ TEST(HabPpPheromone, SamplingWithVisibilityIsProportionalToTauAlphaTimesEtaBeta)
   EXPECT_NEAR(near_goal / double(n), near_w / (near_w + far_w), 0.01);
 }
 
+// The corridor map, an RRT* species with 8-cell steps and its untouched pheromone field, for the
+// RrtAnt tests. Built in place (its fields point at its own members), never copied.
+struct CorridorTreeSetup {
+  std::vector<testing::KnownMap> maps = knownMaps();
+  const testing::KnownMap& m = maps[2];  // corridor
+  HabPpParameters p = [] {
+    HabPpParameters q = HabPpParameters::improved();
+    q.rrt_step_cells = 8;
+    q.rrt_near_radius_cells = 8;
+    return q;
+  }();
+  habpp::GridFields f{m.grid, m.goal, p};
+  habpp::PheromoneField tau{f, p};
+};
+
 TEST(HabPpRrtAnt, GrowsOneNodePerStepAndReturnsValidPaths) {
-  const auto maps = knownMaps();
-  const auto& m = maps[2];  // corridor
-  HabPpParameters p = HabPpParameters::improved();
-  p.rrt_step_cells = 8;
-  p.rrt_near_radius_cells = 8;
-  const habpp::GridFields f(m.grid, m.goal, p);
-  const habpp::PheromoneField tau(f, p);
-  habpp::RrtAnt tree(m.grid, m.start, m.goal, p);
+  const CorridorTreeSetup setup;
+  const auto& m = setup.m;
+  const auto& tau = setup.tau;
+  habpp::RrtAnt tree(m.grid, m.start, m.goal, setup.p);
   habpp::Rng rng(5);
   std::optional<Path> found;
   for (int i = 0; i < 5000 && !found; ++i) {
@@ -481,14 +492,10 @@ TEST(HabPpRrtAnt, RedrawsOfSamplesOnNodesKeepTheTreeGrowing) {
 // rrt_tree_from_goal: a tree rooted at the goal looks for the start; every node's branch runs to
 // the goal through segments in sight, and nodeNear finds a node at a cell or next to it in sight.
 TEST(HabPpRrtAnt, TreeFromTheGoalReachesTheStartAndItsBranchesEndAtTheGoal) {
-  const auto maps = knownMaps();
-  const auto& m = maps[2];  // corridor
-  HabPpParameters p = HabPpParameters::improved();
-  p.rrt_step_cells = 8;
-  p.rrt_near_radius_cells = 8;
-  const habpp::GridFields f(m.grid, m.goal, p);
-  const habpp::PheromoneField tau(f, p);
-  habpp::RrtAnt tree(m.grid, m.goal, m.start, p);
+  const CorridorTreeSetup setup;
+  const auto& m = setup.m;
+  const auto& tau = setup.tau;
+  habpp::RrtAnt tree(m.grid, m.goal, m.start, setup.p);
   habpp::Rng rng(7);
   std::optional<Path> found;
   for (int i = 0; i < 5000 && !found; ++i) found = tree.step(tau, rng);
