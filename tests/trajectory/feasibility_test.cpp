@@ -156,12 +156,7 @@ TEST(Feasibility, StopsWhenStretchingAGivenStartVelocityOnlyMakesItWorse) {
   // 12 m/s^3 of jerk): the first 100 m knot asks for more than the vehicle has, and a longer
   // first segment only lets the curve run further off before it must come back. The build must
   // say so after a few rounds instead of stretching that segment to hundreds of seconds.
-  VehicleLimits limits;
-  limits.v_ref_mps = 50.0;
-  limits.max_speed_mps = 60.0;
-  limits.max_accel_mps2 = 10.0;
-  limits.max_climb_mps = 15.0;
-  limits.max_descent_mps = 15.0;
+  const VehicleLimits limits;  // the defaults: seed 003's vehicle, 50 m/s cruise, 60 max, 10 m/s^2, 15 m/s up and down
   TrajectoryOptions options;
   options.boundary.start.velocity_mps = Eigen::Vector3d(40.7, 19.4, -0.2);
   options.boundary.start.acceleration_mps2 = Eigen::Vector3d(2.3, 3.8, 0.2);
