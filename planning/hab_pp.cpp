@@ -71,6 +71,11 @@ Status HabPpParameters::validate() const {
     return bad("angle_eval_epsilon_rad", "must be > 0");
   }
   if (output_corridor_cells < -1) return bad("output_corridor_cells", "must be >= -1");
+  if (!(output_window_cells >= 0.0) || !std::isfinite(output_window_cells)) {
+    return bad("output_window_cells", "must be >= 0 (0: no windowed re-planning)");
+  }
+  if (output_window_segments < 0) return bad("output_window_segments", "must be >= 0 (0: no windowed re-planning)");
+  if (output_window_margin_cells < 0) return bad("output_window_margin_cells", "must be >= 0");
   if (output_ranked_routes < 1) return bad("output_ranked_routes", "must be >= 1");
   if (stable_iterations < 1) return bad("stable_iterations", "must be >= 1");
   if (rrt_nodes_after_solution < 0) return bad("rrt_nodes_after_solution", "must be >= 0 (0: never restart)");
@@ -967,6 +972,11 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
     result.path = params.output_corridor_cells >= 0
                       ? habpp::tautPath(grid, routes, params.output_corridor_cells, params.tighten_passes)
                       : ranked.front();
+    result.path = habpp::replanWindows(grid, result.path,
+                                       habpp::WindowOptions{.segments = params.output_window_segments,
+                                                            .span_cells = params.output_window_cells,
+                                                            .margin_cells = params.output_window_margin_cells},
+                                       params.tighten_passes);
     result.length_cells = polylineLength(result.path);
     result.angle_change_rad = polylineAngleChange(result.path);
   } else {

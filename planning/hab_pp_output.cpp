@@ -1,6 +1,7 @@
 #include "planning/hab_pp_output.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "planning/any_angle_search.hpp"
 
@@ -42,7 +43,79 @@ GridLayer corridorGrid(const GridLayer& grid, const Path* paths, std::size_t cou
   return out;
 }
 
+// The cells of the box [lo, hi] (clamped to the grid) as a grid of their own, lo at (0, 0).
+GridLayer boxGrid(const GridLayer& grid, GridCell lo, GridCell hi) {
+  std::vector<GridCell> blocked;
+  for (int y = lo.y; y <= hi.y; ++y) {
+    for (int x = lo.x; x <= hi.x; ++x) {
+      if (grid.blocked(GridCell{x, y})) blocked.push_back(GridCell{x - lo.x, y - lo.y});
+    }
+  }
+  GridLayer out(hi.x - lo.x + 1, hi.y - lo.y + 1, grid.cellSize(), grid.origin());
+  out.setStaticBlocked(blocked, true);
+  return out;
+}
+
+double segmentLength(GridCell a, GridCell b) { return std::hypot(double(b.x - a.x), double(b.y - a.y)); }
+
 }  // namespace
+
+Path replanWindows(const GridLayer& grid, const Path& path, const WindowOptions& options, int tighten_passes) {
+  if ((options.segments < 2 && options.span_cells <= 0.0) || path.size() <= 2) return path;
+  const GridCell start = path.front(), goal = path.back();
+  Path best = path;
+  double best_length = polylineLength(best);
+  // Windows already re-planned without gain (ends and piece unchanged): a change elsewhere leaves
+  // them as they were, so later passes skip them instead of running the same Theta* again.
+  struct Tried {
+    GridCell from, to;
+    double piece;
+  };
+  std::vector<Tried> tried;
+  for (int pass = 0; pass < options.max_passes; ++pass) {
+    bool changed = false;
+    for (std::size_t i = 0; i + 2 < best.size(); ++i) {
+      std::size_t j = i + 1;
+      double piece = segmentLength(best[i], best[j]);
+      while (j + 1 < best.size() && (j < i + static_cast<std::size_t>(std::max(options.segments, 1)) ||
+                                     piece + segmentLength(best[j], best[j + 1]) <= options.span_cells)) {
+        piece += segmentLength(best[j], best[j + 1]);
+        ++j;
+      }
+      if (j < i + 2) continue;
+      const bool known = std::any_of(tried.begin(), tried.end(), [&](const Tried& t) {
+        return t.from == best[i] && t.to == best[j] && std::abs(t.piece - piece) < 1e-9;
+      });
+      if (known) continue;
+      GridCell lo = best[i], hi = best[i];
+      for (std::size_t k = i + 1; k <= j; ++k) {
+        lo = GridCell{std::min(lo.x, best[k].x), std::min(lo.y, best[k].y)};
+        hi = GridCell{std::max(hi.x, best[k].x), std::max(hi.y, best[k].y)};
+      }
+      const int m = options.margin_cells;
+      lo = GridCell{std::max(0, lo.x - m), std::max(0, lo.y - m)};
+      hi = GridCell{std::min(grid.width() - 1, hi.x + m), std::min(grid.height() - 1, hi.y + m)};
+      const AnyAngleResult local = thetaStar(boxGrid(grid, lo, hi), GridCell{best[i].x - lo.x, best[i].y - lo.y},
+                                             GridCell{best[j].x - lo.x, best[j].y - lo.y});
+      if (local.status != AnyAngleStatus::kExact || local.length_cells >= piece - 1e-9) {
+        tried.push_back(Tried{best[i], best[j], piece});
+        continue;
+      }
+      Path next(best.begin(), best.begin() + static_cast<std::ptrdiff_t>(i));
+      for (const GridCell& c : local.path) next.push_back(GridCell{c.x + lo.x, c.y + lo.y});
+      next.insert(next.end(), best.begin() + static_cast<std::ptrdiff_t>(j) + 1, best.end());
+      next = tightenPath(grid, next, tighten_passes);
+      const double length = polylineLength(next);
+      if (length < best_length - 1e-9 && validPath(grid, next, start, goal)) {
+        best = std::move(next);
+        best_length = length;
+        changed = true;
+      }
+    }
+    if (!changed) break;
+  }
+  return best;
+}
 
 Path tautPath(const GridLayer& grid, const Path& path, int corridor_cells, int tighten_passes) {
   return tautPath(grid, std::vector<Path>{path}, corridor_cells, tighten_passes);

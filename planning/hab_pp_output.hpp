@@ -34,4 +34,25 @@ Path tautPath(const GridLayer& grid, const Path& path, int corridor_cells, int t
 // door or gap that no ranked route went through or right past. routes must not be empty.
 Path tautPath(const GridLayer& grid, const std::vector<Path>& routes, int corridor_cells, int tighten_passes);
 
+// Local search by windowed re-planning, the output stage's last step. The corridor of tautPath
+// keeps the route the colony chose; this step lets the route change locally, as a k-opt move
+// does for a tour, where the colony went round the wrong side of an obstacle:
+//   for each vertex i (start first) the window is the vertices i..j, j the farthest of i + segments
+//   and the last vertex within span_cells of path length from i (j >= i + 2: a single segment
+//   leaves nothing to gain); Theta* runs from vertex i to vertex j on the cells of the box that
+//   bounds them, grown by margin_cells on each side (cells outside the box count as blocked); a
+//   shorter way replaces the piece and the whole path is tightened again (tightenPath); passes over
+//   the path repeat until one changes nothing, at most max_passes.
+// Each accepted change makes the path strictly shorter and keeps every segment in sight on grid,
+// so the result is never longer than the input and joins the same endpoints. The window is local
+// by construction when given in segments (a few turns of the path); a span_cells as long as the
+// path makes the step Theta* on the path's bounding box, which docs/benchmarks/habpp.md measures.
+struct WindowOptions {
+  int segments = 0;        // path segments per window; 0 or 1 (and span_cells 0): the step is off
+  double span_cells = 0.0;  // windows reach at least this much path length, cells; 0: segments only
+  int margin_cells = 8;    // the box around a window's vertices grows by this many cells per side
+  int max_passes = 10;
+};
+Path replanWindows(const GridLayer& grid, const Path& path, const WindowOptions& options, int tighten_passes);
+
 }  // namespace skyroute::habpp

@@ -1,8 +1,9 @@
 // The output stage of HAB-PP (planning/hab_pp_output): the best ranked path made taut within its
-// route. Checked: every output segment passes an independent geometric line-of-sight test, the
-// output is never longer than the input, it reaches the any-angle optimum when the input follows
-// the optimum's route, and it keeps the input's route (a shorter door outside the corridor stays
-// closed to it).
+// route, then windowed re-planning. Checked: every output segment passes an independent geometric
+// line-of-sight test, the output is never longer than the input, it reaches the any-angle optimum
+// when the input follows the optimum's route, the corridor step keeps the input's route (a shorter
+// door outside the corridor stays closed to it), and the window step takes that door when a
+// window of a few segments reaches it, and not when its box does not.
 #include "planning/hab_pp_output.hpp"
 
 #include <random>
@@ -62,6 +63,13 @@ TEST(HabPpOutput, NeverLongerAndAlwaysValidOnRandomMaps) {
       EXPECT_EQ(pathProblem(g, out, start, goal), "") << "trial " << trial << " corridor " << corridor;
       EXPECT_LE(polylineLength(out), polylineLength(p) + 1e-9);
       if (polylineLength(out) < polylineLength(p) - 1e-6) ++shortened;
+    }
+    for (const habpp::WindowOptions o : {habpp::WindowOptions{.segments = 2, .margin_cells = 0},
+                                         habpp::WindowOptions{.segments = 3, .margin_cells = 4},
+                                         habpp::WindowOptions{.span_cells = 12.0, .margin_cells = 2}}) {
+      const Path out = habpp::replanWindows(g, p, o, 64);
+      EXPECT_EQ(pathProblem(g, out, start, goal), "") << "trial " << trial << " window " << o.segments;
+      EXPECT_LE(polylineLength(out), polylineLength(p) + 1e-9);
     }
   }
   EXPECT_GT(shortened, 40) << "the wandering paths do get shorter";
@@ -139,6 +147,38 @@ TEST(HabPpOutput, TakesTheShortestOfTheRankedRoutes) {
   const Path no_search = habpp::tautPath(g, std::vector<Path>{via_far_door, via_near_door}, 0, 64);
   EXPECT_LE(polylineLength(no_search), polylineLength(via_near_door) + 1e-9);
   EXPECT_TRUE(passes(no_search, GridCell{5, 9}));
+}
+
+// The corridor step keeps the far door (above); a window of three segments whose box, grown by
+// its margin, holds the near door re-plans that piece through it, and the output is then as short
+// as Theta* on the whole map. Windows off, or a box that does not reach the near door, keep the
+// colony's route.
+TEST(HabPpOutput, WindowsTakeTheNearerDoorWithinAFewTurns) {
+  const GridLayer g = threeDoorMap();
+  const GridCell start{2, 1}, goal{2, 14};
+  const Path via_far_door{start, {2, 3}, {3, 5}, {8, 6}, {14, 7}, {18, 8}, {18, 12}, goal};
+  const Path taut = habpp::tautPath(g, via_far_door, 2, 64);
+  ASSERT_TRUE(passes(taut, GridCell{18, 9}));
+  EXPECT_EQ(habpp::replanWindows(g, taut, habpp::WindowOptions{}, 64), taut);  // off by default
+
+  const Path out = habpp::replanWindows(g, taut, habpp::WindowOptions{.segments = 3, .margin_cells = 8}, 64);
+  EXPECT_EQ(pathProblem(g, out, start, goal), "");
+  EXPECT_TRUE(passes(out, GridCell{5, 9}));
+  EXPECT_FALSE(passes(out, GridCell{18, 9}));
+  const AnyAngleResult theta = thetaStar(g, start, goal);
+  ASSERT_EQ(theta.status, AnyAngleStatus::kExact);
+  EXPECT_LE(polylineLength(out), polylineLength(theta.path) + 1e-9);
+
+  // Locality: from (10, 6) to (10, 12) through the far door. The box of the path's vertices
+  // (x 10..18) holds only the far door; grown by 8 cells it holds the near one (x = 5) too.
+  const Path short_far{{10, 6}, {18, 8}, {18, 10}, {10, 12}};
+  ASSERT_EQ(pathProblem(g, short_far, short_far.front(), short_far.back()), "");
+  const Path kept = habpp::replanWindows(g, short_far, habpp::WindowOptions{.segments = 3, .margin_cells = 0}, 64);
+  EXPECT_EQ(pathProblem(g, kept, short_far.front(), short_far.back()), "");
+  EXPECT_TRUE(passes(kept, GridCell{18, 9}));
+  const Path moved = habpp::replanWindows(g, short_far, habpp::WindowOptions{.segments = 3, .margin_cells = 8}, 64);
+  EXPECT_TRUE(passes(moved, GridCell{5, 9}));
+  EXPECT_LT(polylineLength(moved), polylineLength(kept) - 4.0);
 }
 
 }  // namespace

@@ -619,6 +619,26 @@ TEST(HabPp, CommonRandomNumbersAndTheOutputStage) {
   EXPECT_GT(by_ants, 0) << "some first paths came from the ants, so the equality was exercised";
 }
 
+// output_window_segments: the same colony (same seed, same iterations), and the window step only
+// ever shortens the output and keeps it valid.
+TEST(HabPp, WindowedOutputStepOnlyShortens) {
+  for (const auto& m : knownMaps()) {
+    for (bool improved : {false, true}) {
+      const HabPpParameters plain_params = smallColony(improved);
+      HabPpParameters windowed_params = plain_params;
+      windowed_params.output_window_segments = 3;
+      const HabPpResult plain = planHabPp(m.grid, m.start, m.goal, plain_params, 7);
+      const HabPpResult windowed = planHabPp(m.grid, m.start, m.goal, windowed_params, 7);
+      SCOPED_TRACE(m.name + (improved ? " improved" : " HAB-PP"));
+      ASSERT_TRUE(hasPath(windowed.status));
+      EXPECT_EQ(windowed.iterations, plain.iterations);
+      EXPECT_EQ(windowed.ranked_length_cells, plain.ranked_length_cells);
+      EXPECT_LE(windowed.length_cells, plain.length_cells + 1e-9);
+      EXPECT_EQ(pathProblem(m.grid, windowed.path, m.start, m.goal), "");
+    }
+  }
+}
+
 // rrt_ants_join_tree: on a map of rooms joined by one-cell doors, where ants and trees alone take
 // long, ants that step next to the tree from the goal finish along it: such paths arrive, they are
 // valid, and the first path comes no later than HAB-PP's (common random numbers). Off, none arrive.
@@ -754,6 +774,14 @@ TEST(HabPp, TerminationConditionAndParameterErrors) {
   bad = HabPpParameters::improved();
   bad.rrt_nodes_after_solution = -1;
   EXPECT_NE(planHabPp(m.grid, m.start, m.goal, bad, 1).message.find("rrt_nodes_after_solution"), std::string::npos);
+  for (auto [field, spoil] : std::initializer_list<std::pair<const char*, void (*)(HabPpParameters&)>>{
+           {"output_window_segments", [](HabPpParameters& q) { q.output_window_segments = -1; }},
+           {"output_window_cells", [](HabPpParameters& q) { q.output_window_cells = -2.0; }},
+           {"output_window_margin_cells", [](HabPpParameters& q) { q.output_window_margin_cells = -1; }}}) {
+    bad = HabPpParameters{};
+    spoil(bad);
+    EXPECT_NE(planHabPp(m.grid, m.start, m.goal, bad, 1).message.find(field), std::string::npos) << field;
+  }
   EXPECT_EQ(HabPpParameters{}.totalAnts(), 170);
 }
 
