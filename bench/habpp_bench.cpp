@@ -10,7 +10,8 @@
 //   habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N]
 //               [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP]
 //               [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N] [--published]
-//               [--shared-tree 0|1] [--sample-eta 0|1] [--rest 0|1] [--node-redraws N] [--tree-route 0|1] [--after-solution N] [--corridor N] [--only 0|1]
+//               [--shared-tree 0|1] [--sample-eta 0|1] [--rest 0|1] [--node-redraws N] [--tree-route 0|1] [--after-solution N] [--corridor N] [--only 0|1] [--dump DIR]
+//               [--tau-min X] [--window-segments N] [--window N] [--window-margin N]
 // --budget-s: wall budget per HAB-PP run (default 120); --stable: stable_iterations override;
 // --rrt-iterations: RRT* budget (0 skips that row); --no-hab: only the reference rows;
 // --weights: eq. (2) weights instead of the paper's 1/3 each; --near-k: the RRT* species' k-nearest
@@ -19,7 +20,10 @@
 // x_rand per RRT* step; --published: the Improved row runs section 4 as published
 // (HabPpParameters::improvedAsPublished: five trees from the start, no joining, no resting);
 // --shared-tree, --sample-eta, --rest, --node-redraws, --tree-route, --after-solution, --corridor: the HabPpParameters of those names;
-// --only 0|1: run HAB-PP (0) or Improved HAB-PP (1) alone, for profiling.
+// --only 0|1: run HAB-PP (0) or Improved HAB-PP (1) alone, for profiling; --dump DIR: write every
+// path found (and Theta*'s, A*'s) to DIR as "x y" lines, for plotting; --tau-min: pheromone_min;
+// --window-segments, --window, --window-margin: output_window_segments, output_window_cells,
+// output_window_margin_cells (the output stage's windowed re-planning).
 //
 // Writes nothing; docs/benchmarks/habpp.md records its output.
 #include <algorithm>
@@ -117,6 +121,14 @@ double maxOf(const std::vector<double>& v) { return v.empty() ? NAN : *std::max_
 double minOf(const std::vector<double>& v) { return v.empty() ? NAN : *std::min_element(v.begin(), v.end()); }
 
 void printRow(const char* name, const Stats& s, int runs);
+
+// One "x y" line per point, for plotting runs (--dump).
+void dumpPath(const std::string& file, const std::vector<GridCell>& path) {
+  if (std::FILE* f = std::fopen(file.c_str(), "w")) {
+    for (const GridCell& q : path) std::fprintf(f, "%d %d\n", q.x, q.y);
+    std::fclose(f);
+  }
+}
 double cpuSince(std::clock_t c0) { return static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC; }
 
 // Sum of turning angles of a polyline (x, y only).
@@ -194,6 +206,11 @@ int main(int argc, char** argv) {
   int corridor = -2;        // --corridor N: HabPpParameters::output_corridor_cells
   int only = -1;            // --only 0|1: run HAB-PP (0) or Improved HAB-PP (1) alone (profiling)
   int sample_eta = -1;      // --sample-eta 0|1: HabPpParameters::rrt_sample_visibility; -1: the default
+  double window = -1.0;      // --window N: HabPpParameters::output_window_cells
+  int window_segments = -1; // --window-segments N: HabPpParameters::output_window_segments
+  int window_margin = -1;   // --window-margin N: HabPpParameters::output_window_margin_cells
+  double tau_min = -1.0;    // --tau-min X: HabPpParameters::pheromone_min
+  std::string dump_dir;     // --dump DIR: each HAB-PP path as DIR/<map>_<planner>_<seed>.txt ("x y" per line)
   double weights[3] = {-1.0, -1.0, -1.0};  // w_L, w_A, w_P of eq. (2); negative: the paper's 1/3 each
   std::vector<std::string> wanted;
   for (int i = 1; i < argc; ++i) {
@@ -217,11 +234,16 @@ int main(int argc, char** argv) {
     else if (a == "--corridor" && i + 1 < argc) corridor = std::atoi(argv[++i]);
     else if (a == "--after-solution" && i + 1 < argc) after_solution = std::atoi(argv[++i]);
     else if (a == "--only" && i + 1 < argc) only = std::atoi(argv[++i]);
+    else if (a == "--dump" && i + 1 < argc) dump_dir = argv[++i];
+    else if (a == "--window" && i + 1 < argc) window = std::atof(argv[++i]);
+    else if (a == "--window-segments" && i + 1 < argc) window_segments = std::atoi(argv[++i]);
+    else if (a == "--window-margin" && i + 1 < argc) window_margin = std::atoi(argv[++i]);
+    else if (a == "--tau-min" && i + 1 < argc) tau_min = std::atof(argv[++i]);
     else if (a == "--weights" && i + 1 < argc) {
       if (std::sscanf(argv[++i], "%lf,%lf,%lf", &weights[0], &weights[1], &weights[2]) != 3) return 2;
     }
     else {
-      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N] [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP] [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N] [--published] [--shared-tree 0|1] [--sample-eta 0|1] [--rest 0|1] [--node-redraws N] [--tree-route 0|1] [--after-solution N] [--corridor N] [--only 0|1]\n");
+      std::fprintf(stderr, "usage: habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N] [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP] [--near-k 0|1] [--output-routes N] [--stop-top 0|1] [--draws N] [--published] [--shared-tree 0|1] [--sample-eta 0|1] [--rest 0|1] [--node-redraws N] [--tree-route 0|1] [--after-solution N] [--corridor N] [--only 0|1] [--dump DIR] [--tau-min X] [--window-segments N] [--window N] [--window-margin N]\n");
       return 2;
     }
   }
@@ -263,6 +285,7 @@ int main(int argc, char** argv) {
         st->total_s.push_back(cpu_s);
         st->length.push_back(res.length_cells);
         st->angle.push_back(polylineAngleChange(res.path));
+        if (!dump_dir.empty() && r == 0) dumpPath(dump_dir + "/" + c.name + "_" + (st == &theta ? "theta" : "astar") + ".txt", res.path);
       }
     }
     printRow("A* (8-conn.)", astar, runs);
@@ -297,6 +320,10 @@ int main(int argc, char** argv) {
       if (rest >= 0) params.rrt_rest_when_full = rest != 0;
       if (node_redraws >= 0) params.rrt_node_redraws = node_redraws;
       if (tree_route >= 0) params.output_tree_route = tree_route != 0;
+      if (tau_min > 0.0) params.pheromone_min = tau_min;
+      if (window >= 0.0) params.output_window_cells = window;
+      if (window_segments >= 0) params.output_window_segments = window_segments;
+      if (window_margin >= 0) params.output_window_margin_cells = window_margin;
       if (weights[0] >= 0.0) {
         params.w_length = weights[0];
         params.w_angle = weights[1];
@@ -316,6 +343,7 @@ int main(int argc, char** argv) {
         row.iterations += static_cast<double>(res.iterations) / runs;
         row.first_iteration += static_cast<double>(res.first_path_iteration) / runs;
         if (!hasPath(res.status)) continue;
+        if (!dump_dir.empty()) dumpPath(dump_dir + "/" + c.name + "_" + std::to_string(k) + "_" + std::to_string(r) + ".txt", res.path);
         first[k] = res.first_path_cpu_s;
         total[k] = res.total_cpu_s;
         ++row.s.solved;
