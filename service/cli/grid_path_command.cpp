@@ -30,6 +30,7 @@ struct GridPathOptions {
   std::string algo;
   std::uint64_t seed = 1;
   double budget_s = 60.0;
+  int window_segments = 0;  // HabPpParameters::output_window_segments (HAB-PP output stage)
   std::string out;
 };
 
@@ -58,6 +59,10 @@ void run(const GridPathOptions& o) {
   const GridCell start = parseCell("--start", o.start);
   const GridCell goal = parseCell("--goal", o.goal);
   if (!(o.budget_s > 0.0)) fail(2, "--budget-s: must be > 0");
+  if (o.window_segments < 0) fail(2, "--window-segments: must be >= 0 (0: off)");
+  if (o.window_segments > 0 && o.algo.rfind("hab-pp", 0) != 0) {
+    fail(2, "--window-segments: applies to hab-pp and hab-pp-rrt only, not " + o.algo);
+  }
   Result<GridLayer> grid = loadMovingAiMap(o.map);
   if (!grid) fail(1, "--map: " + grid.error().describe());
   checkEndpoint(*grid, "--start", start);
@@ -77,7 +82,8 @@ void run(const GridPathOptions& o) {
     length = r.length_cells;
     first_s = total_s = r.time_s;
   } else {
-    const HabPpParameters params = o.algo == "hab-pp-rrt" ? HabPpParameters::improved() : HabPpParameters{};
+    HabPpParameters params = o.algo == "hab-pp-rrt" ? HabPpParameters::improved() : HabPpParameters{};
+    params.output_window_segments = o.window_segments;
     const HabPpResult r = planHabPp(*grid, start, goal, params, o.seed, stop);
     found = hasPath(r.status);
     status = std::string(to_string(r.status));
@@ -115,6 +121,9 @@ void addGridPathCommand(CLI::App& grid) {
       ->check(CLI::IsMember({"astar", "theta", "hab-pp", "hab-pp-rrt"}));
   cmd->add_option("--seed", opts->seed, "random seed of the HAB-PP planners")->default_val(1);
   cmd->add_option("--budget-s", opts->budget_s, "time limit in seconds")->default_val(60.0);
+  cmd->add_option("--window-segments", opts->window_segments,
+                  "HAB-PP output stage: re-plan windows of N path segments with Theta* (a local search; 0: off)")
+      ->default_val(0);
   cmd->add_option("--out", opts->out, "write {\"length\": L, \"points\": [[x, y], ...]} to this JSON file");
   cmd->callback([opts] { run(*opts); });
 }

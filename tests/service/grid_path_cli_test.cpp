@@ -103,6 +103,24 @@ TEST_F(GridPathCli, SameSeedSamePath) {
   EXPECT_EQ(nlohmann::json::parse(fa), nlohmann::json::parse(fb));
 }
 
+// --window-segments: the same colony (same seed), the output stage's local search on top: valid,
+// never longer than without it.
+TEST_F(GridPathCli, WindowSegmentsOnlyShortenTheHabPpPath) {
+  auto grid = loadMovingAiMap(map_);
+  ASSERT_TRUE(grid.ok());
+  const std::string plain = (dir_ / "plain.json").string(), windowed = (dir_ / "windowed.json").string();
+  const std::string common = "grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo hab-pp --seed 5 --budget-s 10";
+  ASSERT_EQ(run(common + " --out " + plain).exit_code, 0);
+  const CliRun r = run(common + " --window-segments 3 --out " + windowed);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream fp(plain), fw(windowed);
+  const nlohmann::json a = nlohmann::json::parse(fp), b = nlohmann::json::parse(fw);
+  std::vector<GridCell> path;
+  for (const auto& p : b.at("points")) path.push_back(GridCell{p.at(0).get<int>(), p.at(1).get<int>()});
+  EXPECT_EQ(testing::pathProblem(*grid, path, GridCell{2, 10}, GridCell{14, 1}), "");
+  EXPECT_LE(b.at("length").get<double>(), a.at("length").get<double>() + 1e-9);
+}
+
 TEST_F(GridPathCli, BadInputNamesTheFieldAndFails) {
   CliRun r = run("grid path --map " + map_ + " --start 7,5 --goal 14,1 --algo theta");
   EXPECT_EQ(r.exit_code, 3);
@@ -117,6 +135,12 @@ TEST_F(GridPathCli, BadInputNamesTheFieldAndFails) {
   r = run("grid path --map " + (dir_ / "missing.map").string() + " --start 2,10 --goal 14,1 --algo astar");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("missing.map"), std::string::npos) << r.err;
+  r = run("grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo theta --window-segments 3");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--window-segments"), std::string::npos) << r.err;
+  r = run("grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo hab-pp --window-segments -1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--window-segments"), std::string::npos) << r.err;
   r = run("grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo dijkstra");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--algo"), std::string::npos) << r.err;
