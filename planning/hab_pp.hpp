@@ -135,16 +135,16 @@ struct HabPpParameters {
   // (pruned as on arrival), which eq. (2) may have kept out of the ranked list for its number of
   // points. false: the ranked routes only.
   bool output_tree_route = true;
-  // Output stage, option (default off): local search by windowed re-planning after the corridor
-  // step (habpp::replanWindows): windows of output_window_segments path segments (or of at least
+  // Output stage, Choice: local search by windowed re-planning after the corridor step
+  // (habpp::replanWindows): windows of output_window_segments path segments (or of at least
   // output_window_cells path length), re-planned by Theta* in the box around them grown by
   // output_window_margin_cells. Where the colony went round the wrong side of an obstacle within a
   // few turns it takes the other side: with 3 segments, Boston +1.9 % -> +0.5 % against Theta*,
-  // office +8.8 % -> +6.2 % (docs/benchmarks/habpp.md). Off by default because it can move a leg's
-  // last turn close to the leg's end, and the engine's lift from the flight band then descends so
-  // steeply into a pass-through point that the trajectory stage cannot round it (the engine test
-  // EngineTest.HabPpPlannersGoThroughTheSameTrajectoryStage fails with it on). 0 and 0: off.
-  int output_window_segments = 0;
+  // office +8.8 % -> +6.2 %, apartment +20.6 % -> +14.4 % (docs/benchmarks/habpp.md). A door
+  // sequence across many rooms stays the colony's choice: windows long enough to change it (120
+  // cells of path on office) make the step Theta* on the path's bounding box, so output_window_cells
+  // is 0 by default. Both 0: off.
+  int output_window_segments = 3;
   double output_window_cells = 0.0;
   int output_window_margin_cells = 8;
   // Goal closeness in the visibility field eta (see GridFields::visibility): false, the straight-line

@@ -30,7 +30,8 @@ struct GridPathOptions {
   std::string algo;
   std::uint64_t seed = 1;
   double budget_s = 60.0;
-  int window_segments = 0;  // HabPpParameters::output_window_segments (HAB-PP output stage)
+  int window_segments = HabPpParameters{}.output_window_segments;  // HAB-PP output stage
+  bool window_given = false;  // --window-segments on the command line
   std::string out;
 };
 
@@ -60,7 +61,7 @@ void run(const GridPathOptions& o) {
   const GridCell goal = parseCell("--goal", o.goal);
   if (!(o.budget_s > 0.0)) fail(2, "--budget-s: must be > 0");
   if (o.window_segments < 0) fail(2, "--window-segments: must be >= 0 (0: off)");
-  if (o.window_segments > 0 && o.algo.rfind("hab-pp", 0) != 0) {
+  if (o.window_given && o.algo.rfind("hab-pp", 0) != 0) {
     fail(2, "--window-segments: applies to hab-pp and hab-pp-rrt only, not " + o.algo);
   }
   Result<GridLayer> grid = loadMovingAiMap(o.map);
@@ -121,11 +122,15 @@ void addGridPathCommand(CLI::App& grid) {
       ->check(CLI::IsMember({"astar", "theta", "hab-pp", "hab-pp-rrt"}));
   cmd->add_option("--seed", opts->seed, "random seed of the HAB-PP planners")->default_val(1);
   cmd->add_option("--budget-s", opts->budget_s, "time limit in seconds")->default_val(60.0);
-  cmd->add_option("--window-segments", opts->window_segments,
-                  "HAB-PP output stage: re-plan windows of N path segments with Theta* (a local search; 0: off)")
-      ->default_val(0);
+  CLI::Option* window = cmd->add_option(
+      "--window-segments", opts->window_segments,
+      "HAB-PP output stage: re-plan windows of N path segments with Theta* (a local search; 0: off)");
+  window->default_val(HabPpParameters{}.output_window_segments);
   cmd->add_option("--out", opts->out, "write {\"length\": L, \"points\": [[x, y], ...]} to this JSON file");
-  cmd->callback([opts] { run(*opts); });
+  cmd->callback([opts, window] {
+    opts->window_given = window->count() > 0;
+    run(*opts);
+  });
 }
 
 }  // namespace skyroute::cli

@@ -624,7 +624,8 @@ TEST(HabPp, CommonRandomNumbersAndTheOutputStage) {
 TEST(HabPp, WindowedOutputStepOnlyShortens) {
   for (const auto& m : knownMaps()) {
     for (bool improved : {false, true}) {
-      const HabPpParameters plain_params = smallColony(improved);
+      HabPpParameters plain_params = smallColony(improved);
+      plain_params.output_window_segments = 0;
       HabPpParameters windowed_params = plain_params;
       windowed_params.output_window_segments = 3;
       const HabPpResult plain = planHabPp(m.grid, m.start, m.goal, plain_params, 7);

@@ -103,14 +103,14 @@ TEST_F(GridPathCli, SameSeedSamePath) {
   EXPECT_EQ(nlohmann::json::parse(fa), nlohmann::json::parse(fb));
 }
 
-// --window-segments: the same colony (same seed), the output stage's local search on top: valid,
-// never longer than without it.
+// --window-segments (default 3; 0 turns it off): the same colony (same seed), the output stage's
+// local search on top: valid, never longer than without it.
 TEST_F(GridPathCli, WindowSegmentsOnlyShortenTheHabPpPath) {
   auto grid = loadMovingAiMap(map_);
   ASSERT_TRUE(grid.ok());
   const std::string plain = (dir_ / "plain.json").string(), windowed = (dir_ / "windowed.json").string();
   const std::string common = "grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo hab-pp --seed 5 --budget-s 10";
-  ASSERT_EQ(run(common + " --out " + plain).exit_code, 0);
+  ASSERT_EQ(run(common + " --window-segments 0 --out " + plain).exit_code, 0);
   const CliRun r = run(common + " --window-segments 3 --out " + windowed);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream fp(plain), fw(windowed);
