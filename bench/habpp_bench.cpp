@@ -54,17 +54,6 @@ struct Case {
   std::uint64_t rrt_iterations;  // RRT* + LOSPO budget: a few times what its first path needs here
 };
 
-GridLayer crop(const GridLayer& full, int x0, int y0, int width, int height) {
-  GridLayer out(width, height);
-  std::vector<GridCell> blocked;
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      if (full.blocked(GridCell{x0 + x, y0 + y})) blocked.push_back(GridCell{x, y});
-    }
-  }
-  out.setStaticBlocked(blocked, true);
-  return out;
-}
 
 // The cell nearest to c (Euclidean, then row-major) among those `ok` accepts.
 template <class Ok>
@@ -260,7 +249,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s\n", full.error().describe().c_str());
       return 1;
     }
-    const GridLayer grid = c.width > 0 ? crop(*full, c.x0, c.y0, c.width, c.height) : *full;
+    const GridLayer grid = c.width > 0 ? full->cropped(GridCell{c.x0, c.y0}, c.width, c.height) : *full;
     if (c.width > 0) {  // corners of the crop
       c.start = nearestWhere(grid, GridCell{0, 0}, [&](GridCell q) { return grid.passable(q); });
       // The goal: the cell nearest the opposite corner that the start can reach.

@@ -43,19 +43,6 @@ GridLayer corridorGrid(const GridLayer& grid, const Path* paths, std::size_t cou
   return out;
 }
 
-// The cells of the box [lo, hi] (clamped to the grid) as a grid of their own, lo at (0, 0).
-GridLayer boxGrid(const GridLayer& grid, GridCell lo, GridCell hi) {
-  std::vector<GridCell> blocked;
-  for (int y = lo.y; y <= hi.y; ++y) {
-    for (int x = lo.x; x <= hi.x; ++x) {
-      if (grid.blocked(GridCell{x, y})) blocked.push_back(GridCell{x - lo.x, y - lo.y});
-    }
-  }
-  GridLayer out(hi.x - lo.x + 1, hi.y - lo.y + 1, grid.cellSize(), grid.origin());
-  out.setStaticBlocked(blocked, true);
-  return out;
-}
-
 double segmentLength(GridCell a, GridCell b) { return std::hypot(double(b.x - a.x), double(b.y - a.y)); }
 
 }  // namespace
@@ -95,8 +82,9 @@ Path replanWindows(const GridLayer& grid, const Path& path, const WindowOptions&
       const int m = options.margin_cells;
       lo = GridCell{std::max(0, lo.x - m), std::max(0, lo.y - m)};
       hi = GridCell{std::min(grid.width() - 1, hi.x + m), std::min(grid.height() - 1, hi.y + m)};
-      const AnyAngleResult local = thetaStar(boxGrid(grid, lo, hi), GridCell{best[i].x - lo.x, best[i].y - lo.y},
-                                             GridCell{best[j].x - lo.x, best[j].y - lo.y});
+      const GridLayer box = grid.cropped(lo, hi.x - lo.x + 1, hi.y - lo.y + 1);
+      const AnyAngleResult local =
+          thetaStar(box, GridCell{best[i].x - lo.x, best[i].y - lo.y}, GridCell{best[j].x - lo.x, best[j].y - lo.y});
       if (local.status != AnyAngleStatus::kExact || local.length_cells >= piece - 1e-9) {
         tried.push_back(Tried{best[i], best[j], piece});
         continue;

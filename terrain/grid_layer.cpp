@@ -28,6 +28,18 @@ GridLayer GridLayer::fromRows(const std::vector<std::string>& rows) {
   return g;
 }
 
+GridLayer GridLayer::cropped(GridCell lo, int width, int height) const {
+  GridLayer out(width, height, cell_size_m_, origin_m_ + cell_size_m_ * Eigen::Vector2d(lo.x, lo.y));
+  std::vector<GridCell> cells;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (blocked(GridCell{lo.x + x, lo.y + y})) cells.push_back(GridCell{x, y});
+    }
+  }
+  out.setStaticBlocked(cells, true);
+  return out;
+}
+
 std::size_t GridLayer::blockedCount() const {
   return static_cast<std::size_t>(std::count(blocked_.begin(), blocked_.end(), std::uint8_t{1}));
 }

@@ -33,6 +33,10 @@ class GridLayer {
   // A small grid drawn as text, row y = 0 first: '#' is blocked, anything else free (for tests,
   // examples and benchmarks). Rows shorter than the first are padded with free cells.
   static GridLayer fromRows(const std::vector<std::string>& rows);
+  // The width x height cells from `lo` as a grid of their own (cell lo becomes (0, 0), the origin
+  // moves with it), each blocked where this grid blocks it (static or obstacle layer) and cells
+  // beyond this grid blocked: a search on the crop can only use cells of the box.
+  GridLayer cropped(GridCell lo, int width, int height) const;
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -59,6 +59,30 @@ TEST(GridLayer, UpdatesReportExactlyTheChangedCells) {
   EXPECT_EQ(g.blockedCount(), 3u);
 }
 
+// cropped: the box's cells keep their blocked state (static and obstacle layers), cells beyond the
+// grid come out blocked, and each crop cell sits where its source cell sits in ENU.
+TEST(GridLayer, CroppedKeepsCellsAndPlace) {
+  GridLayer g(10, 8, 30.0, Eigen::Vector2d(100.0, 200.0));
+  g.setStaticBlocked(std::vector<GridCell>{{3, 2}, {6, 5}}, true);
+  g.addObstacleCover(std::vector<GridCell>{{4, 4}});
+  const GridLayer c = g.cropped(GridCell{3, 2}, 9, 4);  // x 3..11 (beyond the grid from 10), y 2..5
+  ASSERT_EQ(c.width(), 9);
+  ASSERT_EQ(c.height(), 4);
+  for (int y = 0; y < c.height(); ++y) {
+    for (int x = 0; x < c.width(); ++x) {
+      const GridCell source{3 + x, 2 + y};
+      EXPECT_EQ(c.blocked(GridCell{x, y}), g.blocked(source)) << x << "," << y;
+      if (g.inside(source)) {
+        EXPECT_LT((c.cellCenter(GridCell{x, y}) - g.cellCenter(source)).norm(), 1e-9);
+      }
+    }
+  }
+  EXPECT_TRUE(c.blocked(GridCell{0, 0}));  // (3, 2), static
+  EXPECT_TRUE(c.blocked(GridCell{1, 2}));  // (4, 4), obstacle
+  EXPECT_TRUE(c.blocked(GridCell{8, 0}));  // (11, 2), beyond the grid
+  EXPECT_EQ(c.blockedCount(), 3u + 2u * 4u);
+}
+
 TEST(GridLayer, CellAndEnuRoundTrip) {
   GridLayer g(10, 8, 30.0, Eigen::Vector2d(100.0, 200.0));
   const GridCell c{7, 5};
