@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -122,28 +123,31 @@ TEST_F(GridPathCli, WindowSegmentsOnlyShortenTheHabPpPath) {
 }
 
 TEST_F(GridPathCli, BadInputNamesTheFieldAndFails) {
-  CliRun r = run("grid path --map " + map_ + " --start 7,5 --goal 14,1 --algo theta");
-  EXPECT_EQ(r.exit_code, 3);
-  EXPECT_NE(r.err.find("--start"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("blocked"), std::string::npos) << r.err;
-  r = run("grid path --map " + map_ + " --start 2,10 --goal 40,1 --algo hab-pp");
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--goal"), std::string::npos) << r.err;
-  r = run("grid path --map " + map_ + " --start '2;10' --goal 14,1 --algo astar");
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--start"), std::string::npos) << r.err;
-  r = run("grid path --map " + (dir_ / "missing.map").string() + " --start 2,10 --goal 14,1 --algo astar");
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("missing.map"), std::string::npos) << r.err;
-  r = run("grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo theta --window-segments 3");
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--window-segments"), std::string::npos) << r.err;
-  r = run("grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo hab-pp --window-segments -1");
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--window-segments"), std::string::npos) << r.err;
-  r = run("grid path --map " + map_ + " --start 2,10 --goal 14,1 --algo dijkstra");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("--algo"), std::string::npos) << r.err;
+  struct Case {
+    std::string args;  // after "grid path"
+    int exit_code;     // -1: any non-zero code
+    std::string named;  // what the message must name
+  };
+  const std::string wall = " --map " + map_;
+  const std::vector<Case> cases{
+      {wall + " --start 7,5 --goal 14,1 --algo theta", 3, "--start"},
+      {wall + " --start 7,5 --goal 14,1 --algo theta", 3, "blocked"},
+      {wall + " --start 2,10 --goal 40,1 --algo hab-pp", 2, "--goal"},
+      {wall + " --start '2;10' --goal 14,1 --algo astar", 2, "--start"},
+      {" --map " + (dir_ / "missing.map").string() + " --start 2,10 --goal 14,1 --algo astar", 1, "missing.map"},
+      {wall + " --start 2,10 --goal 14,1 --algo theta --window-segments 3", 2, "--window-segments"},
+      {wall + " --start 2,10 --goal 14,1 --algo hab-pp --window-segments -1", 2, "--window-segments"},
+      {wall + " --start 2,10 --goal 14,1 --algo dijkstra", -1, "--algo"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const CliRun r = run("grid path" + c.args);
+    EXPECT_NE(r.exit_code, 0);
+    if (c.exit_code >= 0) {
+      EXPECT_EQ(r.exit_code, c.exit_code);
+    }
+    EXPECT_NE(r.err.find(c.named), std::string::npos) << r.err;
+  }
 }
 
 TEST_F(GridPathCli, UnreachableGoalExitsWithNoPath) {
