@@ -19,38 +19,6 @@ namespace {
 
 std::string legName(std::size_t i) { return "legs[" + std::to_string(i) + "]"; }
 
-// Lowers the vertex next to the leg's end (at_end) or start towards max_slope (rise over run from
-// that end), keeping it above the end and its two segments clear: the lowest clear altitude of a
-// few between the slope's and its own (a bisection, so it costs a handful of segment checks).
-// A vertical step over the end (the lift's climb or descent where the direct slope is blocked)
-// has no run and is left as it is.
-template <class Valid>
-void easeEndSlope(std::vector<Eigen::Vector3d>& path, double max_slope, const Valid& valid, bool at_end) {
-  if (!(max_slope > 0.0) || path.size() < 3) return;
-  const std::size_t n = path.size();
-  const std::size_t end = at_end ? n - 1 : 0, next = at_end ? n - 2 : 1, beyond = at_end ? n - 3 : 2;
-  const Eigen::Vector3d& e = path[end];
-  const Eigen::Vector3d& v = path[next];
-  const double run_m = (v - e).head<2>().norm();
-  if (run_m < 1e-6 || v.z() <= e.z()) return;
-  const double wanted_z = e.z() + max_slope * run_m;
-  if (wanted_z >= v.z()) return;
-  auto clearAt = [&](double z) {
-    const Eigen::Vector3d lowered(v.x(), v.y(), z);
-    return valid(path[beyond], lowered) && valid(lowered, e);
-  };
-  double clear_z = v.z(), blocked_z = wanted_z;
-  if (clearAt(wanted_z)) {
-    clear_z = wanted_z;
-  } else {
-    for (int k = 0; k < 6; ++k) {
-      const double mid = 0.5 * (clear_z + blocked_z);
-      (clearAt(mid) ? clear_z : blocked_z) = mid;
-    }
-  }
-  path[next].z() = clear_z;
-}
-
 }  // namespace
 
 Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> world,
@@ -131,8 +99,6 @@ Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> wo
         }
         path.push_back(to);
       }
-      easeEndSlope(path, options.max_end_slope, valid, /*at_end=*/true);
-      easeEndSlope(path, options.max_end_slope, valid, /*at_end=*/false);
       leg.path_m = std::move(path);
     }
     double length = 0.0;

@@ -3,8 +3,7 @@
 // band; the path is lifted to 3D and goes through the same trajectory stage as RRT* + LOSPO paths
 // (buildRouteTrajectory). Lifting: the vehicle climbs (or descends) over its leg's start to the
 // band altitude, follows the grid path's vertices at that altitude, and changes altitude over the
-// leg's end; where a straight climb or descent to the next vertex is clear, it is used instead,
-// and the band vertex next to a leg end is lowered towards GridLegOptions::max_end_slope.
+// leg's end; where a straight climb or descent to the next vertex is clear, it is used instead.
 #pragma once
 
 #include <cstdint>
@@ -29,12 +28,6 @@ std::optional<GridGlobalPlanner> parseGridGlobalPlanner(std::string_view name);
 struct GridLegOptions {
   int max_cells_per_axis = 160;  // the grid's cell edge is the terrain extent / this (at least the DEM cell)
   double band_margin_m = 200.0;  // the band's top is this far above the leg's higher end (under the ceiling)
-  // Steepest first climb and last descent of a lifted leg (rise over horizontal run). A path whose
-  // first or last turn lies close to a low leg end would climb or dive steeply between the band
-  // and that end, and, at a mission point the next leg leaves upwards, make a corner the trajectory
-  // stage cannot round for the turn radius; the band vertex next to that end is lowered towards
-  // this slope as far as its segments stay clear. 0: never lowered.
-  double max_end_slope = 0.15;
 };
 
 // points_m: the route in visiting order (ENU). Returns legs with 3D paths and the joined waypoints
