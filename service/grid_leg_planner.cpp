@@ -33,7 +33,8 @@ Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> wo
   auto valid = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     return snapshot ? world->isSegmentValid(a, b, *snapshot) : world->isSegmentValid(a, b);
   };
-  const HabPpParameters params = planner == GridGlobalPlanner::kHabPpRrt ? HabPpParameters::improved() : HabPpParameters{};
+  HabPpParameters params = planner == GridGlobalPlanner::kHabPpRrt ? HabPpParameters::improved() : HabPpParameters{};
+  params.output_window_segments = options.output_window_segments;
   const double cell_m = std::max(terrain.dem().resolutionM().minCoeff(),
                                  1.0001 * terrain.boundsEn().sizes().maxCoeff() / std::max(8, options.max_cells_per_axis));
   PlannedRoute route;

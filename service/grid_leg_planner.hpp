@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "planning/hab_pp.hpp"
 #include "planning/termination.hpp"
 #include "service/route_planner.hpp"
 #include "terrain/collision_world.hpp"
@@ -28,6 +29,9 @@ std::optional<GridGlobalPlanner> parseGridGlobalPlanner(std::string_view name);
 struct GridLegOptions {
   int max_cells_per_axis = 160;  // the grid's cell edge is the terrain extent / this (at least the DEM cell)
   double band_margin_m = 200.0;  // the band's top is this far above the leg's higher end (under the ceiling)
+  // HAB-PP output stage: windowed re-planning of this many segments (HabPpParameters::
+  // output_window_segments, whose default this is); 0: off.
+  int output_window_segments = HabPpParameters{}.output_window_segments;
 };
 
 // points_m: the route in visiting order (ENU). Returns legs with 3D paths and the joined waypoints

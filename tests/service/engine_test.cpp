@@ -179,33 +179,46 @@ TEST_F(EngineTest, MissionBecomesATrajectoryThroughEveryPointClearOfTheGround) {
 
 TEST_F(EngineTest, HabPpPlannersGoThroughTheSameTrajectoryStage) {
   // A leg that must cross the embedded terrain's main ridge low: the straight line is blocked, so
-  // HAB-PP plans on the flight band.
-  for (const std::string planner : {"hab-pp", "hab-pp-rrt"}) {
-    MissionRequestData r = request("grid-" + planner, "uav-" + planner);
-    r.planner = planner;
-    r.begin = enu(-5000, -2000, 60);
-    r.points = {enu(0, -5500, 60)};
-    r.end = enu(5000, 2000, 60);
-    r.fixed_order = true;
-    r.limits.min_turn_radius_m = 30.0;  // the corners of the grid path are rounded
-    auto world = world_->worldFor(r.limits.min_clearance_agl_m, r.limits.ceiling_amsl_m);
-    ASSERT_TRUE(world.ok());
-    ASSERT_FALSE((*world)->isSegmentValid(r.begin.enu_m, r.points[0].enu_m) &&
-                 (*world)->isSegmentValid(r.points[0].enu_m, r.end.enu_m))
-        << "the test needs a leg whose straight line is blocked";
-    ASSERT_FALSE(engine_->submit(r).has_value());
-    ASSERT_TRUE(engine_->planNext());
-    const auto status = sink_.last(r.request_id);
-    ASSERT_EQ(status->state, PlanState::kSucceeded) << planner << ": " << status->field << " " << status->message;
-    const TrajectoryData& t = sink_.trajectories.back();
-    ASSERT_EQ(t.request_id, r.request_id);
-    ASSERT_EQ(t.legs.size(), 2u);
-    EXPECT_LT((t.samples.front().position_enu_m - r.begin.enu_m).norm(), 0.01);
-    EXPECT_LT((t.samples.back().position_enu_m - r.end.enu_m).norm(), 0.01);
-    const double clearance = r.limits.min_clearance_agl_m;
-    for (const auto& s : t.samples) {
-      const double ground = heightfield_->heightAt(s.position_enu_m.x(), s.position_enu_m.y());
-      ASSERT_GE(s.position_enu_m.z() - ground, clearance - 0.5) << planner << " at t=" << s.t_rel_s;
+  // HAB-PP plans on the flight band. The middle point sits 150 m above the valley floor: at 60 m
+  // the lift dives from the band into it and climbs straight out again, a pass-through corner the
+  // trajectory stage often cannot round for a 30 m turn radius (bench/grid_route_bench: 17 of 24
+  // failures on random missions), which would make this test depend on the exact path.
+  // Both settings of the output stage's windowed re-planning (off, and the default).
+  for (const int windows : {0, HabPpParameters{}.output_window_segments}) {
+    EngineOptions options;
+    options.sample_dt_s = 0.05;
+    options.grid_legs.output_window_segments = windows;
+    auto engine = Engine::create(world_, options, sink_, [this] { return clock_.now_ns; });
+    ASSERT_TRUE(engine.ok()) << engine.error().describe();
+    for (const std::string planner : {"hab-pp", "hab-pp-rrt"}) {
+      const std::string name = planner + "-windows-" + std::to_string(windows);
+      SCOPED_TRACE(name);
+      MissionRequestData r = request("grid-" + name, "uav-" + name);
+      r.planner = planner;
+      r.begin = enu(-5000, -2000, 60);
+      r.points = {enu(0, -5500, 150)};
+      r.end = enu(5000, 2000, 60);
+      r.fixed_order = true;
+      r.limits.min_turn_radius_m = 30.0;  // the corners of the grid path are rounded
+      auto world = world_->worldFor(r.limits.min_clearance_agl_m, r.limits.ceiling_amsl_m);
+      ASSERT_TRUE(world.ok());
+      ASSERT_FALSE((*world)->isSegmentValid(r.begin.enu_m, r.points[0].enu_m) &&
+                   (*world)->isSegmentValid(r.points[0].enu_m, r.end.enu_m))
+          << "the test needs a leg whose straight line is blocked";
+      ASSERT_FALSE((*engine)->submit(r).has_value());
+      ASSERT_TRUE((*engine)->planNext());
+      const auto status = sink_.last(r.request_id);
+      ASSERT_EQ(status->state, PlanState::kSucceeded) << status->field << " " << status->message;
+      const TrajectoryData& t = sink_.trajectories.back();
+      ASSERT_EQ(t.request_id, r.request_id);
+      ASSERT_EQ(t.legs.size(), 2u);
+      EXPECT_LT((t.samples.front().position_enu_m - r.begin.enu_m).norm(), 0.01);
+      EXPECT_LT((t.samples.back().position_enu_m - r.end.enu_m).norm(), 0.01);
+      const double clearance = r.limits.min_clearance_agl_m;
+      for (const auto& s : t.samples) {
+        const double ground = heightfield_->heightAt(s.position_enu_m.x(), s.position_enu_m.y());
+        ASSERT_GE(s.position_enu_m.z() - ground, clearance - 0.5) << "at t=" << s.t_rel_s;
+      }
     }
   }
 }
