@@ -962,13 +962,11 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
     const std::vector<habpp::Path>& ranked = colony.ranked();
     const std::size_t count = std::min<std::size_t>(ranked.size(), static_cast<std::size_t>(params.output_ranked_routes));
     std::vector<habpp::Path> routes(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(count));
-    if (params.output_ranked_routes > 1 && std::find(routes.begin(), routes.end(), colony.shortestRanked()) == routes.end()) {
-      routes.push_back(colony.shortestRanked());
-    }
-    if (params.output_tree_route && !colony.bestTreePath().empty() &&
-        std::find(routes.begin(), routes.end(), colony.bestTreePath()) == routes.end()) {
-      routes.push_back(colony.bestTreePath());
-    }
+    auto offer = [&routes](const habpp::Path& route) {
+      if (!route.empty() && std::find(routes.begin(), routes.end(), route) == routes.end()) routes.push_back(route);
+    };
+    if (params.output_ranked_routes > 1) offer(colony.shortestRanked());
+    if (params.output_tree_route) offer(colony.bestTreePath());
     result.path = params.output_corridor_cells >= 0
                       ? habpp::tautPath(grid, routes, params.output_corridor_cells, params.tighten_passes)
                       : ranked.front();

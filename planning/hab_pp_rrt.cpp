@@ -254,8 +254,7 @@ Path RrtAnt::branchToRoot(int node) const {
 }
 
 Path RrtAnt::pathTo(int node) const {
-  Path p;
-  for (int i = node; i >= 0; i = nodes_[i].parent) p.push_back(nodes_[i].cell);
+  Path p = branchToRoot(node);
   std::reverse(p.begin(), p.end());
   return p;
 }
@@ -287,7 +286,7 @@ std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
   // section 4 intends; a sample that lands on a node is rejected by one lookup and does not count
   // towards those draws, up to HabPpParameters::rrt_node_redraws times.
   int from = -1;
-  GridCell target{};
+  GridCell new_cell{};
   int node_draws = 0;
   for (int draw = 0; draw < draws_per_step_ && from < 0; ++draw) {
     const GridCell rand = sample_visibility_ ? pheromone.sampleWithVisibility(rng) : pheromone.sample(rng);
@@ -298,20 +297,20 @@ std::optional<Path> RrtAnt::step(const PheromoneField& pheromone, Rng& rng) {
     const int n = nearest(rand);
     if (std::optional<GridCell> t = steer(nodes_[n].cell, rand); t && node_at_[grid_->index(*t)] < 0) {
       from = n;
-      target = *t;
+      new_cell = *t;
     }
   }
   if (from < 0) return std::nullopt;
-  near(target, near_nodes_);
-  const int id = addNode(target, near_nodes_, from);
+  near(new_cell, near_nodes_);
+  const int id = addNode(new_cell, near_nodes_, from);
   rewire(id, near_nodes_);
   if (target_node_ >= 0) ++nodes_since_solution_;
 
   // Connect the target when it is within one extension and in sight; afterwards it is an ordinary
   // node that rewiring may improve.
-  if (target == target_) {
+  if (new_cell == target_) {
     target_node_ = id;
-  } else if (target_node_ < 0 && dist(target, target_) <= step_cells_ && grid_->lineOfSight(target, target_)) {
+  } else if (target_node_ < 0 && dist(new_cell, target_) <= step_cells_ && grid_->lineOfSight(new_cell, target_)) {
     near(target_, target_near_);
     target_node_ = addNode(target_, target_near_, id);
   }
