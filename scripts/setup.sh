@@ -8,6 +8,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(
   build-essential cmake ccache pkg-config
   libeigen3-dev libgdal-dev gdal-bin liboctomap-dev libfcl-dev
+  libproj-dev proj-data
   cyclonedds-dev cyclonedds-tools
   libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev
   libgtest-dev libgmock-dev libbenchmark-dev
