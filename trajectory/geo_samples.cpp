@@ -1,5 +1,6 @@
 #include "trajectory/geo_samples.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
@@ -22,26 +23,42 @@ std::vector<GeoSample> toGeoSamples(const std::vector<TrajectoryState>& samples,
   return out;
 }
 
-void writeTrajectoryCsv(std::ostream& out, const std::vector<GeoSample>& samples) {
+namespace {
+
+// A column of guessed heights would be worse than no file: the ellipsoid is up to 100 m off AMSL.
+Status checkEllipsoidHeights(const std::vector<GeoSample>& samples) {
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    if (!std::isfinite(samples[i].alt_ellipsoid_m))
+      return make_error(ErrorCode::kInvalidArgument, "samples[" + std::to_string(i) + "].alt_ellipsoid_m",
+                        "the ellipsoidal height is unknown: convert the heights with the geoid first");
+  return Status::success();
+}
+
+}  // namespace
+
+Status writeTrajectoryCsv(std::ostream& out, const std::vector<GeoSample>& samples) {
+  if (Status known = checkEllipsoidHeights(samples); !known.ok()) return known;
   out << kTrajectoryCsvHeader << '\n';
   char line[768];
   for (const GeoSample& g : samples) {
     const TrajectoryState& s = g.state;
     // 9 decimals of a degree is ~0.1 mm; metres to the millimetre, rates to 1e-4.
     std::snprintf(line, sizeof(line),
-                  "%.4f,%.9f,%.9f,%.3f,%.3f,%.3f,%.3f,%.4f,%.4f,%.4f,%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n",
+                  "%.4f,%.9f,%.9f,%.3f,%.3f,%.3f,%.3f,%.4f,%.4f,%.4f,%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f\n",
                   s.time_s, g.lat_deg, g.lon_deg, g.alt_amsl_m, s.position_m.x(), s.position_m.y(), s.position_m.z(),
                   s.velocity_mps.x(), s.velocity_mps.y(), s.velocity_mps.z(), s.heading_deg,
                   s.acceleration_mps2.x(), s.acceleration_mps2.y(), s.acceleration_mps2.z(), s.jerk_mps3.x(),
-                  s.jerk_mps3.y(), s.jerk_mps3.z(), s.velocity_mps.norm());
+                  s.jerk_mps3.y(), s.jerk_mps3.z(), s.velocity_mps.norm(), g.alt_ellipsoid_m);
     out << line;
   }
+  return Status::success();
 }
 
 Status writeTrajectoryCsv(const std::string& path, const std::vector<GeoSample>& samples) {
+  if (Status known = checkEllipsoidHeights(samples); !known.ok()) return known;
   std::ofstream file(path);
   if (!file) return make_error(ErrorCode::kFileNotFound, path, "cannot open the trajectory CSV for writing");
-  writeTrajectoryCsv(file, samples);
+  if (Status written = writeTrajectoryCsv(file, samples); !written.ok()) return written;
   file.flush();
   if (!file) return make_error(ErrorCode::kFileNotFound, path, "writing the trajectory CSV failed");
   return Status::success();

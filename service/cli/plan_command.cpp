@@ -166,7 +166,7 @@ void runPlan(const PlanArgs& args) {
   if (!args.out.empty()) {
     const std::string ext = lowerExtension(args.out);
     if (ext == "csv") {
-      Status s = writeTrajectoryCsv(args.out, toGeoSamples(samples, frame));
+      Status s = writeGeoSamplesCsv(args.out, toGeoSamples(samples, frame));
       if (!s.ok()) fail("--out", s.error().describe());
     } else if (ext == "geojson" || ext == "json") {
       TrajectoryData data = toTrajectoryData(trajectory, frame, args.dt_s, utcNowNs(),

@@ -19,6 +19,7 @@
 #include "service/dds/loopback.hpp"
 #include "service/dds/typed_io.hpp"
 #include "service/dds/wait_loop.hpp"
+#include "service/height_datum.hpp"
 #include "service/obstacle_feed.hpp"
 
 extern char** environ;
@@ -204,13 +205,16 @@ TEST(DdsCli, LateGroundStationGetsEveryVehicleAndExports) {
   std::istringstream lines(slurp(csv));
   std::string header, row;
   std::getline(lines, header);
-  EXPECT_EQ(header, "vehicle_id,time_s,lat_deg,lon_deg,alt_amsl_m,east_m,north_m,up_m,v_east_mps,v_north_mps,v_up_mps,heading_deg");
+  EXPECT_EQ(header, "vehicle_id,time_s,lat_deg,lon_deg,alt_amsl_m,east_m,north_m,up_m,v_east_mps,v_north_mps,v_up_mps,heading_deg,"
+                    "alt_ellipsoid_m");
   std::vector<std::string> rows;
   while (std::getline(lines, row)) rows.push_back(row);
   ASSERT_EQ(rows.size(), 20u);
   EXPECT_EQ(rows[0].rfind("alpha,0.000,44.25200000,-71.30000000,900.000,0.000,10.000,900.000,20.0000", 0), 0u) << rows[0];
 
-  // GeoJSON: two 3D lines with lon, lat, alt.
+  // GeoJSON: two 3D lines with lon, lat and the height above the WGS 84 ellipsoid.
+  auto geoid = Egm96Geoid::load();
+  ASSERT_TRUE(geoid.ok()) << geoid.error().describe();
   const nlohmann::json gj = nlohmann::json::parse(slurp(geojson), nullptr, false);
   ASSERT_FALSE(gj.is_discarded());
   ASSERT_EQ(gj["features"].size(), 2u);
@@ -219,7 +223,8 @@ TEST(DdsCli, LateGroundStationGetsEveryVehicleAndExports) {
     const auto& coords = f["geometry"]["coordinates"];
     ASSERT_EQ(coords.size(), vehicle == "alpha" ? 13u : 7u);
     EXPECT_NEAR(coords[0][0].get<double>(), -71.30, 1e-9);
-    EXPECT_NEAR(coords[0][2].get<double>(), 900.0, 1e-9);
+    EXPECT_NEAR(coords[0][2].get<double>(),
+                *geoid->ellipsoidFromAmslM(coords[0][1].get<double>(), coords[0][0].get<double>(), 900.0), 1e-6);
     if (vehicle == "alpha") {
       EXPECT_EQ(f["properties"]["revision"], 2);
       EXPECT_NEAR(coords[0][1].get<double>(), 44.252, 1e-9);
@@ -229,6 +234,7 @@ TEST(DdsCli, LateGroundStationGetsEveryVehicleAndExports) {
   EXPECT_NE(kml_text.find("alpha"), std::string::npos);
   EXPECT_NE(kml_text.find("bravo"), std::string::npos);
   EXPECT_NE(kml_text.find("<coordinates>"), std::string::npos);
+  EXPECT_NE(kml_text.find("<altitudeMode>absolute</altitudeMode>"), std::string::npos);
   for (const auto& p : {csv, geojson, kml}) std::filesystem::remove(p);
 }
 

@@ -99,7 +99,7 @@ TEST(Trajectory, GeoSamplesRoundTripAndCsv) {
   const auto w = testing::randomWalk(21, 6);
   const Trajectory t = built(w);
   const auto samples = t.sample(1.0);
-  const auto geo = toGeoSamples(samples, *frame);
+  auto geo = toGeoSamples(samples, *frame);
   ASSERT_EQ(geo.size(), samples.size());
   for (const GeoSample& g : geo) {
     EXPECT_NEAR(g.alt_amsl_m, g.state.position_m.z(), 1e-9);  // default anchor: up == AMSL
@@ -108,8 +108,15 @@ TEST(Trajectory, GeoSamplesRoundTripAndCsv) {
     EXPECT_NEAR(g.lat_deg, 44.5, 0.2);
     EXPECT_NEAR(g.lon_deg, -71.5, 0.2);
   }
+  // The ellipsoidal heights come from the service's geoid; unknown, nothing is written.
+  std::ostringstream refused;
+  const Status unknown = writeTrajectoryCsv(refused, geo);
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_EQ(unknown.error().field, "samples[0].alt_ellipsoid_m");
+  EXPECT_TRUE(refused.str().empty());
+  for (GeoSample& g : geo) g.alt_ellipsoid_m = g.alt_amsl_m + 47.0;
   std::ostringstream csv;
-  writeTrajectoryCsv(csv, geo);
+  ASSERT_TRUE(writeTrajectoryCsv(csv, geo).ok());
   std::istringstream lines(csv.str());
   std::string header;
   std::getline(lines, header);
