@@ -1,6 +1,7 @@
 // skyroute gcs: subscribes as a ground station would (late joiners get every vehicle's current
 // trajectory), prints trajectories and statuses as they arrive, and exports the latest trajectory
-// of each vehicle to CSV, GeoJSON and KML when it stops (--count reached, --timeout, or Ctrl-C).
+// of each vehicle to CSV, GeoJSON, KML and QGroundControl plans when it stops (--count reached,
+// --timeout, or Ctrl-C).
 #include <iostream>
 #include <map>
 #include <optional>
@@ -10,6 +11,7 @@
 #include "service/cli/dds_cli_common.hpp"
 #include "service/cli/dds_commands.hpp"
 #include "service/dds/wait_loop.hpp"
+#include "service/qgc_plan.hpp"
 #include "service/trajectory_export.hpp"
 
 namespace skyroute::cli {
@@ -22,6 +24,7 @@ struct GcsOptions {
   int count = 0;         // stop after this many trajectories (0 = no limit)
   double timeout_s = 0;  // stop after this long (0 = until Ctrl-C)
   std::string csv, geojson, kml;
+  std::string plan_dir;  // one QGroundControl .plan per vehicle
 };
 
 void runGcs(const GcsOptions& o) {
@@ -74,6 +77,11 @@ void runGcs(const GcsOptions& o) {
     if (!s) fail(tool, kExitBadInput, std::string("--") + (driver[0] == 'K' ? "kml" : "geojson") + ": " + s.error().describe());
     std::cout << "wrote " << current.size() << " trajectories to " << *path << std::endl;
   }
+  if (!o.plan_dir.empty()) {
+    auto written = writeQgcPlanPerVehicle(o.plan_dir, current);
+    if (!written) fail(tool, kExitBadInput, "--plan: " + written.error().describe());
+    for (const auto& path : *written) std::cout << "wrote " << path << std::endl;
+  }
   if (o.count > 0 && received < o.count)
     fail(tool, kExitFailure,
          "received " + std::to_string(received) + " of " + std::to_string(o.count) + " trajectories on domain " +
@@ -90,8 +98,9 @@ void addGcsCommand(CLI::App& app) {
   cmd->add_option("--count", options->count, "Stop after K trajectories (0 = no limit)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--timeout", options->timeout_s, "Stop after S seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--csv", options->csv, "Write the latest trajectory of each vehicle as CSV");
-  cmd->add_option("--geojson", options->geojson, "Write them as GeoJSON (3D lines, WGS84)");
-  cmd->add_option("--kml", options->kml, "Write them as KML");
+  cmd->add_option("--geojson", options->geojson, "Write them as GeoJSON (3D lines, WGS84, heights above the ellipsoid)");
+  cmd->add_option("--kml", options->kml, "Write them as KML (heights AMSL)");
+  cmd->add_option("--plan", options->plan_dir, "Write one QGroundControl .plan per vehicle into this folder");
   cmd->callback([options] { runGcs(*options); });
 }
 

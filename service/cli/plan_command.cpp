@@ -13,6 +13,7 @@
 #include "service/cli/commands.hpp"
 #include "service/grid_leg_planner.hpp"
 #include "service/map_image.hpp"
+#include "service/qgc_plan.hpp"
 #include "service/route_planner.hpp"
 #include "service/trajectory_data.hpp"
 #include "service/trajectory_export.hpp"
@@ -168,7 +169,7 @@ void runPlan(const PlanArgs& args) {
     if (ext == "csv") {
       Status s = writeGeoSamplesCsv(args.out, toGeoSamples(samples, frame));
       if (!s.ok()) fail("--out", s.error().describe());
-    } else if (ext == "geojson" || ext == "json") {
+    } else if (ext == "geojson" || ext == "json" || ext == "plan" || ext == "waypoints") {
       TrajectoryData data = toTrajectoryData(trajectory, frame, args.dt_s, utcNowNs(),
                                              TrajectoryIdentity{"cli", "plan-" + std::to_string(args.seed), 0, ""});
       for (const RouteLeg& leg : route->legs) {
@@ -177,6 +178,11 @@ void runPlan(const PlanArgs& args) {
       }
       if (ext == "geojson") {
         Status s = writeTrajectoriesOgr(args.out, "GeoJSON", {data});
+        if (!s.ok()) fail("--out", s.error().describe());
+      } else if (ext == "plan" || ext == "waypoints") {
+        auto mission = qgcMissionFromTrajectory(data);
+        if (!mission.ok()) fail("--out", mission.error().describe());
+        Status s = ext == "plan" ? writeQgcPlan(args.out, *mission) : writeQgcWaypoints(args.out, *mission);
         if (!s.ok()) fail("--out", s.error().describe());
       } else {
         nlohmann::json j;
@@ -200,7 +206,7 @@ void runPlan(const PlanArgs& args) {
         out << j.dump(1) << "\n";
       }
     } else {
-      fail("--out", "unknown format '." + ext + "' (use .csv, .geojson or .json)");
+      fail("--out", "unknown format '." + ext + "' (use .csv, .geojson, .json, .plan or .waypoints)");
     }
     std::printf("wrote %zu samples to %s\n", samples.size(), args.out.c_str());
   }
@@ -226,7 +232,7 @@ void addPlanCommand(CLI::App& app) {
   plan->add_option("--budget-ms", args->budget_ms, "RRT* time per leg, ms (0 = use --iterations only)")->check(CLI::Range(0.0, 600000.0))->capture_default_str();
   plan->add_option("--iterations", args->iterations, "RRT* iteration budget per leg (reproducible; 0 = none)")->capture_default_str();
   plan->add_option("--dt", args->dt_s, "Sampling step of the output, s")->check(CLI::Range(0.01, 60.0))->capture_default_str();
-  plan->add_option("--out", args->out, "Write the sampled trajectory (.csv, .geojson or .json)");
+  plan->add_option("--out", args->out, "Write the sampled trajectory (.csv, .geojson, .json, or a QGroundControl .plan / .waypoints)");
   plan->add_option("--png", args->png, "Write a picture: hillshade, path and altitude profile");
   plan->add_option("--planner", args->planner, "Global planner of each leg: rrtstar_lospo, hab-pp or hab-pp-rrt")
       ->check(CLI::IsMember({"rrtstar_lospo", "hab-pp", "hab-pp-rrt"}))

@@ -193,8 +193,10 @@ TEST(DdsCli, LateGroundStationGetsEveryVehicleAndExports) {
   ASSERT_TRUE(writer->write(trajectoryOf("alpha", 2, 13)).ok());  // replaces alpha's revision 1
 
   const std::string csv = tempPath("gcs.csv"), geojson = tempPath("gcs.geojson"), kml = tempPath("gcs.kml");
+  const std::string plans = tempPath("gcs_plans");
   std::string out, err;
-  const int code = run("gcs --domain 121 --count 2 --timeout 30 --csv " + csv + " --geojson " + geojson + " --kml " + kml,
+  const int code = run("gcs --domain 121 --count 2 --timeout 30 --csv " + csv + " --geojson " + geojson + " --kml " + kml +
+                           " --plan " + plans,
                        "gcs", &out, &err);
   ASSERT_EQ(code, 0) << out << err;
   EXPECT_NE(out.find("vehicle=alpha plan=plan-alpha revision=2"), std::string::npos) << out;
@@ -235,7 +237,15 @@ TEST(DdsCli, LateGroundStationGetsEveryVehicleAndExports) {
   EXPECT_NE(kml_text.find("bravo"), std::string::npos);
   EXPECT_NE(kml_text.find("<coordinates>"), std::string::npos);
   EXPECT_NE(kml_text.find("<altitudeMode>absolute</altitudeMode>"), std::string::npos);
+  // One QGroundControl plan per vehicle, altitudes AMSL.
+  for (const std::string vehicle : {"alpha", "bravo"}) {
+    const nlohmann::json plan = nlohmann::json::parse(slurp(plans + "/" + vehicle + ".plan"), nullptr, false);
+    ASSERT_FALSE(plan.is_discarded()) << vehicle;
+    EXPECT_EQ(plan["mission"]["globalPlanAltitudeMode"], 2);
+    EXPECT_NEAR(plan["mission"]["items"][0]["Altitude"].get<double>(), 900.0, 1e-9);
+  }
   for (const auto& p : {csv, geojson, kml}) std::filesystem::remove(p);
+  std::filesystem::remove_all(plans);
 }
 
 TEST(DdsCli, RequestExitCodeFollowsTheServiceAnswer) {
