@@ -50,7 +50,9 @@ std::string planArgs(const std::string& out) {
 class PlanExportCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::path(::testing::TempDir()) / "skyroute_plan_export_cli_test";
+    // ctest runs every test as its own process, in parallel: one folder each.
+    const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    dir_ = std::filesystem::path(::testing::TempDir()) / ("skyroute_plan_export_cli_test_" + test);
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
   }

@@ -107,7 +107,9 @@ class QgcPlanTest : public ::testing::Test {
     auto f = LocalFrame::create(46.93, 15.05);
     ASSERT_TRUE(f.ok()) << f.error().describe();
     frame_.emplace(*f);
-    dir_ = std::filesystem::path(::testing::TempDir()) / "skyroute_qgc_plan_test";
+    // ctest runs every test as its own process, in parallel: one folder each.
+    const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    dir_ = std::filesystem::path(::testing::TempDir()) / ("skyroute_qgc_plan_test_" + test);
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
   }

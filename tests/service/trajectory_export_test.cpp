@@ -59,7 +59,9 @@ Dataset openWith(const std::string& path, const char* driver) {
 class TrajectoryExportTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::path(::testing::TempDir()) / "skyroute_trajectory_export_test";
+    // ctest runs every test as its own process, in parallel: one folder each.
+    const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    dir_ = std::filesystem::path(::testing::TempDir()) / ("skyroute_trajectory_export_test_" + test);
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_ / "empty");
     fleet_ = {trajectoryOf("alpha", 3, 13, 46.93), trajectoryOf("bravo", 1, 7, 46.94),
