@@ -61,9 +61,9 @@ Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData
   LastTrajectorySink sink;
   ManualClock clock;
   EngineOptions options;
-  options.replan.local_repair = switches.local;
-  options.replan.local_retime = switches.retime;
-  if (!switches.band) options.replan.band_slow_factor = 0.0;
+  options.pipeline.replan.local_repair = switches.local;
+  options.pipeline.replan.local_retime = switches.retime;
+  if (!switches.band) options.pipeline.replan.band_slow_factor = 0.0;
   auto engine = Engine::create(*model, options, sink, [&] { return clock.now_ns; });
   if (!engine.ok()) return out;
   (*engine)->submit(mission);

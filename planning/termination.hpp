@@ -49,6 +49,12 @@ class TerminationCondition {
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
   }
+  // Also stops `budget` from now: the earlier of that and a wall-clock deadline already set.
+  TerminationCondition& withDeadlineAfter(std::chrono::nanoseconds budget) {
+    const Clock::time_point at = Clock::now() + budget;
+    if (!deadline_ || at < *deadline_) deadline_ = at;
+    return *this;
+  }
   TerminationCondition& withIterationBudget(std::uint64_t iterations) {
     max_iterations_ = iterations;
     return *this;
@@ -71,6 +77,8 @@ class TerminationCondition {
   bool hasDeadline() const { return deadline_.has_value() || cpu_deadline_.has_value(); }
   // The shared cancel flag (nullptr when none), for work outside the planners that must stop too.
   const std::atomic<bool>* cancelFlag() const { return cancel_.get(); }
+  // The same flag shared, for a later stage that keeps it (a replanner that outlives this plan).
+  const std::shared_ptr<std::atomic<bool>>& sharedCancelFlag() const { return cancel_; }
 
  private:
   std::optional<Clock::time_point> deadline_;

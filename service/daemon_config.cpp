@@ -10,6 +10,8 @@
 
 #include <toml++/toml.h>
 
+#include "service/planner_registry.hpp"
+
 namespace skyroute {
 namespace {
 
@@ -24,40 +26,53 @@ struct Key {
   double min = -kInf;  // numbers only
   double max = kInf;
   std::vector<std::string> choices = {};  // strings only (empty = any)
+  double scale = 1.0;  // the field holds value * scale (a key in seconds for a field in milliseconds)
 };
 
 // Integer fields are kept in these while parsing, then copied to their typed homes.
 struct IntegerShadow {
-  std::int64_t domain, seed, threads, max_queue, max_points, leg_max_iterations, order_cells, max_attempts,
-      replan_leg_iterations;
+  std::int64_t domain, seed, threads, max_queue, max_points, leg_max_iterations, order_cells, grid_cells,
+      grid_window_segments, max_attempts, replan_leg_iterations;
 };
 
 IntegerShadow shadowOf(const DaemonConfig& c) {
+  const PipelineOptions& p = c.engine.pipeline;
   return IntegerShadow{c.domain,
-                       static_cast<std::int64_t>(c.engine.seed),
+                       static_cast<std::int64_t>(p.seed),
                        c.engine.planning_threads,
                        static_cast<std::int64_t>(c.engine.max_queue),
-                       static_cast<std::int64_t>(c.engine.bounds.max_points),
-                       static_cast<std::int64_t>(c.engine.replan.route.leg_max_iterations),
-                       c.engine.order.max_cells_per_axis,
-                       c.engine.replan.max_attempts,
-                       static_cast<std::int64_t>(c.engine.replan.replan_leg_max_iterations)};
+                       static_cast<std::int64_t>(p.bounds.max_points),
+                       static_cast<std::int64_t>(p.budget.leg_max_iterations),
+                       p.order.max_cells_per_axis,
+                       p.grid_legs.max_cells_per_axis,
+                       p.grid_legs.output_window_segments,
+                       p.replan.max_attempts,
+                       static_cast<std::int64_t>(p.replan.replan_leg_max_iterations)};
 }
 
 void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
+  PipelineOptions& p = c.engine.pipeline;
   c.domain = static_cast<int>(s.domain);
-  c.engine.seed = static_cast<std::uint64_t>(s.seed);
+  p.seed = static_cast<std::uint64_t>(s.seed);
   c.engine.planning_threads = static_cast<int>(s.threads);
   c.engine.max_queue = static_cast<std::size_t>(s.max_queue);
-  c.engine.bounds.max_points = static_cast<std::size_t>(s.max_points);
-  c.engine.replan.route.leg_max_iterations = static_cast<std::uint64_t>(s.leg_max_iterations);
-  c.engine.order.max_cells_per_axis = static_cast<int>(s.order_cells);
-  c.engine.replan.max_attempts = static_cast<int>(s.max_attempts);
-  c.engine.replan.replan_leg_max_iterations = static_cast<std::uint64_t>(s.replan_leg_iterations);
+  p.bounds.max_points = static_cast<std::size_t>(s.max_points);
+  p.budget.leg_max_iterations = static_cast<std::uint64_t>(s.leg_max_iterations);
+  p.order.max_cells_per_axis = static_cast<int>(s.order_cells);
+  p.grid_legs.max_cells_per_axis = static_cast<int>(s.grid_cells);
+  p.grid_legs.output_window_segments = static_cast<int>(s.grid_window_segments);
+  p.replan.max_attempts = static_cast<int>(s.max_attempts);
+  p.replan.replan_leg_max_iterations = static_cast<std::uint64_t>(s.replan_leg_iterations);
+}
+
+std::vector<std::string> plannerChoices() {
+  std::vector<std::string> names;
+  for (const RoutePlannerInfo& p : routePlanners()) names.emplace_back(p.name);
+  return names;
 }
 
 std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
-  EngineOptions& e = c.engine;
+  PipelineOptions& p = c.engine.pipeline;
   return {
       {"terrain", "dem", "DEM raster path (any GDAL raster); \"\" = the embedded default terrain", &c.dem_path},
       {"terrain", "vehicle_radius_m", "every vehicle's bounding sphere, metres", &c.world.vehicle_radius_m, 0.01, 1000},
@@ -70,36 +85,48 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"dds", "heartbeat_period_s", "ServiceStatus period, seconds", &c.heartbeat_period_s, 0.05, 3600},
       {"dds", "flush_timeout_s", "on stop, how long writers wait for readers' acknowledgements, seconds",
        &c.flush_timeout_s, 0, 10},
-      {"planning", "default_planner", "planner used when a request names none", &e.default_planner, -kInf, kInf,
-       {kDefaultPlanner, kHabPpPlanner, kHabPpRrtPlanner}},
-      {"planning", "seed", "RRT* seed of every plan (a run is reproducible from it)", &s.seed, 0, 9.0e18},
-      {"planning", "threads", "requests planned at once", &s.threads, 1, 64},
-      {"planning", "max_queue", "requests waiting beyond this are refused with ERROR_BUSY", &s.max_queue, 1, 100000},
-      {"planning", "max_points", "largest number of mission points in one request", &s.max_points, 1, 1000},
-      {"planning", "sample_dt_s", "spacing of the published trajectory samples, seconds", &e.sample_dt_s, 0.001, 10},
-      {"planning", "leg_max_iterations", "RRT* iterations per leg (0 = none; then set leg_budget_ms)",
+      {"planning", "default_planner", "route planner used when a request names none (skyroute planners lists them)",
+       &p.default_planner, -kInf, kInf, plannerChoices()},
+      {"planning", "seed", "seed of every plan (a run is reproducible from it)", &s.seed, 0, 9.0e18},
+      {"planning", "leg_max_iterations", "search iterations per leg (RRT*; 0 = none, then leg_time_cap_s alone)",
        &s.leg_max_iterations, 0, 1e9},
-      {"planning", "leg_budget_ms", "RRT* wall-time budget per leg, milliseconds (0 = none)",
-       &e.replan.route.leg_budget_ms, 0, 600000},
+      {"planning", "leg_time_cap_s",
+       "wall-clock cap of one leg's search, seconds (0 = none); when it fires the status says so and the plan is "
+       "no longer reproducible from the seed",
+       &p.budget.leg_time_cap_s, 0, 3600},
+      {"planning", "threads", "requests planned at once (skyrouted)", &s.threads, 1, 64},
+      {"planning", "max_queue", "requests waiting beyond this are refused with ERROR_BUSY (skyrouted)", &s.max_queue, 1,
+       100000},
+      {"planning", "max_points", "largest number of mission points in one request", &s.max_points, 1, 1000},
+      {"planning", "sample_dt_s", "spacing of the trajectory samples, seconds", &p.sample_dt_s, 0.001, 10},
       {"planning", "corridor_margin_m", "RRT* samples within this distance of a leg's bounding box, metres",
-       &e.replan.route.corridor_margin_m, 0, 1e6},
+       &p.replan.route.corridor_margin_m, 0, 1e6},
       {"planning", "lospo_spacing_m", "LOSPO vertex spacing and extra trajectory waypoints, metres",
-       &e.replan.route.lospo.spacing_m, 1, 10000},
+       &p.replan.route.lospo.spacing_m, 1, 10000},
       {"planning", "order_grid_max_cells", "cells per axis of the MMD*L ordering grid at most", &s.order_cells, 8, 2000},
       {"planning", "order_band_margin_m", "the ordering grid's flight band reaches this far above the highest point, metres",
-       &e.order.band_margin_m, 0, 10000},
-      {"replanning", "enabled", "replan active missions when obstacles will meet them", &e.replanning},
-      {"replanning", "period_s", "replanning cycle t_ref, seconds", &e.replan.period_s, 0.01, 10},
-      {"replanning", "horizon_s", "how far ahead conflicts are looked for, seconds", &e.replan.horizon_s, 1, 3600},
-      {"replanning", "margin_m", "extra room kept from moving obstacles when replanning, metres", &e.replan.margin_m,
+       &p.order.band_margin_m, 0, 10000},
+      {"planning", "grid_max_cells", "cells per axis of the grid planners' flight-band grid at most (hab-pp, hab-pp-rrt)",
+       &s.grid_cells, 8, 4000},
+      {"planning", "grid_band_margin_m",
+       "the grid planners' band reaches this far above a leg's higher end, metres (hab-pp, hab-pp-rrt)",
+       &p.grid_legs.band_margin_m, 0, 10000},
+      {"planning", "grid_window_segments",
+       "the grid planners' output re-planned in windows of this many segments (0 = off; hab-pp, hab-pp-rrt)",
+       &s.grid_window_segments, 0, 1000},
+      {"replanning", "enabled", "replan active missions when obstacles will meet them (skyrouted)", &c.engine.replanning},
+      {"replanning", "period_s", "replanning cycle t_ref, seconds", &p.replan.period_s, 0.01, 10},
+      {"replanning", "horizon_s", "how far ahead conflicts are looked for, seconds", &p.replan.horizon_s, 1, 3600},
+      {"replanning", "margin_m", "extra room kept from moving obstacles when replanning, metres", &p.replan.margin_m,
        0, 10000},
       {"replanning", "window_s", "a moving obstacle blocks the stretch it covers in this long, seconds",
-       &e.replan.window_s, 0, 3600},
+       &p.replan.window_s, 0, 3600},
       {"replanning", "max_attempts", "candidates tried per replan", &s.max_attempts, 1, 100},
       {"replanning", "leg_max_iterations", "RRT* iterations per leg when replanning (0 = planning.leg_max_iterations)",
        &s.replan_leg_iterations, 0, 1e9},
-      {"replanning", "budget_ms", "wall-time budget of one replan (the first candidate is always finished), milliseconds",
-       &e.replan.replan_budget_ms, 0, 60000},
+      {"replanning", "budget_s",
+       "wall-clock budget of one replan (the first candidate is always finished), seconds",
+       &p.replan.replan_budget_ms, 0, 60, {}, 1e3},
       {"log", "level", "log level", &c.log_level, -kInf, kInf, {"trace", "debug", "info", "warn", "error"}},
       {"log", "format", "text, or json (one object per line)", &c.log_format, -kInf, kInf, {"text", "json"}},
   };
@@ -122,7 +149,7 @@ Status setKey(const Key& key, const toml::node& node) {
                                                 : node.value<double>();
     if (!node.is_number() || !v) return make_error(ErrorCode::kInvalidArgument, name, "must be a number");
     if (Status s = range(*v); !s.ok()) return s;
-    **d = *v;
+    **d = *v * key.scale;
   } else if (auto* i = std::get_if<std::int64_t*>(&key.target)) {
     if (!node.is_integer()) return make_error(ErrorCode::kInvalidArgument, name, "must be an integer");
     const std::int64_t v = *node.value<std::int64_t>();
@@ -181,9 +208,8 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
     }
   }
   applyShadow(shadow, config);
-  if (config.engine.replan.route.leg_max_iterations == 0 && config.engine.replan.route.leg_budget_ms <= 0.0) {
-    return make_error(ErrorCode::kInvalidArgument, "planning.leg_max_iterations",
-                      "and planning.leg_budget_ms are both 0: RRT* would never stop");
+  if (auto bad = validatePipelineOptions(config.engine.pipeline)) {
+    return make_error(ErrorCode::kInvalidArgument, bad->field, bad->message);
   }
   return config;
 }
@@ -211,7 +237,7 @@ std::string describeDaemonConfig(const DaemonConfig& config) {
     out << "# " << k.doc << "\n" << k.name << " = ";
     if (auto* d = std::get_if<double*>(&k.target)) {
       std::ostringstream v;
-      v << **d;
+      v << **d / k.scale;
       std::string text = v.str();
       if (text.find_first_of(".e") == std::string::npos && text.find("inf") == std::string::npos) text += ".0";
       out << text;

@@ -6,7 +6,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include "service/trajectory_data.hpp"
 
 namespace skyroute {
 
@@ -19,12 +18,9 @@ struct Engine::Job {
 struct Engine::Mission {
   MissionRequestData request;
   std::string plan_id;
-  std::vector<int> order;                    // request point indices in visiting order
-  std::vector<Eigen::Vector3d> ordered_m;    // the points in that order, ENU
-  double sample_dt_s = 0.2;                  // of the published trajectories
+  MissionPlan plan;                          // order, points and the flight being replanned
   std::shared_ptr<std::atomic<bool>> cancel;
-  std::mutex mutex;                          // the replanner and `ended`
-  std::unique_ptr<FlightReplanner> replanner;
+  std::mutex mutex;                          // the flight and `ended`
   bool ended = false;                        // cancelled or replaced: no more revisions
 };
 
@@ -34,58 +30,16 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// Request point index -> the request's field name.
-std::string pointName(int index, int count) {
-  if (index == 0) return "begin";
-  if (index == count - 1) return "end";
-  return "points[" + std::to_string(index - 1) + "]";
-}
-
-// The trajectory stage names its limits after VehicleLimits; the request after the IDL.
-std::string requestLimitField(const std::string& field) {
-  if (field == "limits.max_climb_mps") return "limits.max_climb_rate_mps";
-  if (field == "limits.max_descent_mps") return "limits.max_descent_rate_mps";
-  return field;
-}
-
-// Route errors name ordered points ("points[k]") and legs ("legs[k]"); replies name the request's.
-PlanError requestError(const Error& e, const std::vector<int>& order) {
-  PlanError out = toPlanError(e);
-  const int count = static_cast<int>(order.size());
-  auto index = [&](const std::string& prefix) -> std::optional<int> {
-    if (e.field.rfind(prefix, 0) != 0) return std::nullopt;
-    try {
-      const int k = std::stoi(e.field.substr(prefix.size()));
-      if (k >= 0 && k < count) return k;
-    } catch (const std::exception&) {
-    }
-    return std::nullopt;
-  };
-  if (auto k = index("points[")) {
-    out.field = pointName(order[*k], count);
-  } else if (auto leg = index("legs[")) {
-    if (*leg + 1 < count) {
-      out.message += " (the leg from " + pointName(order[*leg], count) + " to " + pointName(order[*leg + 1], count) + ")";
-      out.field = pointName(order[*leg + 1], count);
-    }
-  }
-  return out;
-}
-
 }  // namespace
 
 Result<std::unique_ptr<Engine>> Engine::create(std::shared_ptr<WorldModel> world, const EngineOptions& options,
                                                EngineSink& sink, Clock clock) {
   if (!world) return make_error(ErrorCode::kInvalidArgument, "world", "no world model");
   if (options.planning_threads < 1) {
-    return make_error(ErrorCode::kInvalidArgument, "planning_threads", "must be at least 1");
+    return make_error(ErrorCode::kInvalidArgument, "planning.threads", "must be at least 1");
   }
-  if (!(options.sample_dt_s > 0.0)) return make_error(ErrorCode::kInvalidArgument, "sample_dt_s", "must be positive");
-  if (!(options.replan.period_s > 0.0)) return make_error(ErrorCode::kInvalidArgument, "replan.period_s", "must be positive");
-  const auto& planners = options.bounds.planners;
-  if (std::find(planners.begin(), planners.end(), options.default_planner) == planners.end()) {
-    return make_error(ErrorCode::kInvalidArgument, "default_planner",
-                      "'" + options.default_planner + "' is not one of the planners the engine knows");
+  if (auto bad = validatePipelineOptions(options.pipeline)) {
+    return make_error(ErrorCode::kInvalidArgument, bad->field, bad->message);
   }
   if (!clock) clock = utcNowNs;
   return std::unique_ptr<Engine>(new Engine(std::move(world), options, sink, std::move(clock)));
@@ -106,12 +60,14 @@ EngineOptions Engine::options() const {
   return options_;
 }
 
-void Engine::status(const MissionRequestData& request, PlanState state, double planning_time_s) {
+void Engine::status(const MissionRequestData& request, PlanState state, double planning_time_s,
+                    std::string message) {
   PlanStatusData s;
   s.request_id = request.request_id;
   s.vehicle_id = request.vehicle_id;
   s.state = state;
   s.planning_time_s = planning_time_s;
+  s.message = std::move(message);
   sink_.publishStatus(s);
 }
 
@@ -130,8 +86,10 @@ std::optional<PlanError> Engine::enqueue(std::unique_ptr<Job> job, const Validat
 std::optional<PlanError> Engine::submit(MissionRequestData request) {
   auto job = std::make_unique<Job>();
   job->request = request;
-  const std::optional<PlanError> problem = enqueue(
-      std::move(job), [&](const EngineOptions& o) { return validateMissionRequest(request, o.bounds); });
+  const std::optional<PlanError> problem = enqueue(std::move(job), [&](const EngineOptions& o) {
+    if (auto bad = validateMissionRequest(request, o.pipeline.bounds)) return bad;
+    return request.planner.empty() ? std::nullopt : findRoutePlanner(request.planner, nullptr);
+  });
   if (problem) {
     spdlog::warn("event=request_rejected request={} vehicle={} code={} field={} message=\"{}\"", request.request_id,
                  request.vehicle_id, to_string(problem->code), problem->field, problem->message);
@@ -169,7 +127,7 @@ std::optional<PlanError> Engine::submitFleet(FleetRequestData request) {
   auto job = std::make_unique<Job>();
   job->fleet = request;
   const std::optional<PlanError> problem = enqueue(
-      std::move(job), [&](const EngineOptions& o) { return validateFleetRequest(request, o.fleet); });
+      std::move(job), [&](const EngineOptions& o) { return validateFleetRequest(request, o.pipeline.fleet); });
   if (problem) {
     spdlog::warn("event=fleet_rejected request={} code={} field={} message=\"{}\"", request.request_id,
                  to_string(problem->code), problem->field, problem->message);
@@ -190,13 +148,10 @@ void Engine::planFleetJob(Job& job) {
     return;
   }
   sink_.publishFleetStatus(fleetStatus(r.request_id, PlanState::kPlanning));
-  const EngineOptions options = this->options();
-  FleetMissionOptions fleet = options.fleet;
-  fleet.sample_dt_s = options.sample_dt_s;
-  fleet.route.trajectory = options.replan.route.trajectory;
+  const MissionPipeline pipeline(world_, options().pipeline);
   TerminationCondition stop;
   stop.withCancelFlag(job.cancel);
-  const FleetPlanOutput out = planFleetMission(r, *world_, fleet, clock_(), stop);
+  const FleetPlanOutput out = pipeline.planFleet(r, clock_(), stop);
   if (!out.ok()) {
     spdlog::warn("event=fleet_failed request={} code={} field={} message=\"{}\" time_s={:.3f}", r.request_id,
                  to_string(out.status.error_code), out.status.field, out.status.message, out.status.planning_time_s);
@@ -298,130 +253,10 @@ std::optional<PlanError> Engine::updateObstacle(const ObstacleUpdateData& update
   return std::nullopt;
 }
 
-std::shared_ptr<Engine::Mission> Engine::planMission(const Job& job, const EngineOptions& options, PlanError& error) {
-  const MissionRequestData& r = job.request;
-  const int count = static_cast<int>(r.points.size()) + 2;
-  std::vector<Eigen::Vector3d> points;
-  auto toEnu = [&](const MissionPointData& p) {
-    return p.frame == MissionPointData::Frame::kWgs84 ? world_->frame().toEnu(p.geo) : p.enu_m;
-  };
-  points.push_back(toEnu(r.begin));
-  for (const MissionPointData& p : r.points) points.push_back(toEnu(p));
-  points.push_back(toEnu(r.end));
-
-  const std::string planner = r.planner.empty() ? options.default_planner : r.planner;
-  const std::optional<GridGlobalPlanner> grid_planner = parseGridGlobalPlanner(planner);
-  if (planner != kDefaultPlanner && !grid_planner) {
-    error = PlanError{PlanErrorCode::kUnknownPlanner, "planner", "planner '" + planner + "' is not available here"};
-    return nullptr;
-  }
-  auto world = world_->worldFor(r.limits.min_clearance_agl_m, r.limits.ceiling_amsl_m);
-  if (!world.ok()) {
-    error = PlanError{PlanErrorCode::kLimitsOutOfRange, world.error().field, world.error().message};
-    return nullptr;
-  }
-  const VehicleLimits limits = toVehicleLimits(r.limits);
-  if (Status ok = limits.validate(); !ok.ok()) {
-    error = PlanError{PlanErrorCode::kLimitsOutOfRange, requestLimitField(ok.error().field), ok.error().message};
-    return nullptr;
-  }
-  const double now_s = static_cast<double>(clock_()) * 1e-9;
-  ObstacleSnapshot snapshot;
-  snapshot.time_s = now_s;
-  for (int i = 0; i < count; ++i) {
-    if (Status ok = checkRoutePoint(**world, points[i], pointName(i, count), snapshot); !ok.ok()) {
-      error = toPlanError(ok.error());
-      return nullptr;
-    }
-  }
-
-  TerminationCondition stop;
-  stop.withCancelFlag(job.cancel);
-  auto order = orderMissionPoints(world_->terrain(), points, r.limits.min_clearance_agl_m, r.limits.ceiling_amsl_m,
-                                  r.fixed_order, options.order, stop);
-  if (!order.ok()) {
-    error = toPlanError(order.error());
-    return nullptr;
-  }
-  if (!order->fallback_reason.empty()) {
-    spdlog::info("event=order_fallback request={} reason=\"{}\"", r.request_id, order->fallback_reason);
-  }
-  auto mission = std::make_shared<Mission>();
-  mission->request = r;
-  mission->order = order->order;
-  mission->cancel = job.cancel;
-  mission->sample_dt_s = options.sample_dt_s;
-  for (int index : mission->order) mission->ordered_m.push_back(points[index]);
-
-  ReplanOptions replan = options.replan;
-  replan.route.seed = options.seed;
-  replan.cancel = job.cancel;
-  Result<std::unique_ptr<FlightReplanner>> replanner = make_error(ErrorCode::kInternal, "planner", "not run");
-  if (grid_planner) {
-    // HAB-PP finds each leg's path on the flight band; the trajectory stage is the same.
-    TerminationCondition leg_stop = TerminationCondition::after(
-        std::chrono::nanoseconds(static_cast<std::int64_t>(options.grid_leg_budget_s * 1e9)));
-    leg_stop.withCancelFlag(job.cancel);
-    auto route = planGridRoutePaths(*world, mission->ordered_m, *grid_planner, options.grid_legs, options.seed,
-                                    leg_stop, snapshot);
-    if (route.ok()) {
-      RouteOptions build = replan.route;
-      build.trajectory_start_world_s = now_s;
-      build.moving_check_horizon_s = replan.horizon_s;
-      if (Status built = buildRouteTrajectory(*world, mission->ordered_m, limits, build, *route); !built.ok()) {
-        replanner = built.error();
-      } else {
-        replanner = FlightReplanner::startWithRoute(*world, mission->ordered_m, limits, replan, now_s,
-                                                    std::move(route.value()));
-      }
-    } else {
-      replanner = route.error();
-    }
-  } else {
-    replanner = FlightReplanner::start(*world, mission->ordered_m, limits, replan, now_s);
-  }
-  if (!replanner.ok()) {
-    error = requestError(replanner.error(), mission->order);
-    return nullptr;
-  }
-  mission->replanner = std::move(*replanner);
-  spdlog::info("event=order request={} method={} cost_m={:.0f} expansions={} time_ms={:.1f} planner={}", r.request_id,
-               order->method, order->cost_m, order->expansions, order->time_ms, planner);
-  return mission;
-}
-
-TrajectoryData Engine::trajectoryOf(const Mission& mission) const {
-  const FlightReplanner& replanner = *mission.replanner;
-  const double start_s = replanner.trajectoryStartWorldS();
-  TrajectoryIdentity identity{mission.request.vehicle_id, mission.plan_id, replanner.revision(),
-                              mission.request.request_id};
-  TrajectoryData data = toTrajectoryData(replanner.route().built.trajectory, world_->frame(), mission.sample_dt_s,
-                                         static_cast<std::int64_t>(std::llround(start_s * 1e9)), identity);
-  for (int index : mission.order) data.visiting_order.push_back(static_cast<std::uint32_t>(index));
-  // The route's points: the first is where this revision starts (the begin point, or where the
-  // vehicle takes the new trajectory over); the others are the points still to reach, copied
-  // from the ordered points. A revision's first leg continues the leg it interrupted.
-  const std::vector<Eigen::Vector3d> remaining = replanner.remainingPoints(start_s);
-  std::vector<int> route_ids;
-  for (const Eigen::Vector3d& p : remaining) {
-    int id = mission.order.back();
-    for (std::size_t k = 0; k < mission.ordered_m.size(); ++k) {
-      if (mission.ordered_m[k] == p) id = mission.order[k];
-    }
-    route_ids.push_back(id);
-  }
-  int previous = mission.order.front();
-  if (!route_ids.empty()) {
-    const auto at = std::find(mission.order.begin(), mission.order.end(), route_ids.front());
-    if (at != mission.order.begin() && at != mission.order.end()) previous = *(at - 1);
-  }
-  route_ids.insert(route_ids.begin(), previous);
-  for (const RouteLeg& leg : replanner.route().legs) {
-    if (leg.to_point >= route_ids.size()) break;
-    data.legs.push_back(LegBoundaryData{static_cast<std::uint32_t>(route_ids[leg.from_point]),
-                                        static_cast<std::uint32_t>(route_ids[leg.to_point]), leg.start_s, leg.end_s});
-  }
-  return data;
+Result<TrajectoryData, PlanError> Engine::trajectoryOf(const Mission& mission) const {
+  const MissionPipeline pipeline(world_, options().pipeline);
+  return pipeline.sample(mission.plan, TrajectoryIdentity{mission.request.vehicle_id, mission.plan_id,
+                                                          mission.plan.flight->revision(), mission.request.request_id});
 }
 
 void Engine::plan(Job& job) {
@@ -438,9 +273,31 @@ void Engine::plan(Job& job) {
     return;
   }
   status(r, PlanState::kPlanning);
-  const EngineOptions options = this->options();
+  const MissionPipeline pipeline(world_, options().pipeline);
+  TerminationCondition stop;
+  stop.withCancelFlag(job.cancel);
+  const double now_s = static_cast<double>(clock_()) * 1e-9;
+  auto planned = pipeline.plan(PipelineRequest{r, std::nullopt, std::nullopt}, now_s, stop);
+  std::shared_ptr<Mission> mission;
   PlanError error;
-  std::shared_ptr<Mission> mission = planMission(job, options, error);
+  if (planned.ok()) {
+    mission = std::make_shared<Mission>();
+    mission->request = r;
+    mission->plan = std::move(planned.value());
+    mission->cancel = job.cancel;
+    const OrderedMission& m = mission->plan.mission;
+    if (!m.ordering.fallback_reason.empty()) {
+      spdlog::info("event=order_fallback request={} reason=\"{}\"", r.request_id, m.ordering.fallback_reason);
+    }
+    spdlog::info("event=order request={} method={} cost_m={:.0f} expansions={} time_ms={:.1f} planner={}",
+                 r.request_id, m.ordering.method, m.ordering.cost_m, m.ordering.expansions, m.ordering.time_ms,
+                 m.planner->name);
+    for (const std::string& note : mission->plan.notes) {
+      spdlog::warn("event=budget_capped request={} vehicle={} note=\"{}\"", r.request_id, r.vehicle_id, note);
+    }
+  } else {
+    error = planned.error();
+  }
   const double planning_s = secondsSince(started);
   if (mission && job.cancel->load()) {
     mission.reset();
@@ -450,8 +307,9 @@ void Engine::plan(Job& job) {
     if (error.code == PlanErrorCode::kCancelled && job.cancel->load()) error.message = "cancelled during planning";
     PlanStatusData s = PlanStatusData::failed(r, error, planning_s);
     if (error.code == PlanErrorCode::kCancelled) s.state = PlanState::kCancelled;
-    spdlog::warn("event=plan_failed request={} vehicle={} code={} field={} message=\"{}\" time_s={:.3f}", r.request_id,
-                 r.vehicle_id, to_string(error.code), error.field, error.message, planning_s);
+    spdlog::warn("event=plan_failed request={} vehicle={} code={} stage={} field={} message=\"{}\" time_s={:.3f}",
+                 r.request_id, r.vehicle_id, to_string(error.code), to_string(error.stage), error.field, error.message,
+                 planning_s);
     sink_.publishStatus(s);
     return;
   }
@@ -470,13 +328,25 @@ void Engine::plan(Job& job) {
     std::lock_guard old_lock(replaced->mutex);
     replaced->ended = true;
   }
-  const TrajectoryData data = trajectoryOf(*mission);
-  sink_.publishTrajectory(data);
+  auto data = trajectoryOf(*mission);
+  if (!data.ok()) {
+    mission->ended = true;
+    mission_lock.unlock();
+    {
+      std::lock_guard lock(mutex_);
+      if (auto it = missions_.find(r.vehicle_id); it != missions_.end() && it->second == mission) missions_.erase(it);
+    }
+    sink_.publishStatus(PlanStatusData::failed(r, data.error(), planning_s));
+    return;
+  }
+  sink_.publishTrajectory(*data);
   mission_lock.unlock();
+  std::string notes;
+  for (const std::string& note : mission->plan.notes) notes += (notes.empty() ? "" : "; ") + note;
   spdlog::info("event=plan_succeeded request={} vehicle={} plan={} duration_s={:.1f} samples={} time_s={:.3f}",
-               r.request_id, r.vehicle_id, data.plan_id, mission->replanner->route().built.trajectory.duration_s(),
-               data.samples.size(), planning_s);
-  status(r, PlanState::kSucceeded, planning_s);
+               r.request_id, r.vehicle_id, data->plan_id, mission->plan.flight->route().built.trajectory.duration_s(),
+               data->samples.size(), planning_s);
+  status(r, PlanState::kSucceeded, planning_s, notes);
 }
 
 bool Engine::planNext() {
@@ -508,7 +378,7 @@ std::size_t Engine::replanCycle() {
     if (stopping_) break;
     std::unique_lock mission_lock(mission->mutex);
     if (mission->ended) continue;
-    if (mission->replanner->finished(now_s)) {
+    if (mission->plan.flight->finished(now_s)) {
       mission->ended = true;
       mission_lock.unlock();
       std::lock_guard lock(mutex_);
@@ -519,15 +389,20 @@ std::size_t Engine::replanCycle() {
       }
       continue;
     }
-    const ReplanStep step = mission->replanner->step(now_s);
+    const ReplanStep step = mission->plan.flight->step(now_s);
     if (step.replanned) {
-      const TrajectoryData data = trajectoryOf(*mission);
-      sink_.publishTrajectory(data);
+      auto data = trajectoryOf(*mission);
+      if (!data.ok()) {
+        spdlog::warn("event=replan_failed request={} vehicle={} field={} message=\"{}\"", mission->request.request_id,
+                     mission->request.vehicle_id, data.error().field, data.error().message);
+        continue;
+      }
+      sink_.publishTrajectory(*data);
       mission_lock.unlock();
       ++replans_;
       ++published;
       spdlog::info("event=replanned request={} vehicle={} plan={} revision={} latency_ms={:.1f}",
-                   mission->request.request_id, mission->request.vehicle_id, mission->plan_id, data.revision,
+                   mission->request.request_id, mission->request.vehicle_id, mission->plan_id, data->revision,
                    step.latency_ms);
       status(mission->request, PlanState::kReplanned, step.latency_ms * 1e-3);
     } else if (step.failure) {
@@ -562,7 +437,7 @@ void Engine::replanLoop() {
     double period_s = 0.1;
     {
       std::lock_guard lock(mutex_);
-      period_s = options_.replan.period_s;
+      period_s = options_.pipeline.replan.period_s;
     }
     next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(period_s));
     const auto now = std::chrono::steady_clock::now();

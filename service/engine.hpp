@@ -1,7 +1,7 @@
 // The planning engine: owns the world model and the active missions, DDS-free (service/dds/
-// converts at the edge, tests drive it directly). A request is validated, its points ordered with
-// MMD*L (mission_order.hpp), each leg planned with RRT* and LOSPO, the whole turned into a
-// 7th-order spline trajectory (route_planner.hpp), and the mission handed to a FlightReplanner.
+// converts at the edge, tests drive it directly). A request goes through the mission pipeline
+// (mission_pipeline.hpp: order -> legs -> trajectory -> checks, the same as `skyroute plan`), and
+// the mission's flight is then kept and replanned.
 // Every replanning cycle (t_ref = 0.1 s, and at once after an obstacle update) each active mission
 // checks the obstacles ahead and, when one will meet it, publishes a new revision.
 //
@@ -25,52 +25,17 @@
 #include <thread>
 #include <vector>
 
-#include "service/fleet_mission.hpp"
-#include "service/flight_replanner.hpp"
-#include "service/grid_leg_planner.hpp"
-#include "service/mission_order.hpp"
+#include "service/mission_pipeline.hpp"
 #include "service/mission_types.hpp"
 #include "service/world_model.hpp"
 
 namespace skyroute {
 
-inline constexpr const char* kDefaultPlanner = "rrtstar_lospo";
-
-// The engine's leg pipeline: RRT* on an iteration budget (3000 per leg, no deadline), so a first
-// plan is reproducible from the seed on any machine; the replanning loop as seed 003 (t_ref =
-// 0.1 s) with FlightReplanner's per-replan deadline (replans are timing-dependent, by design).
-// Every planner a request may name: RRT* + LOSPO (the default), and HAB-PP / Improved HAB-PP on
-// the flight band's grid (replans then use RRT* + LOSPO: the ant colonies take seconds).
-inline MissionRequestBounds engineRequestBounds() {
-  MissionRequestBounds b;
-  b.planners = {kDefaultPlanner, kHabPpPlanner, kHabPpRrtPlanner};
-  return b;
-}
-
-inline ReplanOptions engineReplanDefaults() {
-  ReplanOptions o;
-  o.route.leg_budget_ms = 0.0;
-  o.route.leg_max_iterations = 3000;
-  // A replan must come back within a cycle: its first candidate always runs to the end (the
-  // deadline only cuts later attempts), so its RRT* gets a smaller budget per leg (informed
-  // sampling around the current path finds a detour in a few hundred iterations).
-  o.replan_leg_max_iterations = 400;
-  return o;
-}
-
 struct EngineOptions {
-  std::string default_planner = kDefaultPlanner;  // used when a request names none
-  std::uint64_t seed = 1;               // RRT* seed of every plan: a run is reproducible from it
+  PipelineOptions pipeline;             // how each request is planned (mission_pipeline.hpp)
   int planning_threads = 1;             // requests planned at once
   std::size_t max_queue = 64;           // requests waiting beyond this are refused (kBusy)
-  double sample_dt_s = 0.2;             // trajectory sample spacing in the published message
-  MissionRequestBounds bounds = engineRequestBounds();  // what a request may ask for
-  MissionOrderOptions order;            // the MMD*L order grid
-  GridLegOptions grid_legs;             // the HAB-PP planners' flight-band grid
-  double grid_leg_budget_s = 30.0;      // wall time a HAB-PP leg may take
-  ReplanOptions replan = engineReplanDefaults();  // the leg pipeline (replan.route) and the loop
   bool replanning = true;               // run the replanning loop on active missions
-  FleetMissionOptions fleet;            // fleet requests (sample_dt_s and the trajectory stage from above)
 };
 
 // Where results go. Called from engine threads (never while an engine lock is held).
@@ -139,10 +104,10 @@ class Engine {
   std::optional<PlanError> enqueue(std::unique_ptr<Job> job, const Validator& validate);
   void plan(Job& job);
   void planFleetJob(Job& job);
-  // The mission for a job, or nullptr with `error` set (the reply's code and field).
-  std::shared_ptr<Mission> planMission(const Job& job, const EngineOptions& options, PlanError& error);
-  void status(const MissionRequestData& request, PlanState state, double planning_time_s = 0.0);
-  TrajectoryData trajectoryOf(const Mission& mission) const;
+  void status(const MissionRequestData& request, PlanState state, double planning_time_s = 0.0,
+              std::string message = {});
+  // The mission's current trajectory as published, or the sampling stage's error.
+  Result<TrajectoryData, PlanError> trajectoryOf(const Mission& mission) const;
   void workerLoop();
   void replanLoop();
 

@@ -13,7 +13,8 @@ namespace skyroute {
 Result<std::unique_ptr<FlightReplanner>> FlightReplanner::start(std::shared_ptr<const CollisionWorld> world,
                                                                 std::vector<Eigen::Vector3d> points_m,
                                                                 const VehicleLimits& limits,
-                                                                const ReplanOptions& options, double start_world_s) {
+                                                                const ReplanOptions& options, double start_world_s,
+                                                                const LegPathPlanner& first_legs) {
   if (!(options.period_s > 0.0) || !(options.horizon_s > 0.0) || !(options.check_step_s > 0.0)) {
     return make_error(ErrorCode::kInvalidArgument, "replan", "period, horizon and check step must be positive");
   }
@@ -27,7 +28,7 @@ Result<std::unique_ptr<FlightReplanner>> FlightReplanner::start(std::shared_ptr<
   TerminationCondition stop;
   if (options.cancel) stop.withCancelFlag(options.cancel);
   auto first = r->bestCandidate([&](int attempt) { return std::optional<AttemptPlan>(r->wholePlan(points_m, {}, attempt)); },
-                                start_world_s, nullptr, stop);
+                                start_world_s, nullptr, stop, false, first_legs);
   if (!first.ok()) return first.error();
   r->adopt(std::move(first->route), std::move(first->points), start_world_s);
   return r;
@@ -126,7 +127,7 @@ bool samePath(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Ve
 
 Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
     const std::function<std::optional<AttemptPlan>(int)>& plan_of, double at_world_s, const TrajectoryState* state,
-    const TerminationCondition& stop, bool first_only) const {
+    const TerminationCondition& stop, bool first_only, const LegPathPlanner& legs) const {
   std::optional<Candidate> best;
   std::optional<Error> last_error;
   std::vector<std::vector<Eigen::Vector3d>> tried;
@@ -144,7 +145,10 @@ Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
         attemptOptions(plan->points, at_world_s, state, attempt, plan->variant, plan->conflict_in_s, plan->rejoin);
     const auto attempt_started = std::chrono::steady_clock::now();
     const bool retime = plan->retime_speed_factor < 1.0;
-    Result<PlannedRoute> candidate = retime ? currentStretch(*plan) : planRoutePaths(world_, plan->points, route, stop);
+    const bool own_legs = legs && !plan->rejoin;  // local stretches are RRT*'s
+    Result<PlannedRoute> candidate = retime     ? currentStretch(*plan)
+                                     : own_legs ? legs(world_, plan->points, route, stop)
+                                                : planRoutePaths(world_, plan->points, route, stop);
     VehicleLimits limits = limits_;
     limits.v_ref_mps *= plan->retime_speed_factor;
     const auto planned = std::chrono::steady_clock::now();

@@ -74,10 +74,12 @@ struct ReplanStep {
 class FlightReplanner {
  public:
   // points_m: the route in visiting order; the first is where the vehicle is at start_world_s.
+  // first_legs: the global planner of the first plan (empty: RRT* + LOSPO); its attempts run with
+  // the same obstacle windows and margins as a replan's. Replans always use RRT* + LOSPO.
   static Result<std::unique_ptr<FlightReplanner>> start(std::shared_ptr<const CollisionWorld> world,
                                                         std::vector<Eigen::Vector3d> points_m,
                                                         const VehicleLimits& limits, const ReplanOptions& options,
-                                                        double start_world_s);
+                                                        double start_world_s, const LegPathPlanner& first_legs = {});
   // The same, flying a route planned elsewhere (another global planner; route.built set, starting
   // at start_world_s); replans still use RRT* + LOSPO.
   static Result<std::unique_ptr<FlightReplanner>> startWithRoute(std::shared_ptr<const CollisionWorld> world,
@@ -147,9 +149,10 @@ class FlightReplanner {
   // whose first conflict is latest. A path equal to the attempt's current path or to an earlier
   // attempt's is not built nor checked again: it cannot do better. With first_only, the first
   // candidate built is returned.
+  // legs: the global planner of whole-route attempts (empty: RRT* + LOSPO).
   Result<Candidate> bestCandidate(const std::function<std::optional<AttemptPlan>(int)>& plan_of, double at_world_s,
                                   const TrajectoryState* state, const TerminationCondition& stop,
-                                  bool first_only = false) const;
+                                  bool first_only = false, const LegPathPlanner& legs = {}) const;
   // The current route's waypoints not yet reached at world_s, with `from` in front.
   std::vector<Eigen::Vector3d> waypointsAhead(const Eigen::Vector3d& from, double world_s) const;
   void adopt(PlannedRoute route, std::vector<Eigen::Vector3d> points, double start_world_s);

@@ -9,12 +9,6 @@
 
 namespace skyroute {
 
-std::optional<GridGlobalPlanner> parseGridGlobalPlanner(std::string_view name) {
-  if (name == kHabPpPlanner) return GridGlobalPlanner::kHabPp;
-  if (name == kHabPpRrtPlanner) return GridGlobalPlanner::kHabPpRrt;
-  return std::nullopt;
-}
-
 namespace {
 
 std::string legName(std::size_t i) { return "legs[" + std::to_string(i) + "]"; }
@@ -59,7 +53,13 @@ Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> wo
       const auto start = grid->cellAt(a.head<2>());
       const auto goal = grid->cellAt(b.head<2>());
       if (!start || !goal) return make_error(ErrorCode::kOutsideMap, legName(i), "an end of the leg is off the flight-band grid");
-      const HabPpResult found = planHabPp(*grid, *start, *goal, params, seed + i, stop);
+      TerminationCondition leg_stop = stop;
+      if (options.leg_time_cap_s > 0.0) {
+        leg_stop.withDeadlineAfter(std::chrono::nanoseconds(static_cast<std::int64_t>(options.leg_time_cap_s * 1e9)));
+      }
+      const HabPpResult found = planHabPp(*grid, *start, *goal, params, seed + i, leg_stop);
+      // The caller's own deadline is not this leg's cap.
+      leg.time_capped = found.stop_reason == TerminationCondition::Reason::kDeadline && !stop.shouldStop();
       if (found.stop_reason == TerminationCondition::Reason::kCancelled)
         return make_error(ErrorCode::kCancelled, legName(i), "cancelled");
       if (!hasPath(found.status)) {

@@ -1,5 +1,4 @@
-// Global planners on the grid layer at the flight band (seed 004): HAB-PP ("hab-pp") or Improved
-// HAB-PP ("hab-pp-rrt") finds an any-angle path for each leg on a grid of the terrain's flight
+// Global planners on the grid layer at the flight band (seed 004): HAB-PP or Improved HAB-PP finds an any-angle path for each leg on a grid of the terrain's flight
 // band; the path is lifted to 3D and goes through the same trajectory stage as RRT* + LOSPO paths
 // (buildRouteTrajectory). Lifting: the vehicle climbs (or descends) over its leg's start to the
 // band altitude, follows the grid path's vertices at that altitude, and changes altitude over the
@@ -21,10 +20,8 @@
 
 namespace skyroute {
 
+// The grid planners; planner_registry.hpp gives their names.
 enum class GridGlobalPlanner { kHabPp, kHabPpRrt };
-inline constexpr const char* kHabPpPlanner = "hab-pp";
-inline constexpr const char* kHabPpRrtPlanner = "hab-pp-rrt";
-std::optional<GridGlobalPlanner> parseGridGlobalPlanner(std::string_view name);
 
 struct GridLegOptions {
   int max_cells_per_axis = 160;  // the grid's cell edge is the terrain extent / this (at least the DEM cell)
@@ -32,6 +29,9 @@ struct GridLegOptions {
   // HAB-PP output stage: windowed re-planning of this many segments (HabPpParameters::
   // output_window_segments, whose default this is); 0: off.
   int output_window_segments = HabPpParameters{}.output_window_segments;
+  // Wall-clock cap of one leg's search, seconds (0 = none): the colony stops with the best path
+  // it has, and the leg says it was capped.
+  double leg_time_cap_s = 0.0;
 };
 
 // points_m: the route in visiting order (ENU). Returns legs with 3D paths and the joined waypoints

@@ -62,6 +62,19 @@ std::string_view to_string(PlanErrorCode code) {
   return "unknown";
 }
 
+std::string_view to_string(PlanStage stage) {
+  switch (stage) {
+    case PlanStage::kNone: return "none";
+    case PlanStage::kValidate: return "validate";
+    case PlanStage::kOrder: return "order";
+    case PlanStage::kLegs: return "legs";
+    case PlanStage::kTrajectory: return "trajectory";
+    case PlanStage::kSampling: return "sampling";
+    case PlanStage::kReplan: return "replan";
+  }
+  return "unknown";
+}
+
 std::string PlanError::describe() const {
   if (field.empty()) return message;
   return field + ": " + message;
@@ -109,6 +122,9 @@ PlanStatusData PlanStatusData::failed(const MissionRequestData& request, const P
   status.field = error.field;
   status.message = error.describe();
   status.planning_time_s = planning_time_s;
+  status.stage = error.stage;
+  status.leg_index = error.leg_index;
+  status.point_index = error.point_index;
   return status;
 }
 
@@ -168,14 +184,6 @@ std::optional<PlanError> checkFiniteVector(const Eigen::Vector3d& v, const std::
 std::optional<PlanError> validateMissionRequest(const MissionRequestData& request, const MissionRequestBounds& bounds) {
   if (request.request_id.empty()) return problem(PlanErrorCode::kInvalidArgument, "request_id", "is missing (empty)");
   if (request.vehicle_id.empty()) return problem(PlanErrorCode::kInvalidArgument, "vehicle_id", "is missing (empty)");
-  if (!request.planner.empty() &&
-      std::find(bounds.planners.begin(), bounds.planners.end(), request.planner) == bounds.planners.end()) {
-    std::string known;
-    for (const auto& name : bounds.planners) known += (known.empty() ? "" : ", ") + name;
-    return problem(PlanErrorCode::kUnknownPlanner, "planner", "'" + request.planner + "' is not a known planner (known: " + known + ")");
-  }
-  if (request.points.empty())
-    return problem(PlanErrorCode::kEmptyMission, "points", "is empty: a mission needs at least one point between begin and end");
   if (request.points.size() > bounds.max_points)
     return problem(PlanErrorCode::kMissionTooLarge, "points",
                    "has " + std::to_string(request.points.size()) + " points, more than the limit of " + std::to_string(bounds.max_points));

@@ -110,11 +110,21 @@ enum class PlanErrorCode {
 };
 std::string_view to_string(PlanErrorCode code);
 
-// A rejected or failed request: the wire code, the offending field and a message naming it.
+// The pipeline's stages (mission_pipeline.hpp), so a failure says where it happened.
+enum class PlanStage { kNone, kValidate, kOrder, kLegs, kTrajectory, kSampling, kReplan };
+std::string_view to_string(PlanStage stage);
+
+// A rejected or failed request: the wire code, the offending field and a message naming it, and
+// where it failed: the stage and, when the failure is about one, the leg (0 = from the first
+// point visited to the second) and the point (request numbering: 0 = begin, 1..N = points, N+1
+// = end); -1 when none.
 struct PlanError {
   PlanErrorCode code = PlanErrorCode::kInternal;
   std::string field;
   std::string message;
+  PlanStage stage = PlanStage::kNone;
+  int leg_index = -1;
+  int point_index = -1;
   std::string describe() const;  // "field: message"
 };
 // Maps the library-wide ErrorCode onto the reply table (field and message carried over).
@@ -126,8 +136,11 @@ struct PlanStatusData {
   PlanState state = PlanState::kAccepted;
   PlanErrorCode error_code = PlanErrorCode::kNone;
   std::string field;            // the offending request field ("" when none)
-  std::string message;          // names the field
+  std::string message;          // names the field; on success, notes such as a capped budget
   double planning_time_s = 0.0;
+  PlanStage stage = PlanStage::kNone;  // where a failure happened (PlanError)
+  int leg_index = -1;
+  int point_index = -1;
 
   static PlanStatusData failed(const MissionRequestData& request, const PlanError& error, double planning_time_s);
 };
@@ -135,7 +148,6 @@ struct PlanStatusData {
 // Limits the service accepts for a request before any planning (cheap checks first, as Nav2).
 struct MissionRequestBounds {
   std::size_t max_points = 64;                 // mission points between begin and end
-  std::vector<std::string> planners = {"rrtstar_lospo"};  // accepted names besides "" (default)
   double max_speed_limit_mps = 150.0;          // upper bound of any speed limit
   double max_accel_limit_mps2 = 50.0;
   double max_turn_radius_m = 20000.0;
@@ -144,7 +156,8 @@ struct MissionRequestBounds {
 };
 
 // Structural checks of a request: ids present, every number finite, latitudes and longitudes in
-// range, mission not empty and not oversize, limits in range, planner known. Terrain checks
+// range, mission not oversize (a plain begin -> end mission has no points), limits in range. The planner's name is the
+// registry's to check (planner_registry.hpp). Terrain checks
 // (outside the DEM, under the ground) are the engine's. Returns the first problem found.
 std::optional<PlanError> validateMissionRequest(const MissionRequestData& request,
                                                 const MissionRequestBounds& bounds = {});

@@ -106,6 +106,8 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
     RouteLeg leg;
     leg.from_point = i;
     leg.to_point = i + 1;
+    leg.time_capped = options.leg_max_iterations > 0 && rrt->stop_reason == TerminationCondition::Reason::kDeadline &&
+                      rrt->iterations < options.leg_max_iterations;
     leg.rrt = std::move(rrt.value());
     leg.lospo_length_m = shortened->length_m;
     leg.path_m = std::move(shortened->path_m);

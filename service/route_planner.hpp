@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -41,6 +42,9 @@ struct RouteLeg {
   std::size_t from_point = 0;
   std::size_t to_point = 0;
   RrtStarResult rrt;
+  // The leg's wall-clock cap stopped its search before its iteration budget: the path depends on
+  // the machine's speed, so the plan is no longer reproducible from the seed alone.
+  bool time_capped = false;
   double lospo_length_m = 0.0;
   std::vector<Eigen::Vector3d> path_m;  // after LOSPO
   double start_s = 0.0;                 // trajectory time at from_point
@@ -71,6 +75,13 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
                                     const TerminationCondition& stop = {});
 Status buildRouteTrajectory(std::shared_ptr<const CollisionWorld> world, const std::vector<Eigen::Vector3d>& points_m,
                             const VehicleLimits& limits, const RouteOptions& options, PlannedRoute& route);
+
+// How a global planner finds the legs' paths through the route's points (in visiting order):
+// planRoutePaths (RRT* + LOSPO) or a grid planner (grid_leg_planner.hpp); planner_registry.hpp
+// names them. The trajectory stage after it is the same for every planner.
+using LegPathPlanner = std::function<Result<PlannedRoute>(std::shared_ptr<const CollisionWorld> world,
+                                                          const std::vector<Eigen::Vector3d>& points_m,
+                                                          const RouteOptions& options, const TerminationCondition& stop)>;
 
 // Checks a route point cheaply before any search: inside the DEM, above the ground by the
 // clearance, under the ceiling, clear of obstacles. `name` is used in the error.

@@ -1,6 +1,9 @@
 #include "service/world_model.hpp"
 
+#include "terrain/terrain_world.hpp"
+
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 namespace skyroute {
@@ -35,6 +38,19 @@ Result<std::shared_ptr<WorldModel>> WorldModel::create(std::shared_ptr<const Hei
   model->options_ = options;
   model->terrain_name_ = std::move(terrain_name);
   return model;
+}
+
+Result<std::shared_ptr<WorldModel>> WorldModel::load(const std::string& dem_path, const WorldModelOptions& options) {
+  CollisionWorldOptions world_options;
+  world_options.vehicle_radius_m = options.vehicle_radius_m;
+  world_options.build_octree = false;  // the worlds check everything on the heightfield
+  auto terrain = loadTerrainWorld(dem_path, world_options);
+  if (!terrain.ok()) {
+    Error e = terrain.error();
+    if (e.field.empty()) e.field = dem_path;
+    return e;
+  }
+  return create(terrain->heightfield, options, std::filesystem::path(dem_path).filename().string());
 }
 
 Result<std::shared_ptr<const CollisionWorld>> WorldModel::worldFor(double min_clearance_m, double ceiling_m) {

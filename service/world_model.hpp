@@ -37,6 +37,9 @@ class WorldModel {
  public:
   static Result<std::shared_ptr<WorldModel>> create(std::shared_ptr<const Heightfield> terrain,
                                                     const WorldModelOptions& options, std::string terrain_name);
+  // The DEM file's heightfield as a world model: the one way the daemon and the CLI load their
+  // terrain, so both plan on the same world. Errors name the file.
+  static Result<std::shared_ptr<WorldModel>> load(const std::string& dem_path, const WorldModelOptions& options);
 
   const Heightfield& terrain() const { return *terrain_; }
   const LocalFrame& frame() const { return terrain_->frame(); }

@@ -41,12 +41,13 @@ inline Error make_error(ErrorCode code, std::string field, std::string message) 
   return Error{code, std::move(field), std::move(message)};
 }
 
-// Holds either a T or an Error. Access the value only after checking ok().
-template <class T>
+// Holds either a T or an error (an Error unless the layer has a richer one, such as the
+// service's PlanError). Access the value only after checking ok().
+template <class T, class E = Error>
 class Result {
  public:
   Result(T value) : data_(std::move(value)) {}          // NOLINT(google-explicit-constructor)
-  Result(Error error) : data_(std::move(error)) {}      // NOLINT(google-explicit-constructor)
+  Result(E error) : data_(std::move(error)) {}          // NOLINT(google-explicit-constructor)
 
   bool ok() const { return std::holds_alternative<T>(data_); }
   explicit operator bool() const { return ok(); }
@@ -59,10 +60,10 @@ class Result {
   T& operator*() & { return value(); }
   const T& operator*() const& { return value(); }
 
-  const Error& error() const { return std::get<Error>(data_); }
+  const E& error() const { return std::get<E>(data_); }
 
  private:
-  std::variant<T, Error> data_;
+  std::variant<T, E> data_;
 };
 
 // Result of an operation with no value.

@@ -20,15 +20,10 @@ extern "C" void onStopSignal(int) {
 }
 }  // namespace
 
-void fail(const std::string& tool, int code, const std::string& message) {
-  std::cerr << "skyroute " << tool << ": " << message << std::endl;
-  throw CLI::RuntimeError(code);
-}
-
 dds::Entity openParticipant(const std::string& tool, int domain) {
-  if (domain < 0 || domain > 232) fail(tool, kExitBadInput, "--domain " + std::to_string(domain) + " is outside [0, 232]");
+  if (domain < 0 || domain > 232) fail(tool, kExitUsage, "--domain " + std::to_string(domain) + " is outside [0, 232]");
   auto participant = dds::createParticipant(static_cast<dds_domainid_t>(domain));
-  if (!participant) fail(tool, kExitDdsError, "domain " + std::to_string(domain) + ": " + participant.error().describe());
+  if (!participant) fail(tool, kExitServiceUnavailable, "domain " + std::to_string(domain) + ": " + participant.error().describe());
   return std::move(*participant);
 }
 
@@ -36,27 +31,6 @@ void stopOnSignals(dds_entity_t waitset) {
   g_stop_waitset.store(waitset);
   std::signal(SIGINT, onStopSignal);
   std::signal(SIGTERM, onStopSignal);
-}
-
-Result<MissionPointData> parseGeoTriple(const std::string& text, const std::string& field) {
-  double v[3];
-  std::istringstream in(text);
-  std::string part;
-  int n = 0;
-  while (std::getline(in, part, ',')) {
-    if (n == 3) return make_error(ErrorCode::kParseError, field, field + " '" + text + "' has more than 3 numbers (LAT,LON,ALT)");
-    try {
-      std::size_t used = 0;
-      v[n] = std::stod(part, &used);
-      if (part.find_first_not_of(" \t", used) != std::string::npos) throw std::invalid_argument(part);
-    } catch (const std::exception&) {
-      return make_error(ErrorCode::kParseError, field, field + " '" + text + "': '" + part + "' is not a number");
-    }
-    if (!std::isfinite(v[n])) return make_error(ErrorCode::kParseError, field, field + " '" + text + "': not finite");
-    ++n;
-  }
-  if (n != 3) return make_error(ErrorCode::kParseError, field, field + " '" + text + "' must be LAT,LON,ALT (3 numbers)");
-  return MissionPointData::wgs84(v[0], v[1], v[2]);
 }
 
 std::string describe(const TrajectoryData& t) {

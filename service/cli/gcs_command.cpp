@@ -31,11 +31,11 @@ void runGcs(const GcsOptions& o) {
   const std::string tool = "gcs";
   dds::Entity participant = openParticipant(tool, o.domain);
   auto trajectories = dds::Reader<TrajectoryData>::create(participant.get());
-  if (!trajectories) fail(tool, kExitDdsError, trajectories.error().describe());
+  if (!trajectories) fail(tool, kExitServiceUnavailable, trajectories.error().describe());
   auto statuses = dds::Reader<PlanStatusData>::create(participant.get());
-  if (!statuses) fail(tool, kExitDdsError, statuses.error().describe());
+  if (!statuses) fail(tool, kExitServiceUnavailable, statuses.error().describe());
   auto loop = dds::WaitLoop::create(participant.get());
-  if (!loop) fail(tool, kExitDdsError, loop.error().describe());
+  if (!loop) fail(tool, kExitServiceUnavailable, loop.error().describe());
   stopOnSignals(loop->waitsetHandle());
 
   std::map<std::string, TrajectoryData> latest;  // per vehicle
@@ -50,7 +50,7 @@ void runGcs(const GcsOptions& o) {
         if (o.count > 0 && ++received >= o.count) loop->stop();
       },
       on_bad);
-  if (!added) fail(tool, kExitDdsError, added.error().describe());
+  if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
   added = loop->add<PlanStatusData>(
       *statuses,
       [&](PlanStatusData&& s) {
@@ -58,32 +58,32 @@ void runGcs(const GcsOptions& o) {
         std::cout << describe(s) << std::endl;
       },
       on_bad);
-  if (!added) fail(tool, kExitDdsError, added.error().describe());
+  if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
 
   auto outcome = loop->run(o.timeout_s > 0 ? std::optional<double>(o.timeout_s) : std::nullopt);
-  if (!outcome) fail(tool, kExitDdsError, outcome.error().describe());
+  if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
 
   std::vector<TrajectoryData> current;
   for (auto& [vehicle, t] : latest) current.push_back(t);
   const std::pair<const std::string*, const char*> exports[] = {{&o.geojson, "GeoJSON"}, {&o.kml, "KML"}};
   if (!o.csv.empty()) {
     Status s = writeTrajectoriesCsv(o.csv, current);
-    if (!s) fail(tool, kExitBadInput, "--csv: " + s.error().describe());
+    if (!s) fail(tool, kExitUsage, "--csv: " + s.error().describe());
     std::cout << "wrote " << current.size() << " trajectories to " << o.csv << std::endl;
   }
   for (const auto& [path, driver] : exports) {
     if (path->empty()) continue;
     Status s = writeTrajectoriesOgr(*path, driver, current);
-    if (!s) fail(tool, kExitBadInput, std::string("--") + (driver[0] == 'K' ? "kml" : "geojson") + ": " + s.error().describe());
+    if (!s) fail(tool, kExitUsage, std::string("--") + (driver[0] == 'K' ? "kml" : "geojson") + ": " + s.error().describe());
     std::cout << "wrote " << current.size() << " trajectories to " << *path << std::endl;
   }
   if (!o.plan_dir.empty()) {
     auto written = writeQgcPlanPerVehicle(o.plan_dir, current);
-    if (!written) fail(tool, kExitBadInput, "--plan: " + written.error().describe());
+    if (!written) fail(tool, kExitUsage, "--plan: " + written.error().describe());
     for (const auto& path : *written) std::cout << "wrote " << path << std::endl;
   }
   if (o.count > 0 && received < o.count)
-    fail(tool, kExitFailure,
+    fail(tool, kExitPlanningFailed,
          "received " + std::to_string(received) + " of " + std::to_string(o.count) + " trajectories on domain " +
              std::to_string(o.domain) + (o.timeout_s > 0 ? " within " + std::to_string(o.timeout_s) + " s" : ""));
 }

@@ -1,6 +1,7 @@
-// skyroute plan: a route through given points, in the given order, as a sampled trajectory.
-#include <cmath>
-#include <cstdio>
+// skyroute plan: one mission through the mission pipeline (the daemon's own), written out as the
+// daemon would publish it. The mission comes from a mission file (the JSON `skyroute request
+// --file` publishes) or from --from/--via/--to; the configuration from --config (skyrouted's keys).
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -10,237 +11,291 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "service/cli/cli_common.hpp"
 #include "service/cli/commands.hpp"
-#include "service/grid_leg_planner.hpp"
 #include "service/map_image.hpp"
+#include "service/mission_json.hpp"
+#include "service/mission_pipeline.hpp"
 #include "service/qgc_plan.hpp"
-#include "service/route_planner.hpp"
-#include "service/trajectory_data.hpp"
 #include "service/trajectory_export.hpp"
-#include "terrain/terrain_world.hpp"
-#include "trajectory/geo_samples.hpp"
 
 namespace skyroute::cli {
 namespace {
 
+const std::string kTool = "plan";
+
 struct PlanArgs {
-  std::string dem = SKYROUTE_DEFAULT_DEM;
+  ConfigArgs config;
+  std::optional<std::string> dem;
+  std::string mission_file;
   std::string from;
   std::string to;
   std::vector<std::string> via;
-  double clearance_m = 50.0;
-  double ceiling_m = 5000.0;
-  double vref_mps = 50.0;
-  std::uint64_t seed = 1;
-  double budget_ms = 200.0;
-  std::uint64_t iterations = 0;
-  double dt_s = 0.5;
+  std::string vehicle;
+  std::string planner;
+  bool fixed_order = false;
+  std::optional<std::uint64_t> seed;
+  std::optional<std::uint64_t> iterations;
+  std::optional<double> budget_s;
+  std::optional<double> dt_s;
+  // Vehicle limits: override the mission file's (or the defaults).
+  std::optional<double> clearance_m, ceiling_m, vref_mps, max_speed_mps, max_accel_mps2, max_climb_mps,
+      max_descent_mps, min_turn_radius_m;
   std::string out;
   std::string png;
-  std::string planner = "rrtstar_lospo";
 };
 
-[[noreturn]] void fail(const std::string& field, const std::string& message, int code = 2) {
-  std::cerr << "skyroute plan: " << field << ": " << message << "\n";
-  throw CLI::RuntimeError(code);
-}
-
-GeoPoint parseLatLonAlt(const std::string& text, const std::string& field) {
-  std::vector<double> v;
-  std::stringstream in(text);
-  std::string part;
-  while (std::getline(in, part, ',')) {
-    try {
-      std::size_t used = 0;
-      v.push_back(std::stod(part, &used));
-      if (used != part.size()) throw std::invalid_argument(part);
-    } catch (const std::exception&) {
-      fail(field, "'" + text + "' is not LAT,LON,ALT (degrees, degrees, metres AMSL)");
-    }
-  }
-  if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-    fail(field, "'" + text + "' is not LAT,LON,ALT (degrees, degrees, metres AMSL)");
-  }
-  if (std::abs(v[0]) > 90.0 || std::abs(v[1]) > 180.0) fail(field, "latitude or longitude out of range in '" + text + "'");
-  return GeoPoint{v[0], v[1], v[2]};
-}
-
 std::string lowerExtension(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  std::string ext = std::filesystem::path(path).extension().string();
+  if (!ext.empty()) ext.erase(0, 1);
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
 }
 
-void writePng(const PlanArgs& args, const TerrainWorld& world, const PlannedRoute& route,
-              const std::vector<TrajectoryState>& samples) {
-  auto image = MapImage::hillshade(*world.dem);
-  if (!image.ok()) fail("--png", image.error().describe());
+// Output paths are checked before any work: a known format and a folder that exists.
+void checkOutputPath(const std::string& option, const std::string& path, const std::vector<std::string>& formats) {
+  if (path.empty()) return;
+  const std::string ext = lowerExtension(path);
+  if (std::find(formats.begin(), formats.end(), ext) == formats.end()) {
+    std::string known;
+    for (const auto& f : formats) known += (known.empty() ? "." : ", .") + f;
+    fail(kTool, kExitUsage, option + " " + path + ": unknown format '." + ext + "' (use " + known + ")");
+  }
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  if (!folder.empty() && !std::filesystem::is_directory(folder)) {
+    fail(kTool, kExitUsage, option + " " + path + ": the folder " + folder.string() + " does not exist");
+  }
+}
+
+MissionRequestData buildMission(const PlanArgs& a) {
+  MissionRequestData m;
+  if (!a.mission_file.empty()) {
+    std::ifstream in(a.mission_file);
+    if (!in) fail(kTool, kExitBadInput, "--mission " + a.mission_file + ": cannot open the mission file");
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    if (j.is_discarded()) fail(kTool, kExitBadInput, "--mission " + a.mission_file + ": not valid JSON");
+    auto parsed = missionFromJson(j);
+    if (!parsed) fail(kTool, kExitBadInput, "--mission " + a.mission_file + ": " + parsed.error().describe());
+    m = std::move(*parsed);
+  } else if (a.from.empty() || a.to.empty()) {
+    fail(kTool, kExitUsage, "give --mission FILE, or --from and --to (and any --via)");
+  }
+  auto point = [&](const std::string& text, const std::string& option) {
+    auto p = parseGeoTriple(text, option);
+    if (!p) fail(kTool, kExitUsage, p.error().message);
+    return *p;
+  };
+  if (!a.from.empty()) m.begin = point(a.from, "--from");
+  if (!a.to.empty()) m.end = point(a.to, "--to");
+  if (!a.via.empty()) {
+    m.points.clear();
+    for (std::size_t i = 0; i < a.via.size(); ++i) m.points.push_back(point(a.via[i], "--via[" + std::to_string(i) + "]"));
+  }
+  if (!a.vehicle.empty()) m.vehicle_id = a.vehicle;
+  if (m.vehicle_id.empty()) m.vehicle_id = "uav-1";
+  if (m.request_id.empty()) m.request_id = m.vehicle_id + "-plan";
+  if (!a.planner.empty()) m.planner = a.planner;
+  if (a.fixed_order) m.fixed_order = true;
+  VehicleLimitsData& l = m.limits;
+  const std::pair<const std::optional<double>*, double*> limits[] = {
+      {&a.clearance_m, &l.min_clearance_agl_m}, {&a.ceiling_m, &l.ceiling_amsl_m},
+      {&a.vref_mps, &l.v_ref_mps},               {&a.max_speed_mps, &l.max_speed_mps},
+      {&a.max_accel_mps2, &l.max_accel_mps2},   {&a.max_climb_mps, &l.max_climb_rate_mps},
+      {&a.max_descent_mps, &l.max_descent_rate_mps}, {&a.min_turn_radius_m, &l.min_turn_radius_m}};
+  for (const auto& [option, field] : limits) {
+    if (*option) *field = **option;
+  }
+  return m;
+}
+
+// A request field as the user wrote it: the command line's options, or the mission file's field.
+std::string userField(const PlanArgs& a, const std::string& field) {
+  if (!a.mission_file.empty()) return "--mission " + a.mission_file + ": " + field;
+  if (field == "begin") return "--from";
+  if (field == "end") return "--to";
+  if (field.rfind("points[", 0) == 0) return "--via[" + field.substr(7);
+  static const std::pair<const char*, const char*> kLimitOptions[] = {
+      {"limits.min_clearance_agl_m", "--clearance-m"}, {"limits.ceiling_amsl_m", "--ceiling-m"},
+      {"limits.v_ref_mps", "--vref-mps"},              {"limits.max_speed_mps", "--max-speed-mps"},
+      {"limits.max_accel_mps2", "--max-accel-mps2"},   {"limits.max_climb_rate_mps", "--max-climb-mps"},
+      {"limits.max_descent_rate_mps", "--max-descent-mps"}, {"limits.min_turn_radius_m", "--min-turn-radius-m"},
+      {"planner", "--planner"}};
+  for (const auto& [name, option] : kLimitOptions) {
+    if (field == name) return option;
+  }
+  return field;
+}
+
+void writePng(const std::string& path, const WorldModel& world, const MissionPlan& plan, const TrajectoryData& data) {
+  auto image = MapImage::hillshade(world.terrain().dem());
+  if (!image.ok()) fail(kTool, kExitUsage, "--png " + image.error().describe());
+  const Heightfield& terrain = world.terrain();
   std::vector<Eigen::Vector3d> flown;
   std::vector<double> altitude;
   std::vector<double> ground;
-  for (const auto& s : samples) {
-    flown.push_back(s.position_m);
-    altitude.push_back(s.position_m.z());
-    ground.push_back(world.heightfield->heightAt(s.position_m.x(), s.position_m.y()));
+  for (const TrajectorySampleData& s : data.samples) {
+    flown.push_back(s.position_enu_m);
+    altitude.push_back(s.position_enu_m.z());
+    ground.push_back(terrain.heightAt(s.position_enu_m.x(), s.position_enu_m.y()));
   }
-  for (const RouteLeg& leg : route.legs) image->drawPathEn(*world.heightfield, leg.rrt.path_m, Rgb{250, 250, 120}, 1);
-  image->drawPathEn(*world.heightfield, flown, Rgb{220, 20, 20}, 3);
-  for (const RouteLeg& leg : route.legs) {
-    image->drawDisc(world.heightfield->enToPixel(leg.path_m.front().x(), leg.path_m.front().y()), 5, Rgb{20, 20, 220});
-    image->drawDisc(world.heightfield->enToPixel(leg.path_m.back().x(), leg.path_m.back().y()), 5, Rgb{20, 20, 220});
-  }
+  const PlannedRoute& route = plan.flight->route();
+  for (const RouteLeg& leg : route.legs) image->drawPathEn(terrain, leg.rrt.path_m, Rgb{250, 250, 120}, 1);
+  image->drawPathEn(terrain, flown, Rgb{220, 20, 20}, 3);
+  for (const Eigen::Vector3d& p : plan.mission.ordered_m) image->drawDisc(terrain.enToPixel(p.x(), p.y()), 5, Rgb{20, 20, 220});
   image->appendProfile(altitude, ground, std::max(120, image->height() / 4));
-  Status saved = image->savePng(args.png);
-  if (!saved.ok()) fail("--png", saved.error().describe());
+  Status saved = image->savePng(path);
+  if (!saved.ok()) fail(kTool, kExitUsage, "--png " + saved.error().describe());
 }
 
-void runPlan(const PlanArgs& args) {
-  CollisionWorldOptions options;
-  options.min_clearance_m = args.clearance_m;
-  options.ceiling_m = args.ceiling_m;
-  options.vehicle_radius_m = std::min(5.0, args.clearance_m);
-  options.build_octree = false;  // every check here runs on the heightfield
-  std::cerr << "loading " << args.dem << " ..." << std::endl;
-  auto world = loadTerrainWorld(args.dem, options);
-  if (!world.ok()) fail(world.error().field.empty() ? "--dem" : world.error().field, world.error().message);
-  const LocalFrame& frame = world->heightfield->frame();
+void writeJson(const std::string& path, const MissionPlan& plan, const TrajectoryData& data) {
+  const BuiltTrajectory& built = plan.flight->route().built;
+  nlohmann::json j;
+  j["vehicle_id"] = data.vehicle_id;
+  j["planner"] = plan.mission.planner->name;
+  j["seed"] = plan.seed;
+  j["duration_s"] = built.trajectory.duration_s();
+  j["status"] = to_string(built.report.status);
+  j["visiting_order"] = data.visiting_order;
+  j["notes"] = plan.notes;
+  for (const auto& leg : data.legs) {
+    j["legs"].push_back({{"from", leg.from_point}, {"to", leg.to_point}, {"start_s", leg.start_s}, {"end_s", leg.end_s}});
+  }
+  for (const auto& s : data.samples) {
+    j["samples"].push_back({{"time_s", s.t_rel_s},
+                            {"lat_deg", s.geo.lat_deg},
+                            {"lon_deg", s.geo.lon_deg},
+                            {"alt_amsl_m", s.geo.alt_amsl_m},
+                            {"enu_m", {s.position_enu_m.x(), s.position_enu_m.y(), s.position_enu_m.z()}},
+                            {"velocity_mps", {s.velocity_enu_mps.x(), s.velocity_enu_mps.y(), s.velocity_enu_mps.z()}},
+                            {"heading_deg", s.heading_deg}});
+  }
+  std::ofstream out(path);
+  if (!out) fail(kTool, kExitUsage, "--out " + path + ": cannot write");
+  out << j.dump(1) << "\n";
+}
 
-  std::vector<std::pair<std::string, GeoPoint>> named;
-  named.emplace_back("--from", parseLatLonAlt(args.from, "--from"));
-  for (std::size_t i = 0; i < args.via.size(); ++i) {
-    named.emplace_back("--via[" + std::to_string(i) + "]", parseLatLonAlt(args.via[i], "--via"));
+void printSummary(const MissionPlan& plan, const TrajectoryData& data) {
+  const PlannedRoute& route = plan.flight->route();
+  double searched_m = 0.0;
+  double shortened_m = 0.0;
+  for (const RouteLeg& leg : route.legs) {
+    searched_m += leg.rrt.length_m;
+    shortened_m += leg.lospo_length_m;
   }
-  named.emplace_back("--to", parseLatLonAlt(args.to, "--to"));
-  std::vector<Eigen::Vector3d> points;
-  for (const auto& [name, geo] : named) {
-    const Eigen::Vector3d p = frame.toEnu(geo);
-    Status ok = checkRoutePoint(*world->collision, p, name);
-    if (!ok.ok()) fail(name, ok.error().message);
-    points.push_back(p);
-  }
+  std::string order;
+  for (std::uint32_t k : data.visiting_order) order += (order.empty() ? "" : ",") + std::to_string(k);
+  std::printf("order: %s (%s)\n", order.c_str(), plan.mission.ordering.method.c_str());
+  std::printf("route: %zu legs with %s, searched %.0f m, shortened %.0f m, %zu waypoints\n", route.legs.size(),
+              std::string(plan.mission.planner->name).c_str(), searched_m, shortened_m, route.waypoints_m.size());
+  const auto& report = route.built.report;
+  std::printf("trajectory: %.1f s, %s, max speed %.1f m/s, max accel %.2f m/s^2, %zu samples, planned in %.2f s\n",
+              route.built.trajectory.duration_s(), std::string(to_string(report.status)).c_str(),
+              report.final_check.max_speed_mps, report.final_check.max_accel_mps2, data.samples.size(),
+              plan.planning_time_s);
+  for (const std::string& repair : report.repairs) std::printf("  repair: %s\n", repair.c_str());
+  for (const std::string& note : plan.notes) std::printf("  note: %s\n", note.c_str());
+}
 
-  RouteOptions route_options;
-  route_options.seed = args.seed;
-  route_options.leg_budget_ms = args.budget_ms;
-  route_options.leg_max_iterations = args.iterations;
-  VehicleLimits limits;
-  limits.v_ref_mps = args.vref_mps;
-  limits.max_speed_mps = std::max(limits.max_speed_mps, 1.2 * args.vref_mps);
-  std::cerr << "planning " << points.size() - 1 << " leg(s) ..." << std::endl;
-  Result<PlannedRoute> route = make_error(ErrorCode::kInternal, "planner", "not run");
-  if (auto grid_planner = parseGridGlobalPlanner(args.planner)) {
-    // HAB-PP on the flight band per leg, then the same trajectory stage.
-    route = planGridRoutePaths(world->collision, points, *grid_planner, GridLegOptions{}, args.seed);
-    if (route.ok()) {
-      if (Status built = buildRouteTrajectory(world->collision, points, limits, route_options, *route); !built.ok())
-        route = built.error();
-    }
-  } else {
-    route = planRoute(world->collision, points, limits, route_options);
-  }
-  if (!route.ok()) {
-    const Error& e = route.error();
-    std::string field = e.field;
-    // Map route point names back to the command line's.
-    if (field.rfind("points[", 0) == 0) field = named[std::stoul(field.substr(7))].first;
-    fail(field, e.message + " [" + std::string(to_string(e.code)) + "]", 3);
-  }
-  const Trajectory& trajectory = route->built.trajectory;
-  const auto samples = trajectory.sample(args.dt_s);
+void runPlan(const PlanArgs& a) {
+  DaemonConfig config = loadConfig(kTool, a.config);
+  if (a.dem) config.dem_path = *a.dem;
+  PipelineOptions& p = config.engine.pipeline;
+  if (a.seed) p.seed = *a.seed;
+  if (a.iterations) p.budget.leg_max_iterations = *a.iterations;
+  if (a.budget_s) p.budget.leg_time_cap_s = *a.budget_s;
+  if (a.dt_s) p.sample_dt_s = *a.dt_s;
+  if (auto bad = validatePipelineOptions(p)) fail(kTool, kExitUsage, bad->describe());
+  if (printConfigIfAsked(a.config, config)) return;
+  checkOutputPath("--out", a.out, {"csv", "geojson", "json", "plan", "waypoints"});
+  checkOutputPath("--png", a.png, {"png"});
+  const MissionRequestData mission = buildMission(a);
 
-  double rrt_length = 0.0;
-  double lospo_length = 0.0;
-  for (const RouteLeg& leg : route->legs) {
-    rrt_length += leg.rrt.length_m;
-    lospo_length += leg.lospo_length_m;
+  const std::string dem = demPathOf(config);
+  std::cerr << "loading " << dem << " ..." << std::endl;
+  auto world = WorldModel::load(dem, config.world);
+  if (!world.ok()) fail(kTool, kExitBadInput, "terrain.dem " + world.error().describe());
+  const MissionPipeline pipeline(*world, p);
+  auto progress = [](PlanStage, const std::string& what) { std::cerr << what << " ..." << std::endl; };
+  auto planned = pipeline.plan(PipelineRequest{mission, std::nullopt, std::nullopt},
+                               static_cast<double>(utcNowNs()) * 1e-9, {}, progress);
+  if (!planned.ok()) {
+    const PlanError& e = planned.error();
+    const int code = e.stage == PlanStage::kValidate ? kExitUsage : kExitPlanningFailed;
+    fail(kTool, code,
+         userField(a, e.field) + ": " + e.message + " [" + std::string(to_string(e.code)) + ", stage " +
+             std::string(to_string(e.stage)) + "]");
   }
-  std::printf("route: %zu legs, %s %.0f m, after LOSPO %.0f m (%.1f%% shorter), %zu waypoints\n", route->legs.size(),
-              args.planner.c_str(),
-              rrt_length, lospo_length, 100.0 * (1.0 - lospo_length / rrt_length), route->waypoints_m.size());
-  std::printf("trajectory: %.1f s, %s, max speed %.1f m/s, max accel %.2f m/s^2, planned in %.0f ms\n",
-              trajectory.duration_s(), std::string(to_string(route->built.report.status)).c_str(),
-              route->built.report.final_check.max_speed_mps, route->built.report.final_check.max_accel_mps2,
-              route->planning_ms);
-  for (const std::string& repair : route->built.report.repairs) std::printf("  repair: %s\n", repair.c_str());
+  const MissionPlan& plan = *planned;
+  auto data = pipeline.sample(plan, TrajectoryIdentity{mission.vehicle_id, mission.vehicle_id + "-plan", 0,
+                                                       mission.request_id});
+  if (!data.ok()) fail(kTool, kExitPlanningFailed, data.error().describe());
+  printSummary(plan, *data);
 
-  if (!args.out.empty()) {
-    const std::string ext = lowerExtension(args.out);
+  if (!a.out.empty()) {
+    const std::string ext = lowerExtension(a.out);
+    Status written = Status::success();
     if (ext == "csv") {
-      Status s = writeGeoSamplesCsv(args.out, toGeoSamples(samples, frame));
-      if (!s.ok()) fail("--out", s.error().describe());
-    } else if (ext == "geojson" || ext == "json" || ext == "plan" || ext == "waypoints") {
-      TrajectoryData data = toTrajectoryData(trajectory, frame, args.dt_s, utcNowNs(),
-                                             TrajectoryIdentity{"cli", "plan-" + std::to_string(args.seed), 0, ""});
-      for (const RouteLeg& leg : route->legs) {
-        data.legs.push_back(LegBoundaryData{static_cast<std::uint32_t>(leg.from_point),
-                                            static_cast<std::uint32_t>(leg.to_point), leg.start_s, leg.end_s});
-      }
-      if (ext == "geojson") {
-        Status s = writeTrajectoriesOgr(args.out, "GeoJSON", {data});
-        if (!s.ok()) fail("--out", s.error().describe());
-      } else if (ext == "plan" || ext == "waypoints") {
-        auto mission = qgcMissionFromTrajectory(data);
-        if (!mission.ok()) fail("--out", mission.error().describe());
-        Status s = ext == "plan" ? writeQgcPlan(args.out, *mission) : writeQgcWaypoints(args.out, *mission);
-        if (!s.ok()) fail("--out", s.error().describe());
-      } else {
-        nlohmann::json j;
-        j["duration_s"] = trajectory.duration_s();
-        j["length_m"] = lospo_length;
-        j["status"] = to_string(route->built.report.status);
-        for (const auto& leg : data.legs) {
-          j["legs"].push_back({{"from", leg.from_point}, {"to", leg.to_point}, {"start_s", leg.start_s}, {"end_s", leg.end_s}});
-        }
-        for (const auto& s : data.samples) {
-          j["samples"].push_back({{"time_s", s.t_rel_s},
-                                  {"lat_deg", s.geo.lat_deg},
-                                  {"lon_deg", s.geo.lon_deg},
-                                  {"alt_amsl_m", s.geo.alt_amsl_m},
-                                  {"enu_m", {s.position_enu_m.x(), s.position_enu_m.y(), s.position_enu_m.z()}},
-                                  {"velocity_mps", {s.velocity_enu_mps.x(), s.velocity_enu_mps.y(), s.velocity_enu_mps.z()}},
-                                  {"heading_deg", s.heading_deg}});
-        }
-        std::ofstream out(args.out);
-        if (!out) fail("--out", "cannot write " + args.out);
-        out << j.dump(1) << "\n";
-      }
+      written = writeTrajectoriesCsv(a.out, {*data});
+    } else if (ext == "geojson") {
+      written = writeTrajectoriesOgr(a.out, "GeoJSON", {*data});
+    } else if (ext == "plan" || ext == "waypoints") {
+      auto qgc = qgcMissionFromTrajectory(*data);
+      if (!qgc.ok()) fail(kTool, kExitPlanningFailed, "--out " + qgc.error().describe());
+      written = ext == "plan" ? writeQgcPlan(a.out, *qgc) : writeQgcWaypoints(a.out, *qgc);
     } else {
-      fail("--out", "unknown format '." + ext + "' (use .csv, .geojson, .json, .plan or .waypoints)");
+      writeJson(a.out, plan, *data);
     }
-    std::printf("wrote %zu samples to %s\n", samples.size(), args.out.c_str());
+    if (!written.ok()) fail(kTool, kExitUsage, "--out " + written.error().describe());
+    std::printf("wrote %zu samples to %s\n", data->samples.size(), a.out.c_str());
   }
-  if (!args.png.empty()) {
-    writePng(args, *world, *route, samples);
-    std::printf("wrote %s\n", args.png.c_str());
+  if (!a.png.empty()) {
+    writePng(a.png, **world, plan, *data);
+    std::printf("wrote %s\n", a.png.c_str());
   }
 }
 
 }  // namespace
 
 void addPlanCommand(CLI::App& app) {
-  auto args = std::make_shared<PlanArgs>();
-  CLI::App* plan = app.add_subcommand("plan", "Plan a 3D route through points in the given order (RRT*, LOSPO, 7th-order splines)");
-  plan->add_option("--dem", args->dem, "DEM file (default: the embedded terrain)")->capture_default_str();
-  plan->add_option("--from", args->from, "Start LAT,LON,ALT (degrees, degrees, metres AMSL)")->required();
-  plan->add_option("--to", args->to, "Goal LAT,LON,ALT")->required();
-  plan->add_option("--via", args->via, "Intermediate LAT,LON,ALT, in order (repeatable)");
-  plan->add_option("--clearance", args->clearance_m, "Minimum height above ground, m")->check(CLI::Range(1.0, 5000.0))->capture_default_str();
-  plan->add_option("--ceiling", args->ceiling_m, "Highest altitude, m AMSL")->capture_default_str();
-  plan->add_option("--vref", args->vref_mps, "Reference speed V_ref, m/s")->check(CLI::Range(0.5, 150.0))->capture_default_str();
-  plan->add_option("--seed", args->seed, "Random seed")->capture_default_str();
-  plan->add_option("--budget-ms", args->budget_ms, "RRT* time per leg, ms (0 = use --iterations only)")->check(CLI::Range(0.0, 600000.0))->capture_default_str();
-  plan->add_option("--iterations", args->iterations, "RRT* iteration budget per leg (reproducible; 0 = none)")->capture_default_str();
-  plan->add_option("--dt", args->dt_s, "Sampling step of the output, s")->check(CLI::Range(0.01, 60.0))->capture_default_str();
-  plan->add_option("--out", args->out, "Write the sampled trajectory (.csv, .geojson, .json, or a QGroundControl .plan / .waypoints)");
-  plan->add_option("--png", args->png, "Write a picture: hillshade, path and altitude profile");
-  plan->add_option("--planner", args->planner, "Global planner of each leg: rrtstar_lospo, hab-pp or hab-pp-rrt")
-      ->check(CLI::IsMember({"rrtstar_lospo", "hab-pp", "hab-pp-rrt"}))
-      ->capture_default_str();
-  plan->callback([args] {
-    if (args->budget_ms <= 0.0 && args->iterations == 0) fail("--budget-ms", "needs a time budget or --iterations");
-    runPlan(*args);
-  });
+  auto a = std::make_shared<PlanArgs>();
+  CLI::App* plan = app.add_subcommand(
+      "plan", "Plan one mission as skyrouted would: MMD*L order, each leg's path, a checked 7th-order trajectory");
+  plan->footer(std::string("Example:\n  skyroute plan --mission data/missions/demo_mission.json --out out/plan.csv\n  "
+                           "skyroute plan --from 44.27,-71.35,1500 --to 44.30,-71.28,1600 --png out/plan.png\n\n") +
+               std::string(kExitCodeTable));
+  addConfigOptions(*plan, a->config);
+  plan->add_option("--dem", a->dem, "DEM file (config terrain.dem; default: the embedded terrain)");
+  plan->add_option("--mission", a->mission_file,
+                   "Mission JSON, as `skyroute request --file` publishes it (docs/dds.md); options below override it");
+  plan->add_option("--from", a->from, "Start LAT,LON,ALT (degrees, degrees, metres AMSL)");
+  plan->add_option("--to", a->to, "Goal LAT,LON,ALT");
+  plan->add_option("--via", a->via, "Mission point LAT,LON,ALT (repeatable); MMD*L orders them unless --fixed-order");
+  plan->add_flag("--fixed-order", a->fixed_order, "Visit the points in the given order");
+  plan->add_option("--vehicle", a->vehicle, "Vehicle id (default: the mission's, else uav-1)");
+  plan->add_option("--planner", a->planner,
+                   "Route planner: " + routePlannerNames(" | ") + " (default: config planning.default_planner)");
+  plan->add_option("--seed", a->seed, "Seed of the plan (config planning.seed, default 1)");
+  plan->add_option("--iterations", a->iterations, "Search iterations per leg (config planning.leg_max_iterations)");
+  plan->add_option("--budget-s", a->budget_s,
+                   "Wall-clock cap per leg, seconds; 0 = none (config planning.leg_time_cap_s)")
+      ->check(CLI::Range(0.0, 3600.0));
+  plan->add_option("--dt", a->dt_s, "Sample spacing of the output, seconds (config planning.sample_dt_s)")
+      ->check(CLI::Range(0.001, 10.0));
+  plan->add_option("--clearance-m", a->clearance_m, "Minimum height above ground, m (limits.min_clearance_agl_m, default 30)");
+  plan->add_option("--ceiling-m", a->ceiling_m, "Highest altitude, m AMSL (limits.ceiling_amsl_m, default 5000)");
+  plan->add_option("--vref-mps", a->vref_mps, "Cruise speed V_ref, m/s (limits.v_ref_mps, default 20)");
+  plan->add_option("--max-speed-mps", a->max_speed_mps, "Speed limit, m/s (limits.max_speed_mps, default 30)");
+  plan->add_option("--max-accel-mps2", a->max_accel_mps2, "Acceleration limit, m/s^2 (limits.max_accel_mps2, default 4)");
+  plan->add_option("--max-climb-mps", a->max_climb_mps, "Climb rate limit, m/s (limits.max_climb_rate_mps, default 5)");
+  plan->add_option("--max-descent-mps", a->max_descent_mps,
+                   "Descent rate limit, m/s (limits.max_descent_rate_mps, default 4)");
+  plan->add_option("--min-turn-radius-m", a->min_turn_radius_m,
+                   "Minimum turn radius, m; 0 = none (limits.min_turn_radius_m, default 0)");
+  plan->add_option("--out", a->out,
+                   "Write the trajectory: .csv (the columns of skyroute gcs --csv), .geojson, .json, or a "
+                   "QGroundControl .plan / .waypoints");
+  plan->add_option("--png", a->png, "Write a picture: hillshade, path and altitude profile");
+  plan->callback([a] { runPlan(*a); });
 }
 
 }  // namespace skyroute::cli

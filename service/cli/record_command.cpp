@@ -27,9 +27,9 @@ void runRecord(const RecordOptions& o) {
   if (!feed) fail(tool, kExitBadInput, feed.error().describe());
   dds::Entity participant = openParticipant(tool, o.domain);
   auto updates = dds::Reader<ObstacleUpdateData>::create(participant.get());
-  if (!updates) fail(tool, kExitDdsError, updates.error().describe());
+  if (!updates) fail(tool, kExitServiceUnavailable, updates.error().describe());
   auto loop = dds::WaitLoop::create(participant.get());
-  if (!loop) fail(tool, kExitDdsError, loop.error().describe());
+  if (!loop) fail(tool, kExitServiceUnavailable, loop.error().describe());
   stopOnSignals(loop->waitsetHandle());
 
   std::optional<std::int64_t> first_ns;
@@ -49,13 +49,13 @@ void runRecord(const RecordOptions& o) {
         if (o.count > 0 && static_cast<int>(feed->entriesWritten()) >= o.count) loop->stop();
       },
       [](const Error& e) { std::cerr << "skyroute record: skipped a bad update: " << e.describe() << std::endl; });
-  if (!added) fail(tool, kExitDdsError, added.error().describe());
+  if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
   auto outcome = loop->run(o.timeout_s > 0 ? std::optional<double>(o.timeout_s) : std::nullopt);
-  if (!outcome) fail(tool, kExitDdsError, outcome.error().describe());
-  if (write_error) fail(tool, kExitBadInput, write_error->describe());
+  if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
+  if (write_error) fail(tool, kExitUsage, write_error->describe());
   std::cout << "recorded " << feed->entriesWritten() << " obstacle updates to " << o.output << std::endl;
   if (o.count > 0 && static_cast<int>(feed->entriesWritten()) < o.count)
-    fail(tool, kExitFailure, "heard " + std::to_string(feed->entriesWritten()) + " of " + std::to_string(o.count) + " updates");
+    fail(tool, kExitPlanningFailed, "heard " + std::to_string(feed->entriesWritten()) + " of " + std::to_string(o.count) + " updates");
 }
 
 }  // namespace

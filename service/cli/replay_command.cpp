@@ -32,14 +32,14 @@ void runReplay(const ReplayOptions& o) {
 
   dds::Entity participant = openParticipant(tool, o.domain);
   auto writer = dds::Writer<ObstacleUpdateData>::create(participant.get());
-  if (!writer) fail(tool, kExitDdsError, writer.error().describe());
+  if (!writer) fail(tool, kExitServiceUnavailable, writer.error().describe());
   // The waitset only serves as an interruptible sleep: Ctrl-C triggers it.
   auto sleeper = dds::WaitLoop::create(participant.get());
-  if (!sleeper) fail(tool, kExitDdsError, sleeper.error().describe());
+  if (!sleeper) fail(tool, kExitServiceUnavailable, sleeper.error().describe());
   stopOnSignals(sleeper->waitsetHandle());
   if (o.readers > 0) {
     Status matched = writer->waitForReaders(static_cast<uint32_t>(o.readers), o.wait_s);
-    if (!matched) fail(tool, kExitNoService, matched.error().message);
+    if (!matched) fail(tool, kExitServiceUnavailable, matched.error().message);
   }
 
   std::size_t published = 0;
@@ -53,7 +53,7 @@ void runReplay(const ReplayOptions& o) {
         const double wait_s = std::chrono::duration<double>(due - std::chrono::steady_clock::now()).count();
         if (wait_s <= 0.0) break;
         auto outcome = sleeper->runOnce(wait_s);
-        if (!outcome) fail(tool, kExitDdsError, outcome.error().describe());
+        if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
         if (*outcome == dds::WaitLoop::Outcome::kStopped) {
           stopped = true;
           break;
@@ -61,7 +61,7 @@ void runReplay(const ReplayOptions& o) {
       }
       if (stopped) break;
       Status s = writer->write(entry.stamped(utcNowNs()));
-      if (!s) fail(tool, kExitDdsError, s.error().describe());
+      if (!s) fail(tool, kExitServiceUnavailable, s.error().describe());
       ++published;
     }
   } while (o.loop && !stopped);

@@ -39,15 +39,15 @@ MissionRequestData buildMission(const RequestOptions& o) {
     if (!parsed) fail(tool, kExitBadInput, o.file + ": " + parsed.error().describe());
     m = std::move(*parsed);
   } else if (o.begin.empty() || o.end.empty()) {
-    fail(tool, kExitBadInput, "--begin and --end are required unless --file gives the mission");
+    fail(tool, kExitUsage, "--begin and --end are required unless --file gives the mission");
   }
   auto point = [&](const std::string& text, const std::string& field) {
     auto p = parseGeoTriple(text, field);
-    if (!p) fail(tool, kExitBadInput, p.error().message);
+    if (!p) fail(tool, kExitUsage, p.error().message);
     return *p;
   };
   if (!o.vehicle.empty()) m.vehicle_id = o.vehicle;
-  if (m.vehicle_id.empty()) fail(tool, kExitBadInput, "--vehicle is required (or vehicle_id in --file)");
+  if (m.vehicle_id.empty()) fail(tool, kExitUsage, "--vehicle is required (or vehicle_id in --file)");
   if (!o.begin.empty()) m.begin = point(o.begin, "--begin");
   if (!o.end.empty()) m.end = point(o.end, "--end");
   if (!o.points.empty()) {
@@ -72,24 +72,24 @@ void runRequest(const RequestOptions& o) {
   dds::Entity participant = openParticipant(tool, o.domain);
   // The status reader exists before the request is written, so no reply can be missed.
   auto statuses = dds::Reader<PlanStatusData>::create(participant.get());
-  if (!statuses) fail(tool, kExitDdsError, statuses.error().describe());
+  if (!statuses) fail(tool, kExitServiceUnavailable, statuses.error().describe());
   auto writer = dds::Writer<MissionRequestData>::create(participant.get());
-  if (!writer) fail(tool, kExitDdsError, writer.error().describe());
+  if (!writer) fail(tool, kExitServiceUnavailable, writer.error().describe());
   auto loop = dds::WaitLoop::create(participant.get());
-  if (!loop) fail(tool, kExitDdsError, loop.error().describe());
+  if (!loop) fail(tool, kExitServiceUnavailable, loop.error().describe());
   stopOnSignals(loop->waitsetHandle());
 
   const auto start = std::chrono::steady_clock::now();
   auto left_s = [&] { return o.wait_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   Status matched = writer->waitForReaders(1, o.wait_s);
   if (!matched)
-    fail(tool, kExitNoService, "no planning service is listening on domain " + std::to_string(o.domain) + " (waited " +
+    fail(tool, kExitServiceUnavailable, "no planning service is listening on domain " + std::to_string(o.domain) + " (waited " +
                                    std::to_string(o.wait_s) + " s)");
   // The service's status writer must also have matched our reader, or its first reply could be lost.
   Status replies = statuses->waitForWriters(1, std::max(0.0, left_s()));
-  if (!replies) fail(tool, kExitNoService, "the planning service has no status writer on domain " + std::to_string(o.domain));
+  if (!replies) fail(tool, kExitServiceUnavailable, "the planning service has no status writer on domain " + std::to_string(o.domain));
   Status written = writer->write(mission);
-  if (!written) fail(tool, kExitDdsError, written.error().describe());
+  if (!written) fail(tool, kExitServiceUnavailable, written.error().describe());
   std::cout << "sent request=" << mission.request_id << " vehicle=" << mission.vehicle_id
             << " points=" << mission.points.size() << std::endl;
 
@@ -105,13 +105,13 @@ void runRequest(const RequestOptions& o) {
         }
       },
       [](const Error& e) { std::cerr << "skyroute request: skipped a bad status: " << e.describe() << std::endl; });
-  if (!added) fail(tool, kExitDdsError, added.error().describe());
+  if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
   auto outcome = loop->run(std::max(0.01, left_s()));
-  if (!outcome) fail(tool, kExitDdsError, outcome.error().describe());
+  if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
   if (!final_status)
-    fail(tool, kExitNoService, "no final status for request " + mission.request_id + " within " + std::to_string(o.wait_s) + " s");
+    fail(tool, kExitServiceUnavailable, "no final status for request " + mission.request_id + " within " + std::to_string(o.wait_s) + " s");
   if (final_status->state != PlanState::kSucceeded)
-    fail(tool, kExitFailure, "request " + mission.request_id + " " + std::string(to_string(final_status->state)) + ": " +
+    fail(tool, kExitPlanningFailed, "request " + mission.request_id + " " + std::string(to_string(final_status->state)) + ": " +
                                  std::string(to_string(final_status->error_code)) +
                                  (final_status->message.empty() ? "" : " (" + final_status->message + ")"));
 }

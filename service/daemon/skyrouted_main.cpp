@@ -28,18 +28,15 @@ struct Overrides {
 };
 
 skyroute::Result<skyroute::DaemonConfig> buildConfig(const Overrides& o) {
-  skyroute::DaemonConfig config;
-  if (!o.config_path.empty()) {
-    auto loaded = skyroute::loadDaemonConfig(o.config_path);
-    if (!loaded.ok()) return loaded.error();
-    config = std::move(*loaded);
-  }
+  auto loaded = o.config_path.empty() ? skyroute::Result<skyroute::DaemonConfig>(skyroute::DaemonConfig{})
+                                      : skyroute::loadDaemonConfig(o.config_path);
+  if (!loaded.ok()) return loaded.error();
+  skyroute::DaemonConfig config = std::move(*loaded);
   if (o.dem) config.dem_path = *o.dem;
   if (o.domain) config.domain = *o.domain;
   if (o.log_level) config.log_level = *o.log_level;
   if (o.log_format) config.log_format = *o.log_format;
-  if (o.seed) config.engine.seed = *o.seed;
-  if (config.dem_path.empty()) config.dem_path = SKYROUTE_DEFAULT_DEM;
+  if (o.seed) config.engine.pipeline.seed = *o.seed;
   return config;
 }
 
@@ -83,6 +80,7 @@ int main(int argc, char** argv) {
     std::cout << skyroute::describeDaemonConfig(*config);
     return 0;
   }
+  if (config->dem_path.empty()) config->dem_path = SKYROUTE_DEFAULT_DEM;
   if (skyroute::Status s = skyroute::setupLogging(config->log_level, config->log_format); !s.ok()) {
     std::cerr << "skyrouted: " << s.error().describe() << std::endl;
     return 2;
@@ -100,6 +98,7 @@ int main(int argc, char** argv) {
     if (signal_number == SIGHUP) {
       spdlog::info("event=sighup config={}", overrides.config_path.empty() ? "(none)" : overrides.config_path);
       auto reloaded = buildConfig(overrides);
+      if (reloaded.ok() && reloaded->dem_path.empty()) reloaded->dem_path = SKYROUTE_DEFAULT_DEM;
       if (!reloaded.ok()) {
         // A broken file must not take a running service down: keep the configuration in force.
         spdlog::error("event=reload_failed field={} message=\"{}\"", reloaded.error().field, reloaded.error().message);

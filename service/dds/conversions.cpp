@@ -276,12 +276,16 @@ void toWire(const PlanStatusData& in, skyroute_msgs_PlanStatus& out) {
   out.field = dup(in.field);
   out.message = dup(in.message);
   out.planning_time_s = in.planning_time_s;
+  out.stage = static_cast<skyroute_msgs_PlanStage>(static_cast<int>(in.stage));
+  out.leg_index = in.leg_index;
+  out.point_index = in.point_index;
 }
 
 // The plain enums list their values in the IDL's order; these pin that down at compile time.
 static_assert(static_cast<int>(PlanState::kReplanned) == skyroute_msgs_STATE_REPLANNED);
 static_assert(static_cast<int>(PlanErrorCode::kInternal) == skyroute_msgs_ERROR_INTERNAL);
 static_assert(static_cast<int>(PlanErrorCode::kUnderGround) == skyroute_msgs_ERROR_UNDER_GROUND);
+static_assert(static_cast<int>(PlanStage::kReplan) == skyroute_msgs_STAGE_REPLAN);
 static_assert(static_cast<int>(ObstacleShape::kCylinder) == skyroute_msgs_SHAPE_CYLINDER);
 static_assert(static_cast<int>(ObstacleMotionKind::kBackAndForth) == skyroute_msgs_MOTION_BACK_AND_FORTH);
 
@@ -289,6 +293,7 @@ Result<PlanStatusData> fromWire(const skyroute_msgs_PlanStatus& in) {
   if (auto e = required(in.request_id, "request_id")) return *e;
   if (auto e = enumInRange(in.state, skyroute_msgs_STATE_REPLANNED, "state")) return *e;
   if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_INTERNAL, "error_code")) return *e;
+  if (auto e = enumInRange(in.stage, skyroute_msgs_STAGE_REPLAN, "stage")) return *e;
   if (auto e = finite(in.planning_time_s, "planning_time_s")) return *e;
   PlanStatusData out;
   out.request_id = in.request_id;
@@ -298,6 +303,9 @@ Result<PlanStatusData> fromWire(const skyroute_msgs_PlanStatus& in) {
   out.field = text(in.field);
   out.message = text(in.message);
   out.planning_time_s = in.planning_time_s;
+  out.stage = static_cast<PlanStage>(static_cast<int>(in.stage));
+  out.leg_index = in.leg_index;
+  out.point_index = in.point_index;
   return out;
 }
 

@@ -5,7 +5,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include "terrain/terrain_world.hpp"
 
 namespace skyroute::dds {
 namespace {
@@ -26,18 +25,12 @@ Status MissionService::configure(const DaemonConfig& config) {
   }
   if (config.dem_path.empty()) return make_error(ErrorCode::kInvalidArgument, "terrain.dem", "no DEM path");
   const auto started = std::chrono::steady_clock::now();
-  CollisionWorldOptions world_options;
-  world_options.vehicle_radius_m = config.world.vehicle_radius_m;
-  world_options.build_octree = false;  // the engine's worlds check everything on the heightfield
-  auto terrain = loadTerrainWorld(config.dem_path, world_options);
-  if (!terrain.ok()) {
-    Error e = terrain.error();
+  auto world = WorldModel::load(config.dem_path, config.world);
+  if (!world.ok()) {
+    Error e = world.error();
     e.message = "terrain.dem " + config.dem_path + ": " + e.message;
     return e;
   }
-  const std::string terrain_name = std::filesystem::path(config.dem_path).filename().string();
-  auto world = WorldModel::create(terrain->heightfield, config.world, terrain_name);
-  if (!world.ok()) return world.error();
   auto engine = Engine::create(*world, config.engine, *this);
   if (!engine.ok()) return engine.error();
 

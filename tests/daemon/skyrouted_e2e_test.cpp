@@ -226,7 +226,6 @@ TEST_F(SkyroutedE2E, BadRequestsGetTheirErrorAndTheServiceGoesOnServing) {
   const std::vector<Case> cases = {
       {"planner", [](auto& m) { m.planner = "astar-9000"; }, PlanErrorCode::kUnknownPlanner, "planner"},
       {"nan", [](auto& m) { m.points[0].enu_m.y() = std::nan(""); }, PlanErrorCode::kInvalidArgument, "points[0]"},
-      {"empty", [](auto& m) { m.points.clear(); }, PlanErrorCode::kEmptyMission, "points"},
       {"oversize", [](auto& m) { m.points.assign(200, m.points.front()); }, PlanErrorCode::kMissionTooLarge, "points"},
       {"limits", [](auto& m) { m.limits.max_speed_mps = 5000.0; }, PlanErrorCode::kLimitsOutOfRange, "limits.max_speed_mps"},
       {"outside", [](auto& m) { m.end = MissionPointData::wgs84(10.0, 10.0, 1000.0); }, PlanErrorCode::kOutsideMap, "end"},
@@ -242,6 +241,10 @@ TEST_F(SkyroutedE2E, BadRequestsGetTheirErrorAndTheServiceGoesOnServing) {
   const MissionRequestData good = simpleMission("good-after-bad", "uav-good", 1000.0);
   ASSERT_TRUE(station_->requests->write(good).ok());
   ids.push_back(good.request_id);
+  MissionRequestData plain = simpleMission("good-begin-to-end", "uav-plain", 2000.0);
+  plain.points.clear();  // a plain A -> B mission is a mission too
+  ASSERT_TRUE(station_->requests->write(plain).ok());
+  ids.push_back(plain.request_id);
   ASSERT_TRUE(station_->waitTerminal(ids, 120.0)) << daemon_.err();
   for (const Case& c : cases) {
     const auto s = *station_->terminal("bad-" + c.name);
@@ -251,6 +254,7 @@ TEST_F(SkyroutedE2E, BadRequestsGetTheirErrorAndTheServiceGoesOnServing) {
     EXPECT_NE(s.message.find(s.field), std::string::npos) << c.name << ": " << s.message;
   }
   EXPECT_EQ(station_->terminal(good.request_id)->state, PlanState::kSucceeded);
+  EXPECT_EQ(station_->terminal(plain.request_id)->state, PlanState::kSucceeded) << station_->terminal(plain.request_id)->message;
   EXPECT_TRUE(daemon_.running());
 }
 

@@ -327,7 +327,7 @@ TEST(DdsCli, RequestWithoutServiceOrWithBadInputFailsClearly) {
   EXPECT_EQ(run("request --domain 123 --vehicle v --begin 44.2,-71.3,1000 --points 44.21,-71.31,1100 "
                 "--end 44.23,-71.28,1000 --wait 1",
                 "noservice", &out, &err),
-            3);
+            4);  // the service is unavailable
   EXPECT_NE(err.find("no planning service"), std::string::npos) << err;
   EXPECT_EQ(run("request --domain 123 --vehicle v --begin 44.2,-71.3 --end 44.23,-71.28,1000 --wait 1", "badbegin", &out, &err),
             2);
@@ -336,7 +336,7 @@ TEST(DdsCli, RequestWithoutServiceOrWithBadInputFailsClearly) {
                 "badpoints", &out, &err),
             2);
   EXPECT_NE(err.find("--points[1]"), std::string::npos) << err;
-  EXPECT_EQ(run("replay /nonexistent/feed.jsonl --domain 123", "nofeed", &out, &err), 2);
+  EXPECT_EQ(run("replay /nonexistent/feed.jsonl --domain 123", "nofeed", &out, &err), 3);  // an unreadable input file
   EXPECT_NE(err.find("/nonexistent/feed.jsonl"), std::string::npos) << err;
 }
 

@@ -129,9 +129,7 @@ TEST(MissionValidation, EachBadRequestGetsItsCodeAndField) {
     void (*mutate)(MissionRequestData&);
   };
   const Case cases[] = {
-      {PlanErrorCode::kEmptyMission, "points", [](MissionRequestData& m) { m.points.clear(); }},
       {PlanErrorCode::kMissionTooLarge, "points", [](MissionRequestData& m) { m.points.resize(65, m.points[0]); }},
-      {PlanErrorCode::kUnknownPlanner, "planner", [](MissionRequestData& m) { m.planner = "teleport"; }},
       {PlanErrorCode::kInvalidArgument, "points[0].lat_deg", [](MissionRequestData& m) { m.points[0].geo.lat_deg = 95.0; }},
       {PlanErrorCode::kInvalidArgument, "end.lon_deg", [](MissionRequestData& m) { m.end.geo.lon_deg = kNaN; }},
       {PlanErrorCode::kInvalidArgument, "vehicle_id", [](MissionRequestData& m) { m.vehicle_id.clear(); }},

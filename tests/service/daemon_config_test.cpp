@@ -12,9 +12,10 @@ TEST(DaemonConfig, DescribedConfigurationParsesBackToItself) {
   DaemonConfig config;
   config.dem_path = "/data/dem/N44W072.hgt";
   config.domain = 17;
-  config.engine.seed = 99;
-  config.engine.sample_dt_s = 0.5;
-  config.engine.replan.horizon_s = 30.0;
+  config.engine.pipeline.seed = 99;
+  config.engine.pipeline.sample_dt_s = 0.5;
+  config.engine.pipeline.replan.horizon_s = 30.0;
+  config.engine.pipeline.replan.replan_budget_ms = 25.0;
   config.engine.replanning = false;
   config.log_format = "json";
   const std::string text = describeDaemonConfig(config);
@@ -22,9 +23,10 @@ TEST(DaemonConfig, DescribedConfigurationParsesBackToItself) {
   ASSERT_TRUE(parsed.ok()) << parsed.error().describe() << "\n" << text;
   EXPECT_EQ(parsed->dem_path, config.dem_path);
   EXPECT_EQ(parsed->domain, 17);
-  EXPECT_EQ(parsed->engine.seed, 99u);
-  EXPECT_EQ(parsed->engine.sample_dt_s, 0.5);
-  EXPECT_EQ(parsed->engine.replan.horizon_s, 30.0);
+  EXPECT_EQ(parsed->engine.pipeline.seed, 99u);
+  EXPECT_EQ(parsed->engine.pipeline.sample_dt_s, 0.5);
+  EXPECT_EQ(parsed->engine.pipeline.replan.horizon_s, 30.0);
+  EXPECT_DOUBLE_EQ(parsed->engine.pipeline.replan.replan_budget_ms, 25.0);  // written as budget_s = 0.025
   EXPECT_FALSE(parsed->engine.replanning);
   EXPECT_EQ(parsed->log_format, "json");
   EXPECT_EQ(describeDaemonConfig(*parsed), text);
@@ -48,7 +50,7 @@ TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
       {"[planning]\nsample_dt_s = -1\n", "planning.sample_dt_s", ErrorCode::kInvalidArgument},
       {"[planning]\nthreads = 0\n", "planning.threads", ErrorCode::kInvalidArgument},
       {"[planning]\ndefault_planner = \"magic\"\n", "planning.default_planner", ErrorCode::kInvalidArgument},
-      {"[planning]\nleg_max_iterations = 0\nleg_budget_ms = 0\n", "planning.leg_max_iterations",
+      {"[planning]\nleg_max_iterations = 0\nleg_time_cap_s = 0\n", "planning.leg_max_iterations",
        ErrorCode::kInvalidArgument},
       {"[dds]\ndomain = 300\n", "dds.domain", ErrorCode::kInvalidArgument},
       {"[replanning]\nenabled = 1\n", "replanning.enabled", ErrorCode::kInvalidArgument},

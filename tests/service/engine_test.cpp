@@ -82,7 +82,7 @@ class EngineTest : public ::testing::Test {
     ASSERT_TRUE(model.ok());
     world_ = *model;
     EngineOptions options;
-    options.sample_dt_s = 0.05;  // dense enough for the clearance check between samples
+    options.pipeline.sample_dt_s = 0.05;  // dense enough for the clearance check between samples
     auto engine = Engine::create(world_, options, sink_, [this] { return clock_.now_ns; });
     ASSERT_TRUE(engine.ok()) << engine.error().describe();
     engine_ = std::move(*engine);
@@ -186,8 +186,8 @@ TEST_F(EngineTest, HabPpPlannersGoThroughTheSameTrajectoryStage) {
   // Both settings of the output stage's windowed re-planning (off, and the default).
   for (const int windows : {0, HabPpParameters{}.output_window_segments}) {
     EngineOptions options;
-    options.sample_dt_s = 0.05;
-    options.grid_legs.output_window_segments = windows;
+    options.pipeline.sample_dt_s = 0.05;
+    options.pipeline.grid_legs.output_window_segments = windows;
     auto engine = Engine::create(world_, options, sink_, [this] { return clock_.now_ns; });
     ASSERT_TRUE(engine.ok()) << engine.error().describe();
     for (const std::string planner : {"hab-pp", "hab-pp-rrt"}) {
@@ -223,6 +223,20 @@ TEST_F(EngineTest, HabPpPlannersGoThroughTheSameTrajectoryStage) {
   }
 }
 
+TEST_F(EngineTest, PlainBeginToEndMissionIsServed) {
+  MissionRequestData r = request("a-to-b");
+  r.points.clear();
+  ASSERT_FALSE(engine_->submit(r).has_value());
+  ASSERT_TRUE(engine_->planNext());
+  const auto status = sink_.last(r.request_id);
+  ASSERT_EQ(status->state, PlanState::kSucceeded) << status->field << " " << status->message;
+  const TrajectoryData& t = sink_.trajectories.back();
+  EXPECT_EQ(t.visiting_order, (std::vector<std::uint32_t>{0, 1}));
+  ASSERT_EQ(t.legs.size(), 1u);
+  EXPECT_LT((t.samples.front().position_enu_m - toEnu(r.begin)).norm(), 0.01);
+  EXPECT_LT((t.samples.back().position_enu_m - toEnu(r.end)).norm(), 0.01);
+}
+
 TEST_F(EngineTest, SameSeedSameTrajectory) {
   ASSERT_FALSE(engine_->submit(request("a")).has_value());
   ASSERT_TRUE(engine_->planNext());
@@ -246,7 +260,6 @@ TEST_F(EngineTest, BadRequestsGetTheirErrorAndTheNextRequestIsServed) {
       {"planner", [](MissionRequestData& r) { r.planner = "dijkstra-3d"; }, PlanErrorCode::kUnknownPlanner, "planner"},
       {"nan", [](MissionRequestData& r) { r.points[1].geo.lat_deg = std::nan(""); }, PlanErrorCode::kInvalidArgument,
        "points[1]"},
-      {"empty", [](MissionRequestData& r) { r.points.clear(); }, PlanErrorCode::kEmptyMission, "points"},
       {"oversize", [](MissionRequestData& r) { r.points.resize(65, r.points.front()); },
        PlanErrorCode::kMissionTooLarge, "points"},
       {"limits", [](MissionRequestData& r) { r.limits.max_accel_mps2 = -1.0; }, PlanErrorCode::kLimitsOutOfRange,

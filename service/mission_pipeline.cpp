@@ -1,0 +1,235 @@
+#include "service/mission_pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace skyroute {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Request point index -> the request's field name.
+std::string pointName(int index, int count) {
+  if (index == 0) return "begin";
+  if (index == count - 1) return "end";
+  return "points[" + std::to_string(index - 1) + "]";
+}
+
+// The trajectory stage names its limits after VehicleLimits; the request after the IDL.
+std::string requestLimitField(const std::string& field) {
+  if (field == "limits.max_climb_mps") return "limits.max_climb_rate_mps";
+  if (field == "limits.max_descent_mps") return "limits.max_descent_rate_mps";
+  return field;
+}
+
+PlanError stageError(PlanErrorCode code, std::string field, std::string message, PlanStage stage,
+                     int point_index = -1) {
+  PlanError e{code, std::move(field), std::move(message)};
+  e.stage = stage;
+  e.point_index = point_index;
+  return e;
+}
+
+// Which stage a route error comes from: the trajectory stage names "trajectory" or a limit.
+PlanStage routeStage(const Error& e) {
+  if (e.field == "trajectory" || e.field.rfind("limits", 0) == 0) return PlanStage::kTrajectory;
+  return PlanStage::kLegs;
+}
+
+}  // namespace
+
+ReplanOptions PipelineOptions::defaultReplanOptions() {
+  ReplanOptions o;
+  o.route.leg_budget_ms = 0.0;
+  o.route.leg_max_iterations = PlanBudget{}.leg_max_iterations;
+  o.replan_leg_max_iterations = 400;
+  return o;
+}
+
+std::optional<PlanError> validatePipelineOptions(const PipelineOptions& o) {
+  auto bad = [](std::string key, std::string message) {
+    return PlanError{PlanErrorCode::kInvalidArgument, std::move(key), std::move(message)};
+  };
+  if (auto unknown = findRoutePlanner(o.default_planner, nullptr, "planning.default_planner")) return unknown;
+  if (!(o.sample_dt_s > 0.0)) return bad("planning.sample_dt_s", "must be positive");
+  if (!(o.budget.leg_time_cap_s >= 0.0)) return bad("planning.leg_time_cap_s", "must be zero (none) or positive");
+  if (o.budget.leg_max_iterations == 0 && o.budget.leg_time_cap_s <= 0.0) {
+    return bad("planning.leg_max_iterations", "and planning.leg_time_cap_s are both 0: a leg's search would never stop");
+  }
+  if (!(o.replan.period_s > 0.0)) return bad("replanning.period_s", "must be positive");
+  return std::nullopt;
+}
+
+PlanError requestPlanError(const Error& e, const std::vector<int>& order, PlanStage stage) {
+  PlanError out = toPlanError(e);
+  out.stage = stage;
+  out.field = requestLimitField(out.field);
+  const int count = static_cast<int>(order.size());
+  auto index = [&](const std::string& prefix) -> std::optional<int> {
+    if (e.field.rfind(prefix, 0) != 0) return std::nullopt;
+    try {
+      const int k = std::stoi(e.field.substr(prefix.size()));
+      if (k >= 0 && k < count) return k;
+    } catch (const std::exception&) {
+    }
+    return std::nullopt;
+  };
+  if (auto k = index("points[")) {
+    out.field = pointName(order[*k], count);
+    out.point_index = order[*k];
+  } else if (auto leg = index("legs[")) {
+    out.leg_index = *leg;
+    if (*leg + 1 < count) {
+      out.message += " (the leg from " + pointName(order[*leg], count) + " to " + pointName(order[*leg + 1], count) + ")";
+      out.field = pointName(order[*leg + 1], count);
+      out.point_index = order[*leg + 1];
+    }
+  }
+  return out;
+}
+
+MissionPipeline::MissionPipeline(std::shared_ptr<WorldModel> world, PipelineOptions options)
+    : world_(std::move(world)), options_(std::move(options)) {}
+
+Result<OrderedMission, PlanError> MissionPipeline::order(const MissionRequestData& r, double start_world_s,
+                                                         const TerminationCondition& stop) const {
+  if (auto problem = validateMissionRequest(r, options_.bounds)) {
+    PlanError e = *problem;
+    e.stage = PlanStage::kValidate;
+    return e;
+  }
+  OrderedMission out;
+  const std::string planner_name = r.planner.empty() ? options_.default_planner : r.planner;
+  if (auto unknown = findRoutePlanner(planner_name, &out.planner)) {
+    unknown->stage = PlanStage::kValidate;
+    return *unknown;
+  }
+  const int count = static_cast<int>(r.points.size()) + 2;
+  auto toEnu = [&](const MissionPointData& p) {
+    return p.frame == MissionPointData::Frame::kWgs84 ? world_->frame().toEnu(p.geo) : p.enu_m;
+  };
+  out.points_m.push_back(toEnu(r.begin));
+  for (const MissionPointData& p : r.points) out.points_m.push_back(toEnu(p));
+  out.points_m.push_back(toEnu(r.end));
+
+  auto world = world_->worldFor(r.limits.min_clearance_agl_m, r.limits.ceiling_amsl_m);
+  if (!world.ok()) {
+    return stageError(PlanErrorCode::kLimitsOutOfRange, world.error().field, world.error().message, PlanStage::kValidate);
+  }
+  out.world = *world;
+  out.limits = toVehicleLimits(r.limits);
+  if (Status ok = out.limits.validate(); !ok.ok()) {
+    return stageError(PlanErrorCode::kLimitsOutOfRange, requestLimitField(ok.error().field), ok.error().message,
+                      PlanStage::kValidate);
+  }
+  ObstacleSnapshot snapshot;
+  snapshot.time_s = start_world_s;
+  for (int i = 0; i < count; ++i) {
+    if (Status ok = checkRoutePoint(*out.world, out.points_m[i], pointName(i, count), snapshot); !ok.ok()) {
+      PlanError e = toPlanError(ok.error());
+      e.stage = PlanStage::kValidate;
+      e.point_index = i;
+      return e;
+    }
+  }
+  auto ordering = orderMissionPoints(world_->terrain(), out.points_m, r.limits.min_clearance_agl_m,
+                                     r.limits.ceiling_amsl_m, r.fixed_order, options_.order, stop);
+  if (!ordering.ok()) {
+    PlanError e = toPlanError(ordering.error());
+    e.stage = PlanStage::kOrder;
+    return e;
+  }
+  out.ordering = std::move(*ordering);
+  out.order = out.ordering.order;
+  for (int index : out.order) out.ordered_m.push_back(out.points_m[index]);
+  return out;
+}
+
+Result<MissionPlan, PlanError> MissionPipeline::plan(const PipelineRequest& request, double start_world_s,
+                                                     const TerminationCondition& stop,
+                                                     const PipelineProgress& progress) const {
+  const auto started = std::chrono::steady_clock::now();
+  auto report = [&](PlanStage stage, const std::string& what) {
+    if (progress) progress(stage, what);
+  };
+  const MissionRequestData& r = request.mission;
+  report(PlanStage::kOrder, "ordering " + std::to_string(r.points.size() + 2) + " points" +
+                                (r.fixed_order ? " (fixed order)" : " with MMD*L"));
+  auto ordered = order(r, start_world_s, stop);
+  if (!ordered.ok()) return ordered.error();
+
+  MissionPlan plan;
+  plan.mission = std::move(*ordered);
+  plan.seed = request.seed.value_or(options_.seed);
+  const PlanBudget budget = request.budget.value_or(options_.budget);
+  ReplanOptions replan = options_.replan;
+  replan.route.seed = plan.seed;
+  replan.route.leg_max_iterations = budget.leg_max_iterations;
+  replan.route.leg_budget_ms = budget.leg_time_cap_s * 1e3;
+  replan.cancel = stop.sharedCancelFlag();  // the replanner keeps it for its later cycles too
+  const std::size_t legs = plan.mission.ordered_m.size() - 1;
+  report(PlanStage::kLegs, "planning " + std::to_string(legs) + " leg" + (legs == 1 ? "" : "s") + " with " +
+                               std::string(plan.mission.planner->name) + " and the trajectory through them");
+  auto flight = FlightReplanner::start(plan.mission.world, plan.mission.ordered_m, plan.mission.limits, replan,
+                                       start_world_s, legPathPlanner(plan.mission.planner->kind, options_.grid_legs));
+  if (!flight.ok()) return requestPlanError(flight.error(), plan.mission.order, routeStage(flight.error()));
+  plan.flight = std::move(*flight);
+  for (std::size_t i = 0; i < plan.flight->route().legs.size(); ++i) {
+    const RouteLeg& leg = plan.flight->route().legs[i];
+    if (!leg.time_capped) continue;
+    std::ostringstream note;
+    note << "legs[" << i << "]: the wall-clock cap of " << budget.leg_time_cap_s
+         << " s stopped the search before its iteration budget; the plan is not reproducible from the seed";
+    plan.notes.push_back(note.str());
+  }
+  plan.planning_time_s = secondsSince(started);
+  return plan;
+}
+
+Result<TrajectoryData, PlanError> MissionPipeline::sample(const MissionPlan& plan,
+                                                          const TrajectoryIdentity& identity) const {
+  const FlightReplanner& flight = *plan.flight;
+  const OrderedMission& mission = plan.mission;
+  const double start_s = flight.trajectoryStartWorldS();
+  TrajectoryData data = toTrajectoryData(flight.route().built.trajectory, world_->frame(), options_.sample_dt_s,
+                                         static_cast<std::int64_t>(std::llround(start_s * 1e9)), identity);
+  for (int index : mission.order) data.visiting_order.push_back(static_cast<std::uint32_t>(index));
+  // The route's points: the first is where this revision starts (the begin point, or where the
+  // vehicle takes the new trajectory over); the others are the points still to reach, copied
+  // from the ordered points. A revision's first leg continues the leg it interrupted.
+  const std::vector<Eigen::Vector3d> remaining = flight.remainingPoints(start_s);
+  std::vector<int> route_ids;
+  for (const Eigen::Vector3d& p : remaining) {
+    int id = mission.order.back();
+    for (std::size_t k = 0; k < mission.ordered_m.size(); ++k) {
+      if (mission.ordered_m[k] == p) id = mission.order[k];
+    }
+    route_ids.push_back(id);
+  }
+  int previous = mission.order.front();
+  if (!route_ids.empty()) {
+    const auto at = std::find(mission.order.begin(), mission.order.end(), route_ids.front());
+    if (at != mission.order.begin() && at != mission.order.end()) previous = *(at - 1);
+  }
+  route_ids.insert(route_ids.begin(), previous);
+  for (const RouteLeg& leg : flight.route().legs) {
+    if (leg.to_point >= route_ids.size()) break;
+    data.legs.push_back(LegBoundaryData{static_cast<std::uint32_t>(route_ids[leg.from_point]),
+                                        static_cast<std::uint32_t>(route_ids[leg.to_point]), leg.start_s, leg.end_s});
+  }
+  return data;
+}
+
+FleetPlanOutput MissionPipeline::planFleet(const FleetRequestData& request, std::int64_t start_utc_ns,
+                                           const TerminationCondition& stop) const {
+  FleetMissionOptions fleet = options_.fleet;
+  fleet.sample_dt_s = options_.sample_dt_s;
+  fleet.route.trajectory = options_.replan.route.trajectory;
+  return planFleetMission(request, *world_, fleet, start_utc_ns, stop);
+}
+
+}  // namespace skyroute
