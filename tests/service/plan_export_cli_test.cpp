@@ -43,7 +43,7 @@ std::string slurp(const std::string& path) {
 // A short reproducible plan across the embedded terrain (ground below 922 m AMSL).
 std::string planArgs(const std::string& out) {
   return "plan --dem " + skyroute::testing::projectDataPath("default_terrain.tif") +
-         " --from 46.90,15.03,1100 --via 46.95,15.06,1150 --to 46.97,15.12,1100 --iterations 1500 --budget-ms 0"
+         " --from 46.90,15.03,1100 --via 46.95,15.06,1150 --to 46.97,15.12,1100 --iterations 1500 --budget-s 0"
          " --out " + out;
 }
 
