@@ -106,7 +106,8 @@ TEST_F(PlanExportCli, WaypointsAndCsv) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::istringstream csv_lines(slurp(csv));
   std::getline(csv_lines, line);
-  EXPECT_EQ(line.rfind("time_s,lat_deg,lon_deg,alt_amsl_m,", 0), 0u) << line;
+  // The columns of `skyroute gcs --csv`: one writer for both.
+  EXPECT_EQ(line.rfind("vehicle_id,time_s,lat_deg,lon_deg,alt_amsl_m,", 0), 0u) << line;
   EXPECT_EQ(line.substr(line.rfind(',') + 1), "alt_ellipsoid_m");
   std::getline(csv_lines, line);
   // Here the geoid is about 47 m above the ellipsoid: the first row is --from at 1100 m AMSL.
