@@ -15,5 +15,6 @@ void addGridPathCommand(CLI::App& grid);  // grid path                          
 void addMissionCommand(CLI::App& app);    // mission                              (mission_command.cpp)
 void addPlanCommand(CLI::App& app);       // plan                                 (plan_command.cpp)
 void addFleetCommand(CLI::App& app);      // fleet                                (fleet_command.cpp)
+void addPlannersCommand(CLI::App& app);   // planners                             (planners_command.cpp)
 
 }  // namespace skyroute::cli

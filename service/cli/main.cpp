@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   skyroute::cli::addMissionCommand(app);
   skyroute::cli::addPlanCommand(app);
   skyroute::cli::addFleetCommand(app);
+  skyroute::cli::addPlannersCommand(app);
   skyroute::cli::addGcsCommand(app);
   skyroute::cli::addRequestCommand(app);
   skyroute::cli::addRecordCommand(app);

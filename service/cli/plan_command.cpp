@@ -220,7 +220,9 @@ void runPlan(const PlanArgs& a) {
                                static_cast<double>(utcNowNs()) * 1e-9, {}, progress);
   if (!planned.ok()) {
     const PlanError& e = planned.error();
-    const int code = e.stage == PlanStage::kValidate ? kExitUsage : kExitPlanningFailed;
+    // A request that cannot be planned at all is the input's fault: the options', or the file's.
+    const int input_code = a.mission_file.empty() ? kExitUsage : kExitBadInput;
+    const int code = e.stage == PlanStage::kValidate ? input_code : kExitPlanningFailed;
     fail(kTool, code,
          userField(a, e.field) + ": " + e.message + " [" + std::string(to_string(e.code)) + ", stage " +
              std::string(to_string(e.stage)) + "]");
