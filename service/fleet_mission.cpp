@@ -321,21 +321,18 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
   if (!world_r.ok()) return fail(PlanErrorCode::kLimitsOutOfRange, world_r.error().field, world_r.error().message);
   const std::shared_ptr<const CollisionWorld> world = *world_r;
   const LocalFrame& frame = world_model.frame();
-  auto toEnu = [&](const MissionPointData& p) {
-    return p.frame == MissionPointData::Frame::kWgs84 ? frame.toEnu(p.geo) : p.enu_m;
-  };
   const std::size_t nv = r.vehicle_ids.size();
   const std::size_t nt = r.tasks.size();
   double top_m = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < nv; ++i) {
-    out.begins_m.push_back(toEnu(r.begins[i]));
-    out.ends_m.push_back(toEnu(r.ends[i]));
+    out.begins_m.push_back(r.begins[i].toEnu(frame));
+    out.ends_m.push_back(r.ends[i].toEnu(frame));
     if (Status ok = checkRoutePoint(*world, out.begins_m[i], indexed("begins", i)); !ok.ok()) return toPlanError(ok.error());
     if (Status ok = checkRoutePoint(*world, out.ends_m[i], indexed("ends", i)); !ok.ok()) return toPlanError(ok.error());
     top_m = std::max({top_m, out.begins_m[i].z(), out.ends_m[i].z()});
   }
   for (std::size_t j = 0; j < nt; ++j) {
-    out.tasks_m.push_back(toEnu(r.tasks[j]));
+    out.tasks_m.push_back(r.tasks[j].toEnu(frame));
     if (Status ok = checkRoutePoint(*world, out.tasks_m[j], indexed("tasks", j)); !ok.ok()) return toPlanError(ok.error());
     top_m = std::max(top_m, out.tasks_m[j].z());
   }

@@ -109,12 +109,10 @@ Result<OrderedMission, PlanError> MissionPipeline::order(const MissionRequestDat
     return *unknown;
   }
   const int count = static_cast<int>(r.points.size()) + 2;
-  auto toEnu = [&](const MissionPointData& p) {
-    return p.frame == MissionPointData::Frame::kWgs84 ? world_->frame().toEnu(p.geo) : p.enu_m;
-  };
-  out.points_m.push_back(toEnu(r.begin));
-  for (const MissionPointData& p : r.points) out.points_m.push_back(toEnu(p));
-  out.points_m.push_back(toEnu(r.end));
+  const LocalFrame& frame = world_->frame();
+  out.points_m.push_back(r.begin.toEnu(frame));
+  for (const MissionPointData& p : r.points) out.points_m.push_back(p.toEnu(frame));
+  out.points_m.push_back(r.end.toEnu(frame));
 
   auto world = world_->worldFor(r.limits.min_clearance_agl_m, r.limits.ceiling_amsl_m);
   if (!world.ok()) {

@@ -27,6 +27,10 @@ MissionPointData MissionPointData::enu(const Eigen::Vector3d& enu_m) {
   return p;
 }
 
+Eigen::Vector3d MissionPointData::toEnu(const LocalFrame& frame_of) const {
+  return frame == Frame::kWgs84 ? frame_of.toEnu(geo) : enu_m;
+}
+
 std::string_view to_string(PlanState state) {
   switch (state) {
     case PlanState::kAccepted: return "accepted";

@@ -31,6 +31,8 @@ struct MissionPointData {
 
   static MissionPointData wgs84(double lat_deg, double lon_deg, double alt_amsl_m);
   static MissionPointData enu(const Eigen::Vector3d& enu_m);
+  // The point in the frame's ENU metres, whichever frame it was given in.
+  Eigen::Vector3d toEnu(const LocalFrame& frame) const;
 };
 
 // Vehicle limits (defaults are a small fixed-wing UAV; ranges in MissionRequestBounds).

@@ -4,6 +4,7 @@
 
 #include "service/cli/commands.hpp"
 #include "service/cli/dds_commands.hpp"
+#include "service/cli/exit_codes.hpp"
 
 int main(int argc, char** argv) {
   GDALAllRegister();
@@ -25,6 +26,14 @@ int main(int argc, char** argv) {
   skyroute::cli::addRecordCommand(app);
   skyroute::cli::addReplayCommand(app);
 
-  CLI11_PARSE(app, argc, argv);
-  return 0;
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // A subcommand's failure carries its code from the one table; CLI11's own parse errors
+    // (an unknown option, a value out of range) are usage errors; --help and --version succeed.
+    const int code = app.exit(e);
+    if (code == 0 || dynamic_cast<const CLI::RuntimeError*>(&e) != nullptr) return code;
+    return skyroute::cli::kExitUsage;
+  }
+  return skyroute::cli::kExitOk;
 }

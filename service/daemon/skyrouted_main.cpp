@@ -53,15 +53,24 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("skyrouted ") + SKYROUTE_VERSION);
   Overrides overrides;
   bool print_config = false;
-  app.add_option("--config", overrides.config_path, "TOML configuration file (skyrouted --print-config shows every key)")
+  app.add_option("--config", overrides.config_path,
+                 "TOML configuration file: the keys of skyroute plan --config (--print-config shows every key)")
       ->check(CLI::ExistingFile);
-  app.add_option("--dem", overrides.dem, "DEM raster (any GDAL raster); default: the embedded terrain");
-  app.add_option("--domain", overrides.domain, "DDS domain id")->check(CLI::Range(0, 232));
-  app.add_option("--seed", overrides.seed, "RRT* seed of every plan");
-  app.add_option("--log-level", overrides.log_level, "trace | debug | info | warn | error");
-  app.add_option("--log-format", overrides.log_format, "text | json");
+  app.add_option("--dem", overrides.dem, "DEM raster (any GDAL raster) (config terrain.dem; default: the embedded terrain)");
+  app.add_option("--domain", overrides.domain, "DDS domain id (config dds.domain, default 0)")->check(CLI::Range(0, 232));
+  app.add_option("--seed", overrides.seed, "Seed of every plan (config planning.seed, default 1)");
+  app.add_option("--log-level", overrides.log_level, "trace | debug | info | warn | error (config log.level, default info)");
+  app.add_option("--log-format", overrides.log_format, "text | json (config log.format, default text)");
   app.add_flag("--print-config", print_config, "print the effective configuration as TOML and exit");
-  CLI11_PARSE(app, argc, argv);
+  app.footer("Example:\n  skyrouted --dem ../shared/data/dem/N44W072.hgt --domain 7\n\n"
+             "Exit codes: 0 stopped cleanly, 2 usage, 3 the configuration or the DEM unreadable or invalid, "
+             "4 DDS unavailable.");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;  // --help and --version succeed; anything else is a usage error
+  }
 
   // Blocked before any thread exists, so every thread inherits the mask and only sigwait sees them.
   sigset_t signals;
@@ -74,7 +83,7 @@ int main(int argc, char** argv) {
   auto config = buildConfig(overrides);
   if (!config.ok()) {
     std::cerr << "skyrouted: " << config.error().describe() << std::endl;
-    return 2;
+    return 3;
   }
   if (print_config) {
     std::cout << skyroute::describeDaemonConfig(*config);
