@@ -237,6 +237,34 @@ TEST_F(EngineTest, PlainBeginToEndMissionIsServed) {
   EXPECT_LT((t.samples.back().position_enu_m - toEnu(r.end)).norm(), 0.01);
 }
 
+TEST_F(EngineTest, AFiredWallClockCapIsReportedInTheStatus) {
+  // A leg whose straight line is blocked (RRT* must search) with more iterations than the cap
+  // lets it run: the plan is still made, and its status says the cap fired on that leg.
+  EngineOptions options;
+  options.pipeline.budget.leg_max_iterations = 1'000'000'000;
+  options.pipeline.budget.leg_time_cap_s = 0.2;
+  auto engine = Engine::create(world_, options, sink_, [this] { return clock_.now_ns; });
+  ASSERT_TRUE(engine.ok()) << engine.error().describe();
+  MissionRequestData r = request("capped", "uav-capped");
+  r.begin = enu(-5000, -2000, 60);
+  r.points.clear();
+  r.end = enu(0, -5500, 150);
+  auto world = world_->worldFor(r.limits.min_clearance_agl_m, r.limits.ceiling_amsl_m);
+  ASSERT_TRUE(world.ok());
+  ASSERT_FALSE((*world)->isSegmentValid(r.begin.enu_m, r.end.enu_m)) << "the test needs a blocked straight leg";
+  ASSERT_FALSE((*engine)->submit(r).has_value());
+  ASSERT_TRUE((*engine)->planNext());
+  const auto status = sink_.last(r.request_id);
+  ASSERT_EQ(status->state, PlanState::kSucceeded) << status->message;
+  EXPECT_NE(status->message.find("legs[0]: the wall-clock cap of 0.2 s"), std::string::npos) << status->message;
+  EXPECT_NE(status->message.find("not reproducible"), std::string::npos) << status->message;
+
+  // Within its iteration budget the same leg says nothing of the kind.
+  ASSERT_FALSE(engine_->submit(request("uncapped", "uav-uncapped")).has_value());
+  ASSERT_TRUE(engine_->planNext());
+  EXPECT_EQ(sink_.last("uncapped")->message, "");
+}
+
 TEST_F(EngineTest, SameSeedSameTrajectory) {
   ASSERT_FALSE(engine_->submit(request("a")).has_value());
   ASSERT_TRUE(engine_->planNext());
