@@ -4,6 +4,7 @@
 
 #include "service/cli/commands.hpp"
 #include "service/cli/dds_commands.hpp"
+#include "service/cli/exit_codes.hpp"
 
 int main(int argc, char** argv) {
   GDALAllRegister();
@@ -23,7 +24,15 @@ int main(int argc, char** argv) {
   skyroute::cli::addRequestCommand(app);
   skyroute::cli::addRecordCommand(app);
   skyroute::cli::addReplayCommand(app);
+  skyroute::cli::addPx4Command(app);
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints the help, the version or CLI11's message naming the option
+    // CLI11's own codes (100 and up: an unknown option, a value that does not convert or fails a
+    // check) are usage errors in the one table; fail()'s codes pass through.
+    return code >= 100 ? skyroute::cli::kExitUsage : code;
+  }
   return 0;
 }
