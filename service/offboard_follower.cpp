@@ -201,9 +201,11 @@ std::optional<OffboardSetpoint> OffboardFollower::step(std::int64_t now_utc_ns) 
     pending_.clear();
     hold(FollowMode::kHoldingSilent, *last_, buf);
   }
-  // Take over: at its start, or at once when the current one has not started (nothing flown).
-  while (!pending_.empty() && (!current_ || now_utc_ns >= pending_.front().start_utc_ns ||
-                               now_utc_ns < current_->start_utc_ns)) {
+  // Take over at its start; at once when there is nothing else, or when the current one has not
+  // started and the new one starts no later (nothing of the current one would be flown).
+  while (!pending_.empty() &&
+         (!current_ || now_utc_ns >= pending_.front().start_utc_ns ||
+          (now_utc_ns < current_->start_utc_ns && pending_.front().start_utc_ns <= current_->start_utc_ns))) {
     const bool first = !current_;
     events_.push_back((first ? "following " : "switched to ") +
                       describePlan(pending_.front().plan_id, pending_.front().revision) + (first ? "" : " at its start"));

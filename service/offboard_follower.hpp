@@ -10,7 +10,7 @@
 //   -pi..pi (interpolated between samples along the shorter arc).
 // - A new revision (or plan) takes over at its first sample's time: a replan starts at the state
 //   the vehicle is predicted to have then, so the setpoints stay continuous. Until then the
-//   current one goes on (and a revision that arrives later but starts earlier replaces the ones
+//   current one goes on (a revision that arrives later but starts earlier replaces those still
 //   waiting). A trajectory that starts later than now with nothing flown before: the setpoint
 //   waits at its first sample.
 // - Holding: after the last sample, when the daemon has been silent for longer than the timeout,

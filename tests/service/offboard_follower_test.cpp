@@ -148,6 +148,27 @@ TEST_F(OffboardFollowerTest, ANewRevisionTakesOverAtItsStartWithoutAJump) {
   EXPECT_LT((dv - just_before->acceleration_ned_mps2 * 2e-3).norm(), 1e-4);
 }
 
+TEST_F(OffboardFollowerTest, BeforeAnyStartTheRevisionThatStartsFirstIsFlownFirst) {
+  const Motion replanned = testing::divergingAt(turn_, 5.0, Eigen::Vector3d(4.0, 0.0, 0.0));
+  // Both arrive before revision 0 starts: revision 0 is flown from 2 s, revision 1 from 5 s.
+  OffboardFollower later(kPx4Origin, {});
+  ASSERT_TRUE(later.offer(sampled(turn_, {.from_s = 2.0, .to_s = 30.0}), at(0.0)).ok());
+  (void)later.step(at(0.5));
+  ASSERT_TRUE(later.offer(sampled(replanned, {.revision = 1, .from_s = 5.0, .to_s = 30.0}), at(1.0)).ok());
+  EXPECT_LT((enuOf(*later.step(at(1.5))) - turn_.p(2.0)).norm(), 1e-3);
+  EXPECT_LT((enuOf(*later.step(at(4.0))) - turn_.p(4.0)).norm(), 1e-3);
+  later.heardFromDaemon(at(6.0));
+  EXPECT_LT((enuOf(*later.step(at(6.0))) - replanned.p(6.0)).norm(), 1e-3);
+
+  // A revision that starts no later than the waiting one replaces it at once.
+  OffboardFollower sooner(kPx4Origin, {});
+  ASSERT_TRUE(sooner.offer(sampled(turn_, {.from_s = 4.0, .to_s = 30.0}), at(0.0)).ok());
+  (void)sooner.step(at(0.5));
+  ASSERT_TRUE(sooner.offer(sampled(replanned, {.revision = 1, .from_s = 3.0, .to_s = 30.0}), at(1.0)).ok());
+  EXPECT_LT((enuOf(*sooner.step(at(1.5))) - replanned.p(3.0)).norm(), 1e-3);
+  EXPECT_EQ(sooner.mode(), FollowMode::kBeforeStart);
+}
+
 TEST_F(OffboardFollowerTest, HoldsWhenTheDaemonFallsSilentUntilADifferentTrajectoryArrives) {
   OffboardFollower follower(kPx4Origin, {.silence_timeout_s = 2.0});
   ASSERT_TRUE(follower.offer(sampled(turn_, {.to_s = 30.0}), at(0.0)).ok());
