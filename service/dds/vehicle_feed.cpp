@@ -1,6 +1,6 @@
 #include "service/dds/vehicle_feed.hpp"
 
-#include <array>
+#include "service/dds/loaned_take.hpp"
 
 namespace skyroute::dds {
 
@@ -15,23 +15,13 @@ Result<VehicleFeed> VehicleFeed::create(dds_entity_t participant, std::string ve
 // Disposed instances are taken first, on their own: the typed reader skips samples without data,
 // and a dispose arrives as exactly such a sample (its key, the vehicle id, still filled in).
 Status VehicleFeed::takeRetractions(Update& update) const {
-  constexpr std::size_t kBatch = 16;
   constexpr uint32_t kDisposed = DDS_ANY_SAMPLE_STATE | DDS_ANY_VIEW_STATE | DDS_NOT_ALIVE_DISPOSED_INSTANCE_STATE;
-  for (;;) {
-    std::array<void*, kBatch> loans{};
-    std::array<dds_sample_info_t, kBatch> infos{};
-    const dds_return_t n = dds_take_mask(trajectories_.handle(), loans.data(), infos.data(), kBatch, kBatch, kDisposed);
-    if (n < 0) return ddsError(n, "dds_take_mask on skyroute_trajectory");
-    for (dds_return_t i = 0; i < n; ++i) {
-      const auto& key = *static_cast<const skyroute_msgs_Trajectory*>(loans[i]);
-      if (key.vehicle_id != nullptr && vehicle_id_ == key.vehicle_id) update.retracted = true;
-    }
-    if (n > 0) {
-      const dds_return_t rc = dds_return_loan(trajectories_.handle(), loans.data(), n);
-      if (rc != DDS_RETCODE_OK) return ddsError(rc, "dds_return_loan on skyroute_trajectory");
-    }
-    if (static_cast<std::size_t>(n) < kBatch) return Status::success();
-  }
+  return takeLoaned<skyroute_msgs_Trajectory>(trajectories_.handle(), kDisposed, "skyroute_trajectory",
+                                              [&](const skyroute_msgs_Trajectory& key, const dds_sample_info_t&) {
+                                                if (key.vehicle_id != nullptr && vehicle_id_ == key.vehicle_id) {
+                                                  update.retracted = true;
+                                                }
+                                              });
 }
 
 Result<VehicleFeed::Update> VehicleFeed::take() const {

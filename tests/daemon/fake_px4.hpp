@@ -4,7 +4,6 @@
 // rt/[ns/]fmu/out/vehicle_local_position that tells the EKF origin, as PX4's bridge does.
 #pragma once
 
-#include <array>
 #include <chrono>
 #include <memory>
 #include <string>
@@ -13,7 +12,7 @@
 #include <Eigen/Core>
 
 #include "px4_msgs.h"
-#include "service/dds/dds_entities.hpp"
+#include "service/dds/loaned_take.hpp"
 #include "service/dds/px4_io.hpp"
 
 namespace skyroute::testing {
@@ -97,17 +96,9 @@ class FakePx4 {
   FakePx4() = default;
   template <class Wire, class F>
   static void takeAll(dds_entity_t reader, F&& on) {
-    for (;;) {
-      std::array<void*, 64> loans{};
-      std::array<dds_sample_info_t, 64> infos{};
-      const dds_return_t n = dds_take(reader, loans.data(), infos.data(), loans.size(), loans.size());
-      if (n <= 0) return;
-      for (dds_return_t i = 0; i < n; ++i) {
-        if (infos[i].valid_data) on(*static_cast<const Wire*>(loans[i]));
-      }
-      (void)dds_return_loan(reader, loans.data(), n);
-      if (static_cast<std::size_t>(n) < loans.size()) return;
-    }
+    (void)dds::takeLoaned<Wire>(reader, DDS_ANY_STATE, "fake px4", [&](const Wire& w, const dds_sample_info_t& info) {
+      if (info.valid_data) on(w);
+    });
   }
 
   dds::Entity participant_;

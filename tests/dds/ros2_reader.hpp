@@ -3,7 +3,6 @@
 // reliable, transient-local, keep-last 1), copying what arrives into plain values.
 #pragma once
 
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -15,7 +14,7 @@
 
 #include "geographic_msgs.h"
 #include "nav_msgs.h"
-#include "service/dds/dds_entities.hpp"
+#include "service/dds/loaned_take.hpp"
 
 namespace skyroute::testing {
 
@@ -69,13 +68,10 @@ class RmwLikeReader {
     std::optional<Copy> latest;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
     while (std::chrono::steady_clock::now() < deadline) {
-      std::array<void*, 8> loans{};
-      std::array<dds_sample_info_t, 8> infos{};
-      const dds_return_t n = dds_take(reader_.get(), loans.data(), infos.data(), loans.size(), loans.size());
-      for (dds_return_t i = 0; i < n; ++i) {
-        if (infos[i].valid_data) latest = copyOf(*static_cast<const Wire*>(loans[i]));
-      }
-      if (n > 0) (void)dds_return_loan(reader_.get(), loans.data(), n);
+      (void)dds::takeLoaned<Wire>(reader_.get(), DDS_ANY_STATE, "rmw-like reader",
+                                  [&](const Wire& w, const dds_sample_info_t& info) {
+                                    if (info.valid_data) latest = copyOf(w);
+                                  });
       if (latest) return latest;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
