@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace skyroute {
 
@@ -34,10 +35,18 @@ Result<LocalFrame> recoverTrajectoryFrame(const TrajectoryData& trajectory, doub
     anchor.lon_deg += residual.x() / (kMetresPerDegree * std::cos(anchor.lat_deg * M_PI / 180.0));
   }
 
+  // Every sample against the frame, in one bulk transform (one per sample costs milliseconds).
+  std::vector<double> east(samples.size()), north(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    east[i] = samples[i].geo.lon_deg;
+    north[i] = samples[i].geo.lat_deg;
+  }
+  frame->lonLatToEastNorth(east.data(), north.data(), samples.size());
   double worst_m = 0.0;
   std::size_t worst = 0;
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    const double r = (frame->toEnu(samples[i].geo) - samples[i].position_enu_m).norm();
+    const Eigen::Vector3d enu(east[i], north[i], samples[i].geo.alt_amsl_m - anchor_alt_m);
+    const double r = (enu - samples[i].position_enu_m).norm();
     if (!(r <= worst_m)) {
       worst_m = r;
       worst = i;
