@@ -85,6 +85,10 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"dds", "heartbeat_period_s", "ServiceStatus period, seconds", &c.heartbeat_period_s, 0.05, 3600},
       {"dds", "flush_timeout_s", "on stop, how long writers wait for readers' acknowledgements, seconds",
        &c.flush_timeout_s, 0, 10},
+      {"ros2", "enabled",
+       "mirror each vehicle's current trajectory on ROS 2 topics rt/skyroute/<vehicle>/path (nav_msgs/Path) and "
+       "/origin (geographic_msgs/GeoPoint); docs/interop.md",
+       &c.ros2_enabled},
       {"planning", "default_planner", "route planner used when a request names none (skyroute planners lists them)",
        &p.default_planner, -kInf, kInf, plannerChoices()},
       {"planning", "seed", "seed of every plan (a run is reproducible from it)", &s.seed, 0, 9.0e18},
@@ -193,7 +197,7 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
         std::any_of(keys.begin(), keys.end(), [&](const Key& k) { return section == k.section; });
     if (!known_section) {
       return make_error(ErrorCode::kInvalidArgument, section,
-                        "unknown section [" + section + "] (known: terrain, dds, planning, replanning, log)");
+                        "unknown section [" + section + "] (known: terrain, dds, ros2, planning, replanning, log)");
     }
     if (!table) return make_error(ErrorCode::kInvalidArgument, section, "must be a table [" + section + "]");
     for (const auto& [key_name, node] : *table) {

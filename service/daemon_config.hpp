@@ -20,6 +20,8 @@ struct DaemonConfig {
   std::string service_id = "skyrouted";
   double heartbeat_period_s = 1.0;      // ServiceStatus period
   double flush_timeout_s = 0.5;         // on stop, writers wait this long for acknowledgements
+  // [ros2]
+  bool ros2_enabled = true;             // mirror trajectories on ROS 2 topics (dds/ros2_mirror.hpp)
   // [planning] and [replanning]
   EngineOptions engine;
   // [log]

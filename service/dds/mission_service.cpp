@@ -55,6 +55,7 @@ Status MissionService::configure(const DaemonConfig& config) {
   if (!fleet_statuses.ok()) return fleet_statuses.error();
   auto loop = WaitLoop::create(p);
   if (!loop.ok()) return loop.error();
+  std::unique_ptr<Ros2Mirror> ros2 = config.ros2_enabled ? Ros2Mirror::create(p, (*world)->frame().anchor()) : nullptr;
 
   config_ = config;
   world_ = std::move(*world);
@@ -69,6 +70,7 @@ Status MissionService::configure(const DaemonConfig& config) {
   fleet_requests_.emplace(std::move(*fleet_requests));
   fleet_statuses_.emplace(std::move(*fleet_statuses));
   loop_.emplace(std::move(*loop));
+  ros2_ = std::move(ros2);
 
   // Handlers only queue or flag: planning happens on the engine's threads.
   Status added = loop_->addWithRejects(
@@ -139,6 +141,7 @@ Status MissionService::deactivate() {
   (void)statuses_->waitForAcks(flush_s);
   (void)fleet_statuses_->waitForAcks(flush_s);
   (void)trajectories_->waitForAcks(flush_s);
+  if (ros2_) ros2_->flush(flush_s);
   state_ = State::kInactive;
   spdlog::info("event=inactive");
   return Status::success();
@@ -151,6 +154,7 @@ Status MissionService::cleanup() {
   if (state_ == State::kUnconfigured) return Status::success();
   engine_.reset();
   loop_.reset();
+  ros2_.reset();
   heartbeat_.reset();
   fleet_statuses_.reset();
   fleet_requests_.reset();
@@ -169,7 +173,8 @@ Status MissionService::reload(const DaemonConfig& config) {
   const bool restart = config.dem_path != config_.dem_path || config.domain != config_.domain ||
                        config.world.vehicle_radius_m != config_.world.vehicle_radius_m ||
                        config.world.terrain_margin_m != config_.world.terrain_margin_m ||
-                       config.engine.planning_threads != config_.engine.planning_threads;
+                       config.engine.planning_threads != config_.engine.planning_threads ||
+                       config.ros2_enabled != config_.ros2_enabled;
   if (!restart) {
     engine_->setOptions(config.engine);
     config_ = config;
@@ -197,6 +202,7 @@ void MissionService::publishTrajectory(const TrajectoryData& trajectory) {
   if (Status s = trajectories_->write(trajectory); !s.ok()) {
     spdlog::error("event=write_failed topic=trajectory field={} message=\"{}\"", s.error().field, s.error().message);
   }
+  if (ros2_) ros2_->publish(trajectory);
 }
 
 void MissionService::retractTrajectory(const std::string& vehicle_id) {
@@ -205,6 +211,7 @@ void MissionService::retractTrajectory(const std::string& vehicle_id) {
   if (Status s = trajectories_->dispose(key); !s.ok()) {
     spdlog::error("event=dispose_failed vehicle={} message=\"{}\"", vehicle_id, s.error().message);
   }
+  if (ros2_) ros2_->retract(vehicle_id);
 }
 
 void MissionService::publishFleetStatus(const FleetStatusData& status) {

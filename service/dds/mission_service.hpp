@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "service/daemon_config.hpp"
+#include "service/dds/ros2_mirror.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/engine.hpp"
 
@@ -70,6 +71,7 @@ class MissionService final : public EngineSink {
   // Fleets (issue 7): FleetRequest in, FleetStatus out (trajectories on the same writer).
   std::optional<Reader<FleetRequestData>> fleet_requests_;
   std::optional<Writer<FleetStatusData>> fleet_statuses_;
+  std::unique_ptr<Ros2Mirror> ros2_;  // ROS 2 topics of every trajectory (ros2.enabled)
   std::optional<WaitLoop> loop_;
   std::thread dds_thread_;
   std::atomic<std::uint64_t> bad_samples_{0};
