@@ -5,7 +5,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <optional>
 
@@ -123,7 +125,14 @@ Result<std::unique_ptr<GcsWebServer>, ServeError> GcsWebServer::start(const Serv
     }
     web->port_ = address.port;
   }
-  web->thread_ = std::thread([server = web->server_.get()] { server->listen_after_bind(); });
+  auto ended = std::make_shared<std::atomic<bool>>(false);
+  web->thread_ = std::thread([server = web->server_.get(), ended] {
+    server->listen_after_bind();
+    *ended = true;
+  });
+  // httplib's stop() does nothing before the loop runs, and the loop would then never end: wait
+  // for it (it starts at once; the bound socket already queues connections meanwhile).
+  while (!web->server_->is_running() && !*ended) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   return web;
 }
 
