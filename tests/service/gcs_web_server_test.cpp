@@ -4,11 +4,6 @@
 // the address given, and a prompt stop with a browser still listening.
 #include <gtest/gtest.h>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <atomic>
 #include <chrono>
 #include <mutex>
@@ -19,6 +14,7 @@
 
 #include "service/gcs_web_server.hpp"
 #include "tests/service/gcs_fixtures.hpp"
+#include "tests/tcp_ports.hpp"
 
 // After Eigen (through the headers above): httplib brings <resolv.h>, whose _res macro breaks
 // Eigen's declarations.
@@ -28,28 +24,6 @@ namespace skyroute {
 namespace {
 
 using nlohmann::json;
-
-// A socket listening on 127.0.0.1 at a port the system chose: the port is in use while it lives.
-class BusyPort {
- public:
-  BusyPort() {
-    fd_ = socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t length = sizeof a;
-    if (bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 && listen(fd_, 1) == 0 &&
-        getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &length) == 0) {
-      port_ = ntohs(a.sin_port);
-    }
-  }
-  ~BusyPort() { ::close(fd_); }
-  int port() const { return port_; }
-
- private:
-  int fd_ = -1;
-  int port_ = 0;
-};
 
 class GcsWebServerTest : public ::testing::Test {
  protected:
@@ -214,6 +188,16 @@ TEST_F(GcsWebServerTest, StopsPromptlyWithABrowserStillListening) {
   EXPECT_FALSE(client_->Get("/state.json"));  // nobody listens any more
 }
 
+TEST_F(GcsWebServerTest, StoppingRightAfterStartingNeverHangs) {
+  for (int i = 0; i < 20; ++i) {
+    auto server = GcsWebServer::start({"127.0.0.1", 0}, state_);
+    ASSERT_TRUE(server.ok()) << server.error().message;
+    const auto started = std::chrono::steady_clock::now();
+    (*server)->stop();
+    ASSERT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(2)) << "round " << i;
+  }
+}
+
 TEST_F(GcsWebServerTest, BindsOnlyTheAddressGiven) {
   // All of 127/8 reaches this machine on Linux; a server bound to 127.0.0.1 must not answer on
   // 127.0.0.2.
@@ -224,7 +208,7 @@ TEST_F(GcsWebServerTest, BindsOnlyTheAddressGiven) {
 }
 
 TEST_F(GcsWebServerTest, APortInUseIsToldApartFromABadAddress) {
-  BusyPort busy;
+  testing::HeldTcpPort busy;
   ASSERT_GT(busy.port(), 0);
   auto in_use = GcsWebServer::start({"127.0.0.1", busy.port()}, state_);
   ASSERT_FALSE(in_use.ok());
