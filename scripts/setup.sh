@@ -13,7 +13,7 @@ PACKAGES=(
   libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libompl-dev
-  libcpp-httplib-dev
+  libcpp-httplib-dev chromium chromium-driver
 )
 
 missing=()
