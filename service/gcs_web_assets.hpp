@@ -181,21 +181,31 @@ function clockText(seconds) {
 const distanceText = m => (m >= 1000 ? (m / 1000) + " km" : m + " m");
 
 function drawMap() {
-  const map = document.getElementById("map");
-  map.replaceChildren();
-  map.setAttribute("viewBox", `0 0 ${view.W} ${view.H}`);
-  svg("image", { href: state.map.image, x: 0, y: 0, width: view.W, height: view.H, preserveAspectRatio: "none" }, map);
+  const svgRoot = document.getElementById("map");
+  svgRoot.setAttribute("viewBox", `0 0 ${view.W} ${view.H}`);
+  // The terrain stays while the drawing over it is redrawn: a new image element would load the
+  // picture again at every state.
+  const terrain = document.getElementById("terrain-image") ||
+    svg("image", { id: "terrain-image", href: state.map.image, preserveAspectRatio: "none" }, svgRoot);
+  for (const [k, v] of Object.entries({ x: 0, y: 0, width: view.W, height: view.H })) terrain.setAttribute(k, v);
+  const old = document.getElementById("overlay");
+  if (old) old.remove();
+  const map = svg("g", { id: "overlay" }, svgRoot);
   const xy = (lat, lon) => `${view.x(lon).toFixed(1)},${view.y(lat).toFixed(1)}`;
+  // Bottom to top: zones, obstacle tracks, trajectories, obstacles now, vehicles now (with labels).
+  const layer = () => svg("g", {}, map);
+  const zones = layer(), tracks = layer(), routes = layer(), bodies = layer(), vehicles = layer();
 
   for (const z of state.no_fly_zones) {
-    svg("polygon", { class: "no-fly", points: z.polygon.map(p => xy(p.lat_deg, p.lon_deg)).join(" ") }, map);
+    svg("polygon", { class: "no-fly", points: z.polygon.map(p => xy(p.lat_deg, p.lon_deg)).join(" ") }, zones);
   }
   for (const o of state.obstacles) {
     const a = o.track.from, b = o.track.to;
     svg("line", { x1: view.x(a.lon_deg), y1: view.y(a.lat_deg), x2: view.x(b.lon_deg), y2: view.y(b.lat_deg),
-                  stroke: OBSTACLE, "stroke-width": 3, "stroke-dasharray": "10 7" }, map);
-    const g = svg("g", { id: "obstacle-" + o.id, "data-obstacle": o.id }, map);
-    const rx = o.size_m[0] / view.metresPerUnit, ry = (o.shape === "sphere" || o.shape === "cylinder" ? o.size_m[0] : o.size_m[1]) / view.metresPerUnit;
+                  stroke: OBSTACLE, "stroke-width": 3, "stroke-dasharray": "10 7" }, tracks);
+    const g = svg("g", { id: "obstacle-" + o.id, "data-obstacle": o.id }, bodies);
+    const round = o.shape === "sphere" || o.shape === "cylinder";
+    const rx = o.size_m[0] / view.metresPerUnit, ry = (round ? o.size_m[0] : o.size_m[1]) / view.metresPerUnit;
     const body = { fill: "rgba(255,122,0,0.35)", stroke: OBSTACLE, "stroke-width": 2.5 };
     if (o.shape === "box") svg("rect", { x: -rx, y: -ry, width: 2 * rx, height: 2 * ry, ...body }, g);
     else svg("ellipse", { rx, ry, ...body }, g);
@@ -206,15 +216,15 @@ function drawMap() {
     const s = v.trajectory.samples, colour = colourOf(v.vehicle_id), chosen = v.vehicle_id === selected;
     const points = s.lat_deg.map((lat, i) => xy(lat, s.lon_deg[i])).join(" ");
     svg("polyline", { points, fill: "none", stroke: "#fff", "stroke-width": chosen ? 9 : 7, "stroke-opacity": 0.85,
-                      "stroke-linejoin": "round" }, map);
+                      "stroke-linejoin": "round" }, routes);
     const line = svg("polyline", { points, fill: "none", stroke: colour, "stroke-width": chosen ? 5 : 3.5,
-                                   "stroke-linejoin": "round", "data-vehicle": v.vehicle_id }, map);
+                                   "stroke-linejoin": "round", "data-vehicle": v.vehicle_id }, routes);
     line.addEventListener("click", () => select(v.vehicle_id));
     const last = s.lat_deg.length - 1;
-    svg("circle", { cx: view.x(s.lon_deg[0]), cy: view.y(s.lat_deg[0]), r: 7, fill: "#fff", stroke: colour, "stroke-width": 3 }, map);
+    svg("circle", { cx: view.x(s.lon_deg[0]), cy: view.y(s.lat_deg[0]), r: 7, fill: "#fff", stroke: colour, "stroke-width": 3 }, routes);
     svg("rect", { x: view.x(s.lon_deg[last]) - 7, y: view.y(s.lat_deg[last]) - 7, width: 14, height: 14, fill: "#fff",
-                  stroke: colour, "stroke-width": 3 }, map);
-    const marker = svg("g", { id: "marker-" + v.vehicle_id }, map);
+                  stroke: colour, "stroke-width": 3 }, routes);
+    const marker = svg("g", { id: "marker-" + v.vehicle_id }, vehicles);
     svg("circle", { r: 10, fill: colour, stroke: "#fff", "stroke-width": 3.5 }, marker);
     svg("text", { class: "map-label halo", x: 15, y: -12, fill: colour }, marker,
         `${v.vehicle_id} · rev ${v.trajectory.revision}`);
@@ -334,8 +344,8 @@ function drawProfile() {
   svg("circle", { id: "profile-dot", r: 5, fill: colour, stroke: "#fff", "stroke-width": 2 }, p);
   profile = { vehicle: v, t0, t1: t0 + span, X, Y };
   const minClearance = clearance.i >= 0 ? ` · lowest ${Math.round(clearance.m)} m above ground (dashed)` : "";
-  title.textContent = `Altitude profile of ${v.vehicle_id}, revision ${v.trajectory.revision}: ` +
-    `metres AMSL against time (m:ss) from the revision's start${minClearance}`;
+  title.textContent = `Altitude profile of ${v.vehicle_id}, revision ${v.trajectory.revision} · ` +
+    `m AMSL over m:ss since the revision began${minClearance}`;
 }
 
 // Moves what depends on the time: vehicle markers, obstacles, the profile's time line, clocks.
