@@ -192,7 +192,8 @@ std::string GcsMapState::render() const {
         {"max_height_m", terrain_->maxHeightM()}}},
       {"vehicles", std::move(vehicles)},
       {"obstacles", std::move(obstacles)},
-      // Polygons with floor and ceiling once the product has no-fly zones; none exist yet.
+      // The product has no no-fly zones yet; each will be a NoFlyZone (qgc_plan.hpp) as
+      // {"ring": [{"lat_deg", "lon_deg"}, ...]}, which the page draws.
       {"no_fly_zones", json::array()},
   };
   return state.dump();

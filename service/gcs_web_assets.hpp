@@ -197,7 +197,7 @@ function drawMap() {
   const zones = layer(), tracks = layer(), routes = layer(), bodies = layer(), vehicles = layer();
 
   for (const z of state.no_fly_zones) {
-    svg("polygon", { class: "no-fly", points: z.polygon.map(p => xy(p.lat_deg, p.lon_deg)).join(" ") }, zones);
+    svg("polygon", { class: "no-fly", points: z.ring.map(p => xy(p.lat_deg, p.lon_deg)).join(" ") }, zones);
   }
   for (const o of state.obstacles) {
     const a = o.track.from, b = o.track.to;
@@ -293,7 +293,7 @@ function drawSidebar() {
   if (!state.obstacles.length) html("li", {}, obstacles, "none");
   const zones = document.getElementById("no-fly-zones");
   zones.replaceChildren();
-  for (const z of state.no_fly_zones) html("li", {}, zones, `${z.id} ${z.floor_amsl_m}–${z.ceiling_amsl_m} m AMSL`);
+  state.no_fly_zones.forEach((z, i) => html("li", {}, zones, `zone ${i + 1}: ${z.ring.length} corners`));
   if (!state.no_fly_zones.length) html("li", {}, zones, "none");
 }
 

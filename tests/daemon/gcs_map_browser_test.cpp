@@ -109,6 +109,16 @@ TEST(GcsMapBrowser, PageFollowsTheDaemonsRevisionsAsTheyArrive) {
   EXPECT_TRUE(exists(*browser, "#obstacle-91"));
   EXPECT_NE(pageText(*browser).find(kVehicle + " · rev 1"), std::string::npos) << pageText(*browser);
 
+  // No-fly zones are not in the product yet: the state's list is empty, and a zone in the shape
+  // the state reserves for them is drawn once one comes.
+  EXPECT_FALSE(exists(*browser, "#map polygon.no-fly"));
+  auto drawn = browser->script(
+      "const m = state.map, lat = (m.south_deg + m.north_deg) / 2, lon = (m.west_deg + m.east_deg) / 2;"
+      "receive(Object.assign({}, state, {no_fly_zones: [{ring: [{lat_deg: lat, lon_deg: lon},"
+      "  {lat_deg: lat + 0.01, lon_deg: lon}, {lat_deg: lat, lon_deg: lon + 0.01}]}]}));"
+      "return document.querySelectorAll('#map polygon.no-fly').length;");
+  EXPECT_TRUE(drawn && *drawn == 1) << (drawn ? drawn->dump() : "script failed");
+
   browser.reset();
   gcs.signal(SIGINT);
   EXPECT_EQ(gcs.wait(10.0), 0) << gcs.err();
