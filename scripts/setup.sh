@@ -14,6 +14,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libompl-dev
   tshark  # the ROS 2 mirror's packet-capture test (tests/daemon/ros2_e2e_test.cpp)
+  libcpp-httplib-dev chromium chromium-driver
 )
 
 missing=()
