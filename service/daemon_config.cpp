@@ -29,7 +29,7 @@ struct Key {
 // Integer fields are kept in these while parsing, then copied to their typed homes.
 struct IntegerShadow {
   std::int64_t domain, seed, threads, max_queue, max_points, leg_max_iterations, order_cells, max_attempts,
-      replan_leg_iterations;
+      replan_leg_iterations, max_stored_results, max_samples, fleet_vehicles, fleet_tasks;
 };
 
 IntegerShadow shadowOf(const DaemonConfig& c) {
@@ -41,7 +41,11 @@ IntegerShadow shadowOf(const DaemonConfig& c) {
                        static_cast<std::int64_t>(c.engine.replan.route.leg_max_iterations),
                        c.engine.order.max_cells_per_axis,
                        c.engine.replan.max_attempts,
-                       static_cast<std::int64_t>(c.engine.replan.replan_leg_max_iterations)};
+                       static_cast<std::int64_t>(c.engine.replan.replan_leg_max_iterations),
+                       static_cast<std::int64_t>(c.engine.max_stored_results),
+                       static_cast<std::int64_t>(c.engine.bounds.trajectory.max_samples),
+                       static_cast<std::int64_t>(c.engine.fleet.max_vehicles),
+                       static_cast<std::int64_t>(c.engine.fleet.max_tasks)};
 }
 
 void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
@@ -54,10 +58,15 @@ void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
   c.engine.order.max_cells_per_axis = static_cast<int>(s.order_cells);
   c.engine.replan.max_attempts = static_cast<int>(s.max_attempts);
   c.engine.replan.replan_leg_max_iterations = static_cast<std::uint64_t>(s.replan_leg_iterations);
+  c.engine.max_stored_results = static_cast<std::size_t>(s.max_stored_results);
+  c.engine.bounds.trajectory.max_samples = static_cast<std::size_t>(s.max_samples);
+  c.engine.fleet.max_vehicles = static_cast<std::size_t>(s.fleet_vehicles);
+  c.engine.fleet.max_tasks = static_cast<std::size_t>(s.fleet_tasks);
 }
 
 std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
   EngineOptions& e = c.engine;
+  VehicleLimitBounds& b = e.bounds.limits;
   return {
       {"terrain", "dem", "DEM raster path (any GDAL raster); \"\" = the embedded default terrain", &c.dem_path},
       {"terrain", "vehicle_radius_m", "every vehicle's bounding sphere, metres", &c.world.vehicle_radius_m, 0.01, 1000},
@@ -68,14 +77,23 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"dds", "domain", "DDS domain id", &s.domain, 0, 232},
       {"dds", "service_id", "this daemon's key in the ServiceStatus heartbeat", &c.service_id},
       {"dds", "heartbeat_period_s", "ServiceStatus period, seconds", &c.heartbeat_period_s, 0.05, 3600},
-      {"dds", "flush_timeout_s", "on stop, how long writers wait for readers' acknowledgements, seconds",
+      {"dds", "flush_timeout_s", "on stop, how long the writers wait in all for readers' acknowledgements, seconds",
        &c.flush_timeout_s, 0, 10},
+      {"dds", "startup_probe_s",
+       "before serving, listen this long for another daemon with this service_id (then refuse to start), seconds",
+       &c.startup_probe_s, 0, 10},
       {"planning", "default_planner", "planner used when a request names none", &e.default_planner, -kInf, kInf,
        {kDefaultPlanner, kHabPpPlanner, kHabPpRrtPlanner}},
       {"planning", "seed", "RRT* seed of every plan (a run is reproducible from it)", &s.seed, 0, 9.0e18},
       {"planning", "threads", "requests planned at once", &s.threads, 1, 64},
       {"planning", "max_queue", "requests waiting beyond this are refused with ERROR_BUSY", &s.max_queue, 1, 100000},
       {"planning", "max_points", "largest number of mission points in one request", &s.max_points, 1, 1000},
+      {"planning", "memory_budget_mb",
+       "memory the planning threads share; a request whose estimate exceeds one thread's share is refused with "
+       "ERROR_TOO_LARGE (0 = no guard), MiB",
+       &e.memory_budget_mb, 0, 1e6},
+      {"planning", "max_stored_results", "finished requests remembered to answer a repeated request_id",
+       &s.max_stored_results, 0, 1000000},
       {"planning", "sample_dt_s", "spacing of the published trajectory samples, seconds", &e.sample_dt_s, 0.001, 10},
       {"planning", "leg_max_iterations", "RRT* iterations per leg (0 = none; then set leg_budget_ms)",
        &s.leg_max_iterations, 0, 1e9},
@@ -100,8 +118,33 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
        &s.replan_leg_iterations, 0, 1e9},
       {"replanning", "budget_ms", "wall-time budget of one replan (the first candidate is always finished), milliseconds",
        &e.replan.replan_budget_ms, 0, 60000},
+      {"bounds", "min_speed_mps", "a request's v_ref_mps and max_speed_mps at least, m/s", &b.min_speed_mps, 0.01, 1000},
+      {"bounds", "max_speed_mps", "any speed limit of a request at most, m/s", &b.max_speed_mps, 0.01, 1000},
+      {"bounds", "min_vertical_speed_mps", "a request's max_climb_rate_mps and max_descent_rate_mps at least, m/s",
+       &b.min_vertical_speed_mps, 0.001, 1000},
+      {"bounds", "min_accel_mps2", "a request's max_accel_mps2 at least, m/s^2", &b.min_accel_mps2, 0.001, 1000},
+      {"bounds", "max_accel_mps2", "a request's max_accel_mps2 at most, m/s^2", &b.max_accel_mps2, 0.001, 1000},
+      {"bounds", "max_turn_radius_m", "a request's min_turn_radius_m at most, metres", &b.max_turn_radius_m, 0, 1e6},
+      {"bounds", "max_clearance_m", "a request's min_clearance_agl_m at most, metres", &b.max_clearance_m, 0, 1e5},
+      {"bounds", "max_ceiling_amsl_m", "a request's ceiling_amsl_m at most, metres", &b.max_ceiling_amsl_m, 0, 1e5},
+      {"bounds", "max_trajectory_duration_s",
+       "longest trajectory the service makes; a longer one is refused with ERROR_TOO_LARGE before sampling, seconds",
+       &e.bounds.trajectory.max_duration_s, 1, 1e6},
+      {"bounds", "max_trajectory_samples",
+       "most samples in one published trajectory; more is refused with ERROR_TOO_LARGE before sampling",
+       &s.max_samples, 10, 10000000},
+      {"bounds", "max_fleet_vehicles", "vehicles in one fleet request at most", &s.fleet_vehicles, 1, 1000},
+      {"bounds", "max_fleet_tasks", "tasks in one fleet request at most", &s.fleet_tasks, 1, 10000},
+      {"obstacles", "max_speed_mps", "an obstacle's speed at most, m/s", &e.obstacles.max_speed_mps, 0, 10000},
+      {"obstacles", "extent_factor",
+       "an obstacle's size at most, and its position at most this far outside the DEM, in DEM longer sides",
+       &e.obstacles.extent_factor, 0.01, 100},
       {"log", "level", "log level", &c.log_level, -kInf, kInf, {"trace", "debug", "info", "warn", "error"}},
       {"log", "format", "text, or json (one object per line)", &c.log_format, -kInf, kInf, {"text", "json"}},
+      {"log", "repeat_window_s",
+       "a warning repeated for the same vehicle or input and reason is logged once per window, then with its count, "
+       "seconds",
+       &e.log_repeat_window_s, 0.1, 3600},
   };
 }
 
@@ -166,7 +209,7 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
         std::any_of(keys.begin(), keys.end(), [&](const Key& k) { return section == k.section; });
     if (!known_section) {
       return make_error(ErrorCode::kInvalidArgument, section,
-                        "unknown section [" + section + "] (known: terrain, dds, planning, replanning, log)");
+                        "unknown section [" + section + "] (known: terrain, dds, planning, replanning, bounds, obstacles, log)");
     }
     if (!table) return make_error(ErrorCode::kInvalidArgument, section, "must be a table [" + section + "]");
     for (const auto& [key_name, node] : *table) {
@@ -181,6 +224,16 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
     }
   }
   applyShadow(shadow, config);
+  const VehicleLimitBounds& b = config.engine.bounds.limits;
+  if (b.min_speed_mps > b.max_speed_mps) {
+    return make_error(ErrorCode::kInvalidArgument, "bounds.min_speed_mps", "is above bounds.max_speed_mps");
+  }
+  if (b.min_accel_mps2 > b.max_accel_mps2) {
+    return make_error(ErrorCode::kInvalidArgument, "bounds.min_accel_mps2", "is above bounds.max_accel_mps2");
+  }
+  if (b.min_vertical_speed_mps > b.max_speed_mps) {
+    return make_error(ErrorCode::kInvalidArgument, "bounds.min_vertical_speed_mps", "is above bounds.max_speed_mps");
+  }
   if (config.engine.replan.route.leg_max_iterations == 0 && config.engine.replan.route.leg_budget_ms <= 0.0) {
     return make_error(ErrorCode::kInvalidArgument, "planning.leg_max_iterations",
                       "and planning.leg_budget_ms are both 0: RRT* would never stop");
