@@ -15,6 +15,7 @@ inline constexpr int kExitFailure = 1;      // the service answered with a failu
 inline constexpr int kExitBadInput = 2;     // an argument or file is malformed
 inline constexpr int kExitNoService = 3;    // nothing answered in time
 inline constexpr int kExitDdsError = 4;
+inline constexpr int kExitServiceLost = 5;  // the service that took the request disappeared
 
 // Prints "skyroute <tool>: <message>" on stderr and throws CLI::RuntimeError(code).
 [[noreturn]] void fail(const std::string& tool, int code, const std::string& message);
