@@ -53,6 +53,15 @@ class DaemonFixture : public ::testing::Test {
     ASSERT_TRUE(station_->statuses->waitForWriters(1, 20.0).ok());
     ASSERT_TRUE(station_->trajectories->waitForWriters(1, 20.0).ok());
   }
+  // Another ground station on `domain`, once the daemon reads its requests and answers it.
+  std::unique_ptr<Station> openMatchedStation(int domain) const {
+    auto station = Station::open(domain);
+    if (!station || !station->requests->waitForReaders(1, 20.0).ok() ||
+        !station->statuses->waitForWriters(1, 20.0).ok()) {
+      return nullptr;
+    }
+    return station;
+  }
   // The same with a configuration file (written to a temporary path, kept for SIGHUP tests).
   void startDaemonWithConfig(int domain, const std::string& toml, std::vector<std::string> extra = {}) {
     config_path_ = e2eTempPath("skyrouted_" + std::to_string(domain) + ".toml");

@@ -79,6 +79,16 @@ struct Station {
       if (s.request_id == request_id && isTerminal(s.state)) return s;
     return std::nullopt;
   }
+  // Whether request_id has reached `state` (for this station's requests only, when mine).
+  bool reached(const std::string& request_id, PlanState state, bool mine = false) const {
+    const std::string me = mine ? requesterId() : "";
+    return std::any_of(status_log.begin(), status_log.end(), [&](const PlanStatusData& s) {
+      return s.request_id == request_id && s.state == state && (!mine || s.requester == me);
+    });
+  }
+  bool waitState(const std::string& request_id, PlanState state, double timeout_s, bool mine = false) {
+    return pumpUntil([&] { return reached(request_id, state, mine); }, timeout_s);
+  }
   // The GUID the daemon names this station's requests by (PlanStatusData::requester).
   std::string requesterId() const { return dds::entityGuid(requests->handle()); }
   // The final status of request_id addressed to this station (another station may use the id).

@@ -96,30 +96,16 @@ TEST_F(RequestBoundsE2E, ARequestIdNamesOnePlanPerVehicle) {
   // One planning thread, busy with a slow mission (RRT* legs of up to 2,000,000 iterations), so
   // the request below waits in the queue: in flight when its duplicate comes.
   startDaemonWithConfig(172, "[planning]\nleg_max_iterations = 2000000\n");
-  auto second = Station::open(172);
+  auto second = openMatchedStation(172);
   ASSERT_TRUE(second);
-  ASSERT_TRUE(second->requests->waitForReaders(1, 20.0).ok());
-  ASSERT_TRUE(second->statuses->waitForWriters(1, 20.0).ok());
   const MissionRequestData blocker = slowMission("blocker", "uav-z");
   ASSERT_TRUE(station_->requests->write(blocker).ok());
-  ASSERT_TRUE(station_->pumpUntil(
-      [&] {
-        for (const auto& s : station_->status_log)
-          if (s.request_id == "blocker" && s.state == PlanState::kPlanning) return true;
-        return false;
-      },
-      30.0));
+  ASSERT_TRUE(station_->waitState("blocker", PlanState::kPlanning, 30.0));
 
   const MissionRequestData valid = simpleMission("dup-1", "uav-d", 0.0);
   ASSERT_TRUE(station_->requests->write(valid).ok());
   const std::string me = station_->requesterId();
-  ASSERT_TRUE(station_->pumpUntil(
-      [&] {
-        for (const auto& s : station_->status_log)
-          if (s.request_id == "dup-1" && s.requester == me && s.state == PlanState::kAccepted) return true;
-        return false;
-      },
-      10.0));
+  ASSERT_TRUE(station_->waitState("dup-1", PlanState::kAccepted, 10.0, /*mine=*/true));
   // Another client, the same id and vehicle, an impossible mission: refused, and only to it.
   MissionRequestData impossible = valid;
   impossible.points[0] = above(0, 200, -100);
@@ -143,10 +129,8 @@ TEST_F(RequestBoundsE2E, ARequestIdNamesOnePlanPerVehicle) {
   const std::string plan_id = station_->latest("uav-d")->plan_id;
 
   // After completion the same id gets the stored answer: no new plan, whatever the mission says.
-  auto third = Station::open(172);
+  auto third = openMatchedStation(172);
   ASSERT_TRUE(third);
-  ASSERT_TRUE(third->requests->waitForReaders(1, 20.0).ok());
-  ASSERT_TRUE(third->statuses->waitForWriters(1, 20.0).ok());
   ASSERT_TRUE(third->requests->write(impossible).ok());
   ASSERT_TRUE(third->pumpUntil([&] { return third->terminalForMe("dup-1").has_value(); }, 10.0)) << daemon_.err();
   EXPECT_EQ(third->terminalForMe("dup-1")->state, PlanState::kSucceeded);

@@ -48,6 +48,16 @@ TEST_F(ServicePresenceE2E, ASecondDaemonWithTheSameServiceIdRefusesToStart) {
   EXPECT_EQ(second.err().find("event=request_accepted"), std::string::npos);
   // The first one noticed it and serves on.
   EXPECT_TRUE(waitForLog("event=rival_instance", 10.0)) << daemon_.err();
+
+  // One that does not listen before serving (no startup probe) starts, then meets the older one
+  // through discovery and stops with the same verdict.
+  const std::string config = testing::e2eTempPath("no_probe.toml");
+  std::ofstream(config) << "[dds]\nstartup_probe_s = 0\n";
+  ChildProcess late = ChildProcess::spawn({SKYROUTED, "--domain", "177", "--config", config}, "skyrouted_177_late");
+  EXPECT_EQ(late.wait(20.0), 5) << late.err();
+  EXPECT_NE(late.err().find("event=service_conflict"), std::string::npos) << late.err();
+  EXPECT_NE(late.err().find("started before this one; stopping"), std::string::npos) << late.err();
+  std::filesystem::remove(config);
   const MissionRequestData m = simpleMission("after-rival", "uav-r", 0.0);
   ASSERT_TRUE(station_->requests->write(m).ok());
   ASSERT_TRUE(station_->waitTerminal({m.request_id}, 120.0)) << daemon_.err();

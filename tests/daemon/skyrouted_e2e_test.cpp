@@ -199,13 +199,7 @@ TEST_F(SkyroutedE2E, SigtermDuringPlanningStopsCleanlyWithinASecond) {
   std::filesystem::remove(config);
   const MissionRequestData big = slowMission("big", "uav-big");
   ASSERT_TRUE(station_->requests->write(big).ok());
-  ASSERT_TRUE(station_->pumpUntil(
-      [&] {
-        for (const auto& s : station_->status_log)
-          if (s.request_id == "big" && s.state == PlanState::kPlanning) return true;
-        return false;
-      },
-      30.0));
+  ASSERT_TRUE(station_->waitState("big", PlanState::kPlanning, 30.0));
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   ASSERT_FALSE(station_->terminal("big").has_value()) << "planning finished too fast to interrupt";
   const auto sent = std::chrono::steady_clock::now();
