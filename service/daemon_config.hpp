@@ -19,10 +19,11 @@ struct DaemonConfig {
   int domain = 0;
   std::string service_id = "skyrouted";
   double heartbeat_period_s = 1.0;      // ServiceStatus period
-  double flush_timeout_s = 0.5;         // on stop, writers wait this long for acknowledgements
+  double flush_timeout_s = 0.5;         // on stop, writers wait this long (in all) for acknowledgements
+  double startup_probe_s = 0.3;         // before serving, listen this long for another daemon with this service_id
   // [ros2]
   bool ros2_enabled = true;             // mirror trajectories on ROS 2 topics (dds/ros2_mirror.hpp)
-  // [planning] and [replanning]
+  // [planning], [replanning], [bounds] (engine.bounds) and [obstacles] (engine.obstacles)
   EngineOptions engine;
   // [log]
   std::string log_level = "info";       // trace, debug, info, warn, error

@@ -61,6 +61,8 @@ struct FleetMissionOptions {
   std::size_t max_vehicles = 32;
   std::size_t max_tasks = 256;
   RouteOptions route;               // the trajectory stage (route.trajectory)
+  VehicleLimitBounds limit_bounds;  // what the shared limits may ask for
+  TrajectorySizeBounds trajectory_bounds;  // each vehicle's trajectory, checked before sampling
 };
 
 struct FleetPlanOutput {

@@ -252,6 +252,10 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
     built.trajectory = Trajectory(std::move(segments.value()));
     report.final_check = checkFeasibility(built.trajectory, limits, options.feasibility, collision);
     report.repair_rounds = round;
+    if (report.final_check.stopped) {
+      return make_error(ErrorCode::kCancelled, "trajectory", "stopped while checking the trajectory (repair round " +
+                                                                 std::to_string(round) + ")");
+    }
     if (report.final_check.ok()) {
       report.status = round == 0 ? TrajectoryStatus::kFeasible : TrajectoryStatus::kRepaired;
       break;

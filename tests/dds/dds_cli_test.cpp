@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/dds/loopback.hpp"
+#include "service/dds/service_instance.hpp"
 #include "service/dds/typed_io.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/height_datum.hpp"
@@ -255,7 +256,10 @@ TEST(DdsCli, RequestExitCodeFollowsTheServiceAnswer) {
   ASSERT_TRUE(participant.ok());
   auto requests = dds::Reader<MissionRequestData>::create(participant->get());
   auto statuses = dds::Writer<PlanStatusData>::create(participant->get());
-  ASSERT_TRUE(requests.ok() && statuses.ok());
+  // The tool reaches every live service, which it knows from their heartbeat writers.
+  auto heartbeat = dds::Writer<ServiceStatusData>::create(participant->get(),
+                                                          dds::ServiceInstance::current("test-service").userData());
+  ASSERT_TRUE(requests.ok() && statuses.ok() && heartbeat.ok());
   auto loop = dds::WaitLoop::create(participant->get());
   ASSERT_TRUE(loop.ok());
   std::vector<MissionRequestData> heard;
