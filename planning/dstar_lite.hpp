@@ -28,8 +28,8 @@
 #include <span>
 #include <vector>
 
+#include "planning/core/termination.hpp"
 #include "planning/grid_search.hpp"
-#include "planning/termination.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

@@ -7,11 +7,11 @@
 // second.
 #pragma once
 
+#include "planning/core/result.hpp"
+#include "planning/core/termination.hpp"
 #include "planning/fleet_allocation.hpp"
 #include "planning/fleet_problem.hpp"
 #include "planning/fleet_travel_times.hpp"
-#include "planning/termination.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

@@ -9,11 +9,11 @@
 
 #include <cstdint>
 
+#include "planning/core/result.hpp"
+#include "planning/core/termination.hpp"
 #include "planning/fleet_allocation.hpp"
 #include "planning/fleet_problem.hpp"
 #include "planning/fleet_travel_times.hpp"
-#include "planning/termination.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

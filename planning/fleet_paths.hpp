@@ -19,10 +19,10 @@
 #include <string_view>
 #include <vector>
 
+#include "planning/core/termination.hpp"
 #include "planning/fleet_allocation.hpp"
 #include "planning/fleet_problem.hpp"
 #include "planning/fleet_travel_times.hpp"
-#include "planning/termination.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

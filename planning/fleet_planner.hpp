@@ -9,6 +9,8 @@
 #include <optional>
 #include <string_view>
 
+#include "planning/core/result.hpp"
+#include "planning/core/termination.hpp"
 #include "planning/fleet_allocation.hpp"
 #include "planning/fleet_conflict_checker.hpp"
 #include "planning/fleet_exact.hpp"
@@ -16,8 +18,6 @@
 #include "planning/fleet_local_search.hpp"
 #include "planning/fleet_paths.hpp"
 #include "planning/fleet_problem.hpp"
-#include "planning/termination.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "planning/core/result.hpp"
 #include "terrain/grid_layer.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

@@ -11,10 +11,10 @@
 // result is deterministic.
 #pragma once
 
+#include "planning/core/result.hpp"
 #include "planning/fleet_allocation.hpp"
 #include "planning/fleet_problem.hpp"
 #include "planning/fleet_travel_times.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

@@ -15,7 +15,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "planning/motion_validator.hpp"
+#include "planning/core/motion_validator.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "planning/termination.hpp"
+#include "planning/core/termination.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

@@ -18,9 +18,9 @@
 #include <string_view>
 #include <vector>
 
-#include "planning/termination.hpp"
+#include "planning/core/result.hpp"
+#include "planning/core/termination.hpp"
 #include "terrain/grid_layer.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

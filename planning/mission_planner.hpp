@@ -9,12 +9,12 @@
 #include <string_view>
 #include <vector>
 
+#include "planning/core/result.hpp"
+#include "planning/core/termination.hpp"
 #include "planning/grid_search.hpp"
 #include "planning/mission_search.hpp"
 #include "planning/open_tsp.hpp"
-#include "planning/termination.hpp"
 #include "terrain/grid_layer.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

@@ -15,8 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include "planning/core/termination.hpp"
 #include "planning/grid_search.hpp"
-#include "planning/termination.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute {
 

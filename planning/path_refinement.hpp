@@ -27,9 +27,9 @@
 
 #include <Eigen/Core>
 
-#include "planning/motion_validator.hpp"
-#include "planning/termination.hpp"
-#include "terrain/result.hpp"
+#include "planning/core/motion_validator.hpp"
+#include "planning/core/result.hpp"
+#include "planning/core/termination.hpp"
 
 namespace skyroute {
 

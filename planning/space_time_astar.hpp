@@ -10,7 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "planning/termination.hpp"
+#include "planning/core/termination.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

@@ -8,7 +8,7 @@
 #include <memory>
 #include <optional>
 
-#include "planning/motion_validator.hpp"
+#include "planning/core/motion_validator.hpp"
 #include "terrain/collision_world.hpp"
 
 namespace skyroute {

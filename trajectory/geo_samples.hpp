@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "planning/core/result.hpp"
 #include "terrain/local_frame.hpp"
-#include "terrain/result.hpp"
 #include "trajectory/trajectory.hpp"
 
 namespace skyroute {

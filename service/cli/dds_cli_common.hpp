@@ -4,9 +4,9 @@
 
 #include <string>
 
+#include "planning/core/result.hpp"
 #include "service/dds/dds_entities.hpp"
 #include "service/mission_types.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute::cli {
 
