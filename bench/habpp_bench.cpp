@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "planning/any_angle_search.hpp"
+#include "planning/grid/any_angle_search.hpp"
 #include "planning/grid_motion_validator.hpp"
 #include "planning/hab_pp.hpp"
 #include "planning/lospo.hpp"

@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "planning/grid_search.hpp"
+#include "planning/grid/grid_search.hpp"
 #include "planning/mission_planner.hpp"
 #include "planning/mmdstar_lite.hpp"
 #include "planning/pairwise_dstar_lite.hpp"

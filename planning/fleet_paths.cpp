@@ -5,7 +5,7 @@
 #include <map>
 #include <optional>
 
-#include "planning/space_time_astar.hpp"
+#include "planning/grid/space_time_astar.hpp"
 
 namespace skyroute {
 

@@ -4,27 +4,13 @@
 // space-time search.
 #pragma once
 
-#include <limits>
 #include <vector>
 
 #include "planning/fleet_problem.hpp"
+#include "planning/grid/step_distance.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {
-
-inline constexpr int kUnreachableSteps = std::numeric_limits<int>::max();
-
-// The four moves in a fixed order (east, north, west, south): every tie in this module is broken
-// by this order, so results are deterministic.
-inline constexpr GridCell kFourMoves[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-
-// Steps from `source` to every cell (indexed by GridLayer::index); kUnreachableSteps for blocked
-// or unreachable cells and everywhere when the source itself is blocked.
-std::vector<int> bfsDistanceMap4(const GridLayer& grid, GridCell source);
-
-// A shortest path from `from` to the source of `distance_map` (both ends included), each step to
-// the first neighbour in kFourMoves order that is one step closer. Empty when unreachable.
-std::vector<GridCell> descendDistanceMap4(const GridLayer& grid, const std::vector<int>& distance_map, GridCell from);
 
 // Travel times between every depot and task, and between tasks. The grid is undirected, so one
 // map per place serves both directions.

@@ -10,7 +10,7 @@
 #include <queue>
 #include <string>
 
-#include "planning/any_angle_search.hpp"
+#include "planning/grid/any_angle_search.hpp"
 #include "planning/hab_pp_output.hpp"
 #include "planning/hab_pp_rrt.hpp"
 

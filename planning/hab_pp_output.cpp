@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "planning/any_angle_search.hpp"
+#include "planning/grid/any_angle_search.hpp"
 
 namespace skyroute::habpp {
 

@@ -11,7 +11,7 @@ namespace skyroute::habpp {
 
 // Shortest any-angle path found in the corridor of the route: the cells within corridor_cells
 // (Chebyshev) of the cells the path's segments touch. Steps, Choice:
-//   1. Theta* (planning/any_angle_search) on a copy of the grid in which every cell outside the
+//   1. Theta* (planning/grid/any_angle_search) on a copy of the grid in which every cell outside the
 //      corridor is blocked, so it can only follow the route (a door or gap farther than
 //      corridor_cells from the route is closed to it);
 //   2. the greedy farthest-visible shortcut and the vertex relaxation towards the obstacle corners

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "planning/core/termination.hpp"
-#include "planning/grid_search.hpp"
+#include "planning/grid/grid_search.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

@@ -26,7 +26,7 @@
 #include <memory>
 #include <vector>
 
-#include "planning/dstar_lite.hpp"
+#include "planning/grid/dstar_lite.hpp"
 #include "planning/mission_search.hpp"
 
 namespace skyroute {

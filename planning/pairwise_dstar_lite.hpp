@@ -6,7 +6,7 @@
 #include <memory>
 #include <utility>
 
-#include "planning/dstar_lite.hpp"
+#include "planning/grid/dstar_lite.hpp"
 #include "planning/mission_search.hpp"
 
 namespace skyroute {

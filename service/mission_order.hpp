@@ -11,7 +11,7 @@
 
 #include "planning/core/result.hpp"
 #include "planning/core/termination.hpp"
-#include "planning/grid_search.hpp"
+#include "planning/grid/grid_search.hpp"
 #include "terrain/heightfield.hpp"
 
 namespace skyroute {

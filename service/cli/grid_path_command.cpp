@@ -14,7 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "planning/any_angle_search.hpp"
+#include "planning/grid/any_angle_search.hpp"
 #include "planning/hab_pp.hpp"
 #include "service/cli/commands.hpp"
 #include "terrain/movingai.hpp"

@@ -1,7 +1,7 @@
-// A* (8-connected) and Theta* of planning/any_angle_search: A* against the Moving AI optimal
+// A* (8-connected) and Theta* of planning/grid/any_angle_search: A* against the Moving AI optimal
 // lengths, Theta* against the exact any-angle optimum on small maps, every path checked with an
 // independent geometric line-of-sight test.
-#include "planning/any_angle_search.hpp"
+#include "planning/grid/any_angle_search.hpp"
 
 #include <cmath>
 

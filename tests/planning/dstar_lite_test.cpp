@@ -6,8 +6,8 @@
 
 #include "tests/grid_fixtures.hpp"
 
-#include "planning/dstar_lite.hpp"
-#include "planning/grid_search.hpp"
+#include "planning/grid/dstar_lite.hpp"
+#include "planning/grid/grid_search.hpp"
 #include "terrain/movingai.hpp"
 #include "tests/test_data.hpp"
 

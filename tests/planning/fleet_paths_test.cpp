@@ -14,7 +14,7 @@
 #include "planning/fleet_conflict_checker.hpp"
 #include "planning/fleet_planner.hpp"
 #include "planning/gmtpa.hpp"
-#include "planning/space_time_astar.hpp"
+#include "planning/grid/space_time_astar.hpp"
 #include "terrain/movingai.hpp"
 #include "tests/test_data.hpp"
 

@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "planning/any_angle_search.hpp"
+#include "planning/grid/any_angle_search.hpp"
 #include "planning/lospo.hpp"
 #include "planning/rrt_star.hpp"
 #include "tests/planning/any_angle_reference.hpp"

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "planning/grid_search.hpp"
+#include "planning/grid/grid_search.hpp"
 #include "terrain/movingai.hpp"
 #include "tests/test_data.hpp"
 

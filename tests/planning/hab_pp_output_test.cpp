@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "planning/any_angle_search.hpp"
+#include "planning/grid/any_angle_search.hpp"
 #include "tests/grid_fixtures.hpp"
 #include "tests/planning/any_angle_reference.hpp"
 #include "tests/planning/hab_maps.hpp"

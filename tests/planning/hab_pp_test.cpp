@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "planning/any_angle_search.hpp"
+#include "planning/grid/any_angle_search.hpp"
 #include "planning/hab_pp_rrt.hpp"
 #include "tests/planning/any_angle_reference.hpp"
 #include "tests/planning/hab_maps.hpp"

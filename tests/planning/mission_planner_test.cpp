@@ -10,7 +10,7 @@
 
 #include "tests/grid_fixtures.hpp"
 
-#include "planning/grid_search.hpp"
+#include "planning/grid/grid_search.hpp"
 #include "planning/mission_planner.hpp"
 
 namespace skyroute {

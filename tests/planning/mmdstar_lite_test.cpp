@@ -7,7 +7,7 @@
 
 #include "tests/grid_fixtures.hpp"
 
-#include "planning/grid_search.hpp"
+#include "planning/grid/grid_search.hpp"
 #include "planning/mmdstar_lite.hpp"
 #include "planning/pairwise_dstar_lite.hpp"
 #include "terrain/movingai.hpp"

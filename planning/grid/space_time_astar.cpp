@@ -1,4 +1,4 @@
-#include "planning/space_time_astar.hpp"
+#include "planning/grid/space_time_astar.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -6,7 +6,7 @@
 #include <queue>
 #include <unordered_set>
 
-#include "planning/fleet_travel_times.hpp"
+#include "planning/grid/step_distance.hpp"
 
 namespace skyroute {
 

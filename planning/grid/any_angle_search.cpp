@@ -1,4 +1,4 @@
-#include "planning/any_angle_search.hpp"
+#include "planning/grid/any_angle_search.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "planning/dstar_lite.hpp"
+#include "planning/grid/dstar_lite.hpp"
 
 #include <sys/mman.h>
 

@@ -1,4 +1,4 @@
-#include "planning/grid_search.hpp"
+#include "planning/grid/grid_search.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -54,6 +54,11 @@ struct GridOffset {
 inline constexpr std::array<GridOffset, 8> kGridOffsets{{
     {1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}}};
 
+// The 4-connected steps of the fleet planner (seed 002, eq. 6: one step to a side neighbour, or
+// wait), in a fixed order (east, north, west, south): every tie of the step searches is broken by
+// this order, so results are deterministic.
+inline constexpr GridCell kFourMoves[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+
 // Cost of the move from `a` by `d` (one of kGridOffsets); infinity when either end is blocked or
 // outside, or when a diagonal move would cut a blocked corner.
 inline double moveCost(const GridLayer& grid, GridCell a, GridOffset d, const GridMoves& moves) {

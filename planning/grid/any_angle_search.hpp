@@ -5,7 +5,7 @@
 // benchmark compares against, and the `--algo astar|theta` choices of the CLI.
 //
 // Names carry an "AnyAngle" prefix so they do not collide with the general grid searches of
-// planning/grid_search.hpp.
+// planning/grid/grid_search.hpp.
 #pragma once
 
 #include <cstdint>
