@@ -30,9 +30,9 @@
 #include <vector>
 
 #include "planning/grid/grid_search.hpp"
-#include "planning/mission_planner.hpp"
-#include "planning/mmdstar_lite.hpp"
-#include "planning/pairwise_dstar_lite.hpp"
+#include "planning/mission/mission_planner.hpp"
+#include "planning/mission/mmdstar_lite.hpp"
+#include "planning/mission/pairwise_dstar_lite.hpp"
 #include "terrain/dem.hpp"
 #include "terrain/grid_from_terrain.hpp"
 #include "terrain/heightfield.hpp"

@@ -11,7 +11,7 @@
 
 #include "planning/grid/dstar_lite.hpp"
 #include "planning/grid/grid_search.hpp"
-#include "planning/mmdstar_lite.hpp"
+#include "planning/mission/mmdstar_lite.hpp"
 #include "service/cli/commands.hpp"
 #include "terrain/movingai.hpp"
 

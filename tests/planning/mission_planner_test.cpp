@@ -11,7 +11,7 @@
 #include "tests/grid_fixtures.hpp"
 
 #include "planning/grid/grid_search.hpp"
-#include "planning/mission_planner.hpp"
+#include "planning/mission/mission_planner.hpp"
 
 namespace skyroute {
 namespace {

@@ -8,8 +8,8 @@
 #include "tests/grid_fixtures.hpp"
 
 #include "planning/grid/grid_search.hpp"
-#include "planning/mmdstar_lite.hpp"
-#include "planning/pairwise_dstar_lite.hpp"
+#include "planning/mission/mmdstar_lite.hpp"
+#include "planning/mission/pairwise_dstar_lite.hpp"
 #include "terrain/movingai.hpp"
 #include "tests/test_data.hpp"
 

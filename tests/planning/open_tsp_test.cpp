@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "planning/open_tsp.hpp"
+#include "planning/mission/open_tsp.hpp"
 
 namespace skyroute {
 namespace {

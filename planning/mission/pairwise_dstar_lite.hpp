@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "planning/grid/dstar_lite.hpp"
-#include "planning/mission_search.hpp"
+#include "planning/mission/mission_search.hpp"
 
 namespace skyroute {
 

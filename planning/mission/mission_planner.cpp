@@ -1,11 +1,11 @@
-#include "planning/mission_planner.hpp"
+#include "planning/mission/mission_planner.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <string>
 
-#include "planning/mmdstar_lite.hpp"
-#include "planning/pairwise_dstar_lite.hpp"
+#include "planning/mission/mmdstar_lite.hpp"
+#include "planning/mission/pairwise_dstar_lite.hpp"
 
 namespace skyroute {
 

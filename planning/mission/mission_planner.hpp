@@ -12,8 +12,8 @@
 #include "planning/core/result.hpp"
 #include "planning/core/termination.hpp"
 #include "planning/grid/grid_search.hpp"
-#include "planning/mission_search.hpp"
-#include "planning/open_tsp.hpp"
+#include "planning/mission/mission_search.hpp"
+#include "planning/mission/open_tsp.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

@@ -1,4 +1,4 @@
-#include "planning/mission_search.hpp"
+#include "planning/mission/mission_search.hpp"
 
 namespace skyroute {
 

@@ -1,4 +1,4 @@
-#include "planning/open_tsp.hpp"
+#include "planning/mission/open_tsp.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "planning/grid/dstar_lite.hpp"
-#include "planning/mission_search.hpp"
+#include "planning/mission/mission_search.hpp"
 
 namespace skyroute {
 

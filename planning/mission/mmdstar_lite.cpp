@@ -1,4 +1,4 @@
-#include "planning/mmdstar_lite.hpp"
+#include "planning/mission/mmdstar_lite.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -1,4 +1,4 @@
-#include "planning/pairwise_dstar_lite.hpp"
+#include "planning/mission/pairwise_dstar_lite.hpp"
 
 namespace skyroute {
 
