@@ -5,7 +5,7 @@
 // Times are processor time (std::clock) of this single-threaded process, so other work on a shared
 // machine does not inflate them; the termination budget is wall time.
 //
-// Also RRT* with LOSPO (planning/rrt_star + planning/lospo through GridMotionValidator).
+// Also RRT* with LOSPO (planning/sampling/rrt_star + planning/sampling/lospo through GridMotionValidator).
 //
 //   habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N]
 //               [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP]
@@ -38,8 +38,8 @@
 #include "planning/grid/any_angle_search.hpp"
 #include "planning/grid_motion_validator.hpp"
 #include "planning/hab_pp.hpp"
-#include "planning/lospo.hpp"
-#include "planning/rrt_star.hpp"
+#include "planning/sampling/lospo.hpp"
+#include "planning/sampling/rrt_star.hpp"
 #include "terrain/movingai.hpp"
 
 namespace {
@@ -130,7 +130,7 @@ double angleChange(const std::vector<Eigen::Vector3d>& p) {
   return sum;
 }
 
-// RRT* (planning/rrt_star, default options, seeded) on the grid through GridMotionValidator, its
+// RRT* (planning/sampling/rrt_star, default options, seeded) on the grid through GridMotionValidator, its
 // path flattened to z = 0 and shortened by LOSPO (1-cell spacing, up to 4 passes). An iteration
 // budget, not a deadline, stops it, so a seed repeats exactly; the first-path time is the processor
 // time of a second run of the same seed stopped at the iteration that found the first path (the

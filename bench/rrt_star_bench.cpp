@@ -49,10 +49,10 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
-#include "planning/lospo.hpp"
 #include "planning/path_refinement.hpp"
-#include "planning/rrt_star.hpp"
-#include "planning/world_motion_validator.hpp"
+#include "planning/sampling/lospo.hpp"
+#include "planning/sampling/rrt_star.hpp"
+#include "planning/sampling/world_motion_validator.hpp"
 #include "terrain/terrain_world.hpp"
 
 namespace ob = ompl::base;

@@ -8,8 +8,8 @@
 #include <map>
 #include <string>
 
-#include "planning/lospo.hpp"
-#include "planning/rrt_star.hpp"
+#include "planning/sampling/lospo.hpp"
+#include "planning/sampling/rrt_star.hpp"
 
 namespace skyroute {
 

@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "planning/grid/any_angle_search.hpp"
-#include "planning/lospo.hpp"
-#include "planning/rrt_star.hpp"
+#include "planning/sampling/lospo.hpp"
+#include "planning/sampling/rrt_star.hpp"
 #include "tests/planning/any_angle_reference.hpp"
 #include "tests/planning/hab_maps.hpp"
 

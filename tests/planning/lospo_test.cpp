@@ -1,6 +1,6 @@
 // LOSPO (seed 003 section 2-3): never lengthens, never invalidates, approaches the taut path, and
 // searches as the seed says (farthest visible vertex, testing from the goal backwards).
-#include "planning/lospo.hpp"
+#include "planning/sampling/lospo.hpp"
 
 #include <mutex>
 #include <utility>
@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "planning/rrt_star.hpp"
+#include "planning/sampling/rrt_star.hpp"
 #include "tests/planning/synthetic_worlds.hpp"
 
 namespace skyroute {

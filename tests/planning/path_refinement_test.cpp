@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "planning/lospo.hpp"
-#include "planning/rrt_star.hpp"
+#include "planning/sampling/lospo.hpp"
+#include "planning/sampling/rrt_star.hpp"
 #include "tests/planning/synthetic_worlds.hpp"
 
 namespace skyroute {

@@ -1,6 +1,6 @@
 // RRT* on synthetic worlds (exact segment checks) and, once the terrain world links, on a real DEM.
 // Every path is checked against an independent dense point check; lengths against analytic optima.
-#include "planning/rrt_star.hpp"
+#include "planning/sampling/rrt_star.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -11,9 +11,9 @@
 
 #include <gtest/gtest.h>
 
-#include "planning/lospo.hpp"
 #include "planning/path_refinement.hpp"
-#include "planning/world_motion_validator.hpp"
+#include "planning/sampling/lospo.hpp"
+#include "planning/sampling/world_motion_validator.hpp"
 #include "terrain/terrain_world.hpp"
 #include "tests/planning/synthetic_worlds.hpp"
 #include "tests/test_data.hpp"

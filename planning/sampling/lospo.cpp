@@ -1,11 +1,11 @@
-#include "planning/lospo.hpp"
+#include "planning/sampling/lospo.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
 
-#include "planning/rrt_star.hpp"
+#include "planning/sampling/rrt_star.hpp"
 
 namespace skyroute {
 

@@ -1,4 +1,4 @@
-#include "planning/rrt_star.hpp"
+#include "planning/sampling/rrt_star.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "planning/world_motion_validator.hpp"
+#include "planning/sampling/world_motion_validator.hpp"
 
 #include <limits>
 
