@@ -14,8 +14,8 @@
 
 #include <Eigen/Core>
 
+#include "planning/colony/hab_pp.hpp"
 #include "planning/core/termination.hpp"
-#include "planning/hab_pp.hpp"
 #include "service/route_planner.hpp"
 #include "terrain/collision_world.hpp"
 

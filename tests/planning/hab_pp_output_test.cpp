@@ -1,10 +1,10 @@
-// The output stage of HAB-PP (planning/hab_pp_output): the best ranked path made taut within its
+// The output stage of HAB-PP (planning/colony/hab_pp_output): the best ranked path made taut within its
 // route, then windowed re-planning. Checked: every output segment passes an independent geometric
 // line-of-sight test, the output is never longer than the input, it reaches the any-angle optimum
 // when the input follows the optimum's route, the corridor step keeps the input's route (a shorter
 // door outside the corridor stays closed to it), and the window step takes that door when a
 // window of a few segments reaches it, and not when its box does not.
-#include "planning/hab_pp_output.hpp"
+#include "planning/colony/hab_pp_output.hpp"
 
 #include <random>
 

@@ -1,8 +1,8 @@
-// HAB-PP and Improved HAB-PP (planning/hab_pp, planning/hab_pp_rrt): the building blocks against
+// HAB-PP and Improved HAB-PP (planning/colony/hab_pp, planning/colony/hab_pp_rrt): the building blocks against
 // hand-checked cases and brute force, the choices the seed leaves to its earlier paper, and the
 // whole planner on small maps with a known any-angle optimum (small colonies, to stay fast).
 // Every path is checked with a geometric line-of-sight test independent of GridLayer.
-#include "planning/hab_pp.hpp"
+#include "planning/colony/hab_pp.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "planning/colony/hab_pp_rrt.hpp"
 #include "planning/grid/any_angle_search.hpp"
-#include "planning/hab_pp_rrt.hpp"
 #include "tests/planning/any_angle_reference.hpp"
 #include "tests/planning/hab_maps.hpp"
 

@@ -122,7 +122,7 @@ struct HabPpParameters {
   bool rrt_stop_top_paths = true;
   // Passes of vertex relocation in the arrival pruning (see habpp::tightenPath); 0: greedy pruning only.
   int tighten_passes = 64;
-  // Output stage (planning/hab_pp_output.hpp): the best ranked path is made taut in a corridor of
+  // Output stage (planning/colony/hab_pp_output.hpp): the best ranked path is made taut in a corridor of
   // this many cells around its route once the colony stops; -1: the stage is off (the output is
   // the best ranked path as it is), 0: greedy shortcut and vertex relaxation only.
   int output_corridor_cells = 2;

@@ -1,4 +1,4 @@
-#include "planning/hab_pp_rrt.hpp"
+#include "planning/colony/hab_pp_rrt.hpp"
 
 #include <algorithm>
 #include <cmath>

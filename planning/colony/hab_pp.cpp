@@ -1,4 +1,4 @@
-#include "planning/hab_pp.hpp"
+#include "planning/colony/hab_pp.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -10,9 +10,9 @@
 #include <queue>
 #include <string>
 
+#include "planning/colony/hab_pp_output.hpp"
+#include "planning/colony/hab_pp_rrt.hpp"
 #include "planning/grid/any_angle_search.hpp"
-#include "planning/hab_pp_output.hpp"
-#include "planning/hab_pp_rrt.hpp"
 
 namespace skyroute {
 

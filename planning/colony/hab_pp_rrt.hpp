@@ -10,7 +10,7 @@
 #include <optional>
 #include <vector>
 
-#include "planning/hab_pp.hpp"
+#include "planning/colony/hab_pp.hpp"
 
 namespace skyroute::habpp {
 

@@ -1,4 +1,4 @@
-#include "planning/hab_pp_output.hpp"
+#include "planning/colony/hab_pp_output.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -5,7 +5,7 @@
 // them, so the output approaches the any-angle optimum of the colony's best route.
 #pragma once
 
-#include "planning/hab_pp.hpp"
+#include "planning/colony/hab_pp.hpp"
 
 namespace skyroute::habpp {
 
