@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "planning/fleet_planner.hpp"
+#include "planning/fleet/fleet_planner.hpp"
 #include "terrain/movingai.hpp"
 
 using namespace skyroute;

@@ -8,11 +8,11 @@
 
 #include <gtest/gtest.h>
 
-#include "planning/fleet_exact.hpp"
-#include "planning/fleet_ga.hpp"
-#include "planning/fleet_local_search.hpp"
-#include "planning/fleet_planner.hpp"
-#include "planning/gmtpa.hpp"
+#include "planning/fleet/fleet_exact.hpp"
+#include "planning/fleet/fleet_ga.hpp"
+#include "planning/fleet/fleet_local_search.hpp"
+#include "planning/fleet/fleet_planner.hpp"
+#include "planning/fleet/gmtpa.hpp"
 
 namespace skyroute {
 namespace {

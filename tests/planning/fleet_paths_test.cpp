@@ -11,9 +11,9 @@
 
 #include <gtest/gtest.h>
 
-#include "planning/fleet_conflict_checker.hpp"
-#include "planning/fleet_planner.hpp"
-#include "planning/gmtpa.hpp"
+#include "planning/fleet/fleet_conflict_checker.hpp"
+#include "planning/fleet/fleet_planner.hpp"
+#include "planning/fleet/gmtpa.hpp"
 #include "planning/grid/space_time_astar.hpp"
 #include "terrain/movingai.hpp"
 #include "tests/test_data.hpp"

@@ -1,8 +1,8 @@
 // Bad input to the fleet planner gets an error naming the item, never a crash or a plan.
 #include <gtest/gtest.h>
 
-#include "planning/fleet_planner.hpp"
-#include "planning/fleet_problem.hpp"
+#include "planning/fleet/fleet_planner.hpp"
+#include "planning/fleet/fleet_problem.hpp"
 
 namespace skyroute {
 namespace {

@@ -1,6 +1,6 @@
 // GMTPA end to end (seed 002): validate the problem, travel times from breadth-first searches,
 // allocate (greedy Algorithm 1, the GA baseline or the exact solver), for greedy then the
-// improvement stage of planning/fleet_local_search.hpp (ours, not the paper's; switch it off with
+// improvement stage of planning/fleet/fleet_local_search.hpp (ours, not the paper's; switch it off with
 // improvement.enabled = false to run the pure Algorithm 1), build collision-free paths (section
 // 3.3) and verify them with the independent checker. A plan is returned only when the
 // checker finds it conflict-free and complete.
@@ -11,13 +11,13 @@
 
 #include "planning/core/result.hpp"
 #include "planning/core/termination.hpp"
-#include "planning/fleet_allocation.hpp"
-#include "planning/fleet_conflict_checker.hpp"
-#include "planning/fleet_exact.hpp"
-#include "planning/fleet_ga.hpp"
-#include "planning/fleet_local_search.hpp"
-#include "planning/fleet_paths.hpp"
-#include "planning/fleet_problem.hpp"
+#include "planning/fleet/fleet_allocation.hpp"
+#include "planning/fleet/fleet_conflict_checker.hpp"
+#include "planning/fleet/fleet_exact.hpp"
+#include "planning/fleet/fleet_ga.hpp"
+#include "planning/fleet/fleet_local_search.hpp"
+#include "planning/fleet/fleet_paths.hpp"
+#include "planning/fleet/fleet_problem.hpp"
 
 namespace skyroute {
 

@@ -1,4 +1,4 @@
-#include "planning/gmtpa.hpp"
+#include "planning/fleet/gmtpa.hpp"
 
 #include <algorithm>
 #include <chrono>

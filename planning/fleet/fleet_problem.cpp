@@ -1,11 +1,11 @@
-#include "planning/fleet_problem.hpp"
+#include "planning/fleet/fleet_problem.hpp"
 
 #include <cstdlib>
 #include <map>
 #include <set>
 #include <utility>
 
-#include "planning/fleet_travel_times.hpp"
+#include "planning/fleet/fleet_travel_times.hpp"
 
 namespace skyroute {
 

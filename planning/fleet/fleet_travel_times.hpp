@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "planning/fleet_problem.hpp"
+#include "planning/fleet/fleet_problem.hpp"
 #include "planning/grid/step_distance.hpp"
 #include "terrain/grid_layer.hpp"
 

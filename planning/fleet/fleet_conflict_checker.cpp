@@ -1,4 +1,4 @@
-#include "planning/fleet_conflict_checker.hpp"
+#include "planning/fleet/fleet_conflict_checker.hpp"
 
 #include <algorithm>
 #include <cstdlib>

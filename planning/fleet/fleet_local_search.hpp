@@ -28,9 +28,9 @@
 
 #include <cstdint>
 
-#include "planning/fleet_allocation.hpp"
-#include "planning/fleet_problem.hpp"
-#include "planning/fleet_travel_times.hpp"
+#include "planning/fleet/fleet_allocation.hpp"
+#include "planning/fleet/fleet_problem.hpp"
+#include "planning/fleet/fleet_travel_times.hpp"
 
 namespace skyroute {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "planning/fleet_problem.hpp"
+#include "planning/fleet/fleet_problem.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

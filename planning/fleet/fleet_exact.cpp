@@ -1,4 +1,4 @@
-#include "planning/fleet_exact.hpp"
+#include "planning/fleet/fleet_exact.hpp"
 
 #include <algorithm>
 #include <bit>

@@ -1,4 +1,4 @@
-#include "planning/fleet_ga.hpp"
+#include "planning/fleet/fleet_ga.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "planning/fleet_local_search.hpp"
+#include "planning/fleet/fleet_local_search.hpp"
 
 #include <algorithm>
 #include <array>

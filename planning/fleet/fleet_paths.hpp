@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "planning/core/termination.hpp"
-#include "planning/fleet_allocation.hpp"
-#include "planning/fleet_problem.hpp"
-#include "planning/fleet_travel_times.hpp"
+#include "planning/fleet/fleet_allocation.hpp"
+#include "planning/fleet/fleet_problem.hpp"
+#include "planning/fleet/fleet_travel_times.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

@@ -9,9 +9,9 @@
 
 #include "planning/core/result.hpp"
 #include "planning/core/termination.hpp"
-#include "planning/fleet_allocation.hpp"
-#include "planning/fleet_problem.hpp"
-#include "planning/fleet_travel_times.hpp"
+#include "planning/fleet/fleet_allocation.hpp"
+#include "planning/fleet/fleet_problem.hpp"
+#include "planning/fleet/fleet_travel_times.hpp"
 
 namespace skyroute {
 

@@ -1,4 +1,4 @@
-#include "planning/fleet_allocation.hpp"
+#include "planning/fleet/fleet_allocation.hpp"
 
 #include <algorithm>
 

@@ -1,8 +1,8 @@
-#include "planning/fleet_planner.hpp"
+#include "planning/fleet/fleet_planner.hpp"
 
 #include <chrono>
 
-#include "planning/gmtpa.hpp"
+#include "planning/fleet/gmtpa.hpp"
 
 namespace skyroute {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "planning/fleet_travel_times.hpp"
+#include "planning/fleet/fleet_travel_times.hpp"
 
 namespace skyroute {
 

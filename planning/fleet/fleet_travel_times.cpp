@@ -1,4 +1,4 @@
-#include "planning/fleet_travel_times.hpp"
+#include "planning/fleet/fleet_travel_times.hpp"
 
 #include <chrono>
 

@@ -1,4 +1,4 @@
-#include "planning/fleet_paths.hpp"
+#include "planning/fleet/fleet_paths.hpp"
 
 #include <algorithm>
 #include <chrono>
