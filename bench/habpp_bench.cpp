@@ -35,9 +35,9 @@
 #include <string>
 #include <vector>
 
+#include "bench/support/grid_motion_validator.hpp"
 #include "planning/colony/hab_pp.hpp"
 #include "planning/grid/any_angle_search.hpp"
-#include "planning/grid_motion_validator.hpp"
 #include "planning/sampling/lospo.hpp"
 #include "planning/sampling/rrt_star.hpp"
 #include "terrain/movingai.hpp"

@@ -49,7 +49,7 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
-#include "planning/path_refinement.hpp"
+#include "bench/support/path_refinement.hpp"
 #include "planning/sampling/lospo.hpp"
 #include "planning/sampling/rrt_star.hpp"
 #include "planning/sampling/world_motion_validator.hpp"

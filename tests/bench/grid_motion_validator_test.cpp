@@ -1,7 +1,7 @@
-// GridMotionValidator (planning/grid_motion_validator): a GridLayer as a MotionValidator. Checked
+// GridMotionValidator (bench/support/grid_motion_validator): a GridLayer as a MotionValidator. Checked
 // against GridLayer::lineOfSight between cell centres, against an independent clipping test for
 // arbitrary endpoints, and by running RRT* and LOSPO on a grid.
-#include "planning/grid_motion_validator.hpp"
+#include "bench/support/grid_motion_validator.hpp"
 
 #include <cmath>
 #include <random>

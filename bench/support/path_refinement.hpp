@@ -1,4 +1,6 @@
 // Continuous refinement of a valid path after LOSPO: an extra stage, not part of seed 003's LOSPO.
+// Only the RRT* benchmark uses it (the counterpart of OMPL's path simplifier there), so it lives
+// in bench/support.
 //
 // LOSPO (seed 003 section 2-3) only connects vertices it inserted on the path, so its corners can
 // only slide along those vertices (100-170 m apart on a 10 km leg in real-time use) and it never

@@ -1,4 +1,4 @@
-#include "planning/grid_motion_validator.hpp"
+#include "bench/support/grid_motion_validator.hpp"
 
 #include <algorithm>
 #include <cmath>

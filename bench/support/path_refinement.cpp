@@ -1,4 +1,4 @@
-#include "planning/path_refinement.hpp"
+#include "bench/support/path_refinement.hpp"
 
 #include <algorithm>
 #include <array>

@@ -1,6 +1,6 @@
 // A GridLayer seen through the MotionValidator interface, so the 3D sampling planners (RRT*,
-// LOSPO) can run on the 2D grid at the flight band: the benchmark's "RRT* with LOSPO" next to the
-// grid planners, and the engine when it offers RRT* on the grid layer.
+// LOSPO) can run on the 2D grid at the flight band: the HAB-PP benchmark's "RRT* with LOSPO" next
+// to the grid planners. Only the benchmarks use it, so it lives in bench/support.
 //
 // Points are ENU metres in the grid's frame (GridLayer::cellCenter: cell (x, y) has its centre at
 // origin + cell_size * (x, y)); with the default frame of a Moving AI map these are cell

@@ -1,7 +1,7 @@
-// refinePath (the stage after LOSPO): never lengthens, never invalidates (independent dense checks
-// on synthetic worlds; on the real terrain in rrt_star_test's terrain test), converges to the analytic taut length round a wall
-// edge and a sphere, respects the termination condition, and is deterministic.
-#include "planning/path_refinement.hpp"
+// refinePath (the benchmarks' stage after LOSPO): never lengthens, never invalidates (independent
+// dense checks on synthetic worlds and on a real DEM), converges to the analytic taut length round
+// a wall edge and a sphere, respects the termination condition, and is deterministic.
+#include "bench/support/path_refinement.hpp"
 
 #include <atomic>
 #include <cmath>
@@ -12,7 +12,11 @@
 
 #include "planning/sampling/lospo.hpp"
 #include "planning/sampling/rrt_star.hpp"
+#include "planning/sampling/world_motion_validator.hpp"
+#include "terrain/terrain_world.hpp"
 #include "tests/planning/synthetic_worlds.hpp"
+#include "tests/planning/terrain_legs.hpp"
+#include "tests/test_data.hpp"
 
 namespace skyroute {
 namespace {
@@ -159,6 +163,43 @@ TEST(PathRefinement, BadInputIsAnErrorNamingTheField) {
   EXPECT_EQ(refinePath(world, ok, PathRefinementOptions{.max_rounds = -1}).error().field, "max_rounds");
   EXPECT_EQ(refinePath(world, ok, PathRefinementOptions{.shortcut_attempts = -1}).error().field, "shortcut_attempts");
   EXPECT_EQ(refinePath(world, {Eigen::Vector3d(20, 30, 10), Eigen::Vector3d(NAN, 40, 10)}).error().field, "path");
+}
+
+// Real terrain: RRT* and LOSPO low over the White Mountains under a ceiling, then the refinement;
+// every 2 m along the refined path the raw heightfield must be at least the clearance below, and
+// the ceiling above. The refinement never lengthens and shortens in total.
+TEST(PathRefinementOnTerrain, RefinedPathsOverARealDemKeepTheClearance) {
+  SKYROUTE_REQUIRE_SHARED(dem_path, "dem/N44W072.hgt");
+  CollisionWorldOptions wo;
+  wo.ceiling_m = 900.0;
+  wo.build_octree = false;
+  auto world = loadTerrainWorld(dem_path, wo);
+  ASSERT_TRUE(world.ok()) << world.error().describe();
+  const Heightfield& hf = *world->heightfield;
+  const WorldMotionValidator whole(world->collision);
+  double lospo_total = 0.0, refined_total = 0.0;
+  const int refined_paths = testing::forEachBlockedLeg(hf, whole, wo.min_clearance_m, 3, [&](const testing::TerrainLeg& leg) {
+    const WorldMotionValidator v(world->collision, WorldMotionValidator::corridor(leg.start_m, leg.goal_m, 0.5 * leg.distance_m));
+    RrtStarOptions o;
+    o.seed = static_cast<std::uint64_t>(leg.attempt);
+    auto r = RrtStar(v, o).plan(leg.start_m, leg.goal_m, TerminationCondition().withIterationBudget(4000));
+    if (!r.ok() || !r->solved()) return false;  // some valleys are closed under the ceiling
+    auto opt = lospo(v, r->path_m, LospoOptions{.spacing_m = 50.0});
+    if (!opt.ok()) return false;
+    auto refined = refinePath(v, opt->path_m);
+    EXPECT_TRUE(refined.ok()) << refined.error().describe();
+    if (!refined.ok()) return true;
+    EXPECT_LE(refined->length_m, opt->length_m);
+    lospo_total += opt->length_m;
+    refined_total += refined->length_m;
+    const testing::PathHeights h = testing::heightsAlong(hf, refined->path_m);
+    EXPECT_TRUE(h.ground_known);
+    EXPECT_GE(h.lowest_agl_m, wo.min_clearance_m - 1e-6) << "attempt " << leg.attempt;
+    EXPECT_LE(h.highest_m, wo.ceiling_m + 1e-9);
+    return true;
+  });
+  EXPECT_EQ(refined_paths, 3);
+  EXPECT_LT(refined_total, lospo_total);
 }
 
 }  // namespace
