@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "trajectory/collision_recheck.hpp"
+#include "service/trajectory_world_check.hpp"
 
 namespace skyroute {
 namespace {

@@ -11,13 +11,13 @@
 #include <nlohmann/json.hpp>
 
 #include "service/cli/commands.hpp"
+#include "service/geo_samples.hpp"
 #include "service/grid_leg_planner.hpp"
 #include "service/map_image.hpp"
 #include "service/route_planner.hpp"
 #include "service/trajectory_data.hpp"
 #include "service/trajectory_export.hpp"
 #include "terrain/terrain_world.hpp"
-#include "trajectory/geo_samples.hpp"
 
 namespace skyroute::cli {
 namespace {

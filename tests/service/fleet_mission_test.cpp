@@ -11,7 +11,7 @@
 #include "service/engine.hpp"
 #include "service/fleet_mission.hpp"
 #include "terrain/terrain_world.hpp"
-#include "tests/test_data.hpp"
+#include "tests/terrain_data.hpp"
 
 namespace skyroute {
 namespace {

@@ -11,9 +11,9 @@
 #include "terrain/dem.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/terrain_generator.hpp"
-#include "trajectory/collision_recheck.hpp"
+#include "service/trajectory_world_check.hpp"
 #include "trajectory/trajectory_builder.hpp"
-#include "tests/test_data.hpp"
+#include "tests/terrain_data.hpp"
 
 namespace skyroute {
 namespace {

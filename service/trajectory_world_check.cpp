@@ -1,4 +1,4 @@
-#include "trajectory/collision_recheck.hpp"
+#include "service/trajectory_world_check.hpp"
 
 namespace skyroute {
 

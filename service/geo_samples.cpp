@@ -1,4 +1,4 @@
-#include "trajectory/geo_samples.hpp"
+#include "service/geo_samples.hpp"
 
 #include <cstdio>
 #include <fstream>
