@@ -8,6 +8,7 @@
 // incremental search (D* Lite) needs to repair its costs.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -23,6 +24,12 @@ struct GridCell {
   int y = 0;  // row (north, or the Moving AI y)
   friend bool operator==(const GridCell&, const GridCell&) = default;
 };
+
+// Euclidean distance between the centres of a and b, in cell edges (polylineLength of
+// planning/core/polyline.hpp finds it for paths of cells).
+inline double segmentLength(GridCell a, GridCell b) {
+  return std::hypot(static_cast<double>(b.x - a.x), static_cast<double>(b.y - a.y));
+}
 
 class GridLayer {
  public:

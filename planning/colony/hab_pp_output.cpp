@@ -43,8 +43,6 @@ GridLayer corridorGrid(const GridLayer& grid, const Path* paths, std::size_t cou
   return out;
 }
 
-double segmentLength(GridCell a, GridCell b) { return std::hypot(double(b.x - a.x), double(b.y - a.y)); }
-
 }  // namespace
 
 Path replanWindows(const GridLayer& grid, const Path& path, const WindowOptions& options, int tighten_passes) {

@@ -6,6 +6,8 @@
 #include <limits>
 #include <queue>
 
+#include "planning/grid/grid_search.hpp"
+
 namespace skyroute {
 
 std::string_view to_string(AnyAngleStatus status) {
@@ -17,15 +19,6 @@ std::string_view to_string(AnyAngleStatus status) {
     case AnyAngleStatus::kTerminated: return "terminated";
   }
   return "unknown";
-}
-
-double polylineLength(const std::vector<GridCell>& path) {
-  double length = 0.0;
-  for (std::size_t i = 1; i < path.size(); ++i) {
-    length += std::hypot(static_cast<double>(path[i].x - path[i - 1].x),
-                         static_cast<double>(path[i].y - path[i - 1].y));
-  }
-  return length;
 }
 
 double polylineAngleChange(const std::vector<GridCell>& path) {
@@ -41,21 +34,27 @@ double polylineAngleChange(const std::vector<GridCell>& path) {
   return total;
 }
 
+AnyAngleResult gridAStar8(const GridLayer& grid, GridCell start, GridCell goal, const TerminationCondition& stop) {
+  GridPath found = astarSearch(grid, start, goal, GridMoves{}, stop);
+  AnyAngleResult result;
+  switch (found.status) {
+    case SearchStatus::kFound: result.status = AnyAngleStatus::kExact; break;
+    case SearchStatus::kNoPath: result.status = AnyAngleStatus::kNoPath; break;
+    case SearchStatus::kInvalidStart: result.status = AnyAngleStatus::kInvalidStart; break;
+    case SearchStatus::kInvalidGoal: result.status = AnyAngleStatus::kInvalidGoal; break;
+    case SearchStatus::kStopped: result.status = AnyAngleStatus::kTerminated; break;
+  }
+  result.path = std::move(found.cells);
+  result.length_cells = polylineLength(result.path);
+  result.expansions = found.stats.expansions;
+  result.time_s = found.stats.time_ms / 1000.0;
+  result.stop_reason = found.stop_reason;
+  return result;
+}
+
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
-constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-
-double euclid(GridCell a, GridCell b) {
-  return std::hypot(static_cast<double>(a.x - b.x), static_cast<double>(a.y - b.y));
-}
-
-double octile(GridCell a, GridCell b) {
-  const double dx = std::abs(a.x - b.x);
-  const double dy = std::abs(a.y - b.y);
-  return std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy);
-}
 
 struct OpenEntry {
   double f;
@@ -69,10 +68,9 @@ struct OpenEntry {
   }
 };
 
-enum class Mode { kAStar8, kTheta };
+}  // namespace
 
-AnyAngleResult search(const GridLayer& grid, GridCell start, GridCell goal, const TerminationCondition& stop,
-                      Mode mode) {
+AnyAngleResult thetaStar(const GridLayer& grid, GridCell start, GridCell goal, const TerminationCondition& stop) {
   const auto t0 = std::chrono::steady_clock::now();
   AnyAngleResult result;
   auto finish = [&](AnyAngleStatus status) {
@@ -87,7 +85,7 @@ AnyAngleResult search(const GridLayer& grid, GridCell start, GridCell goal, cons
   std::vector<double> g(n, kInf);
   std::vector<std::size_t> parent(n, n);
   std::vector<std::uint8_t> closed(n, 0);
-  auto h = [&](GridCell c) { return mode == Mode::kAStar8 ? octile(c, goal) : euclid(c, goal); };
+  auto h = [&](GridCell c) { return segmentLength(c, goal); };
 
   std::priority_queue<OpenEntry, std::vector<OpenEntry>, std::greater<>> open;
   const std::size_t s = grid.index(start);
@@ -109,31 +107,23 @@ AnyAngleResult search(const GridLayer& grid, GridCell start, GridCell goal, cons
     closed[top.index] = 1;
     ++result.expansions;
     if (top.index == t) break;
-    const GridCell c = grid.cellOf(top.index);
-    for (int k = 0; k < 8; ++k) {
-      const GridCell nb{c.x + kDx[k], c.y + kDy[k]};
-      if (grid.blocked(nb)) continue;
-      if (k >= 4 && (grid.blocked(GridCell{c.x + kDx[k], c.y}) || grid.blocked(GridCell{c.x, c.y + kDy[k]}))) {
-        continue;  // no corner cutting
-      }
+    forEachMove(grid, grid.cellOf(top.index), GridMoves{}, [&](GridCell nb, double move_cost) {
       const std::size_t ni = grid.index(nb);
-      if (closed[ni] != 0) continue;
+      if (closed[ni] != 0) return;
       std::size_t from = top.index;
-      double cand = g[from] + (k >= 4 ? std::sqrt(2.0) : 1.0);
-      if (mode == Mode::kTheta) {
-        // Path 2 of Theta*: connect straight to the parent's parent when it is visible.
-        const std::size_t pp = parent[from];
-        if (pp != from && grid.lineOfSight(grid.cellOf(pp), nb)) {
-          from = pp;
-          cand = g[pp] + euclid(grid.cellOf(pp), nb);
-        }
+      double cand = g[from] + move_cost;
+      // Path 2 of Theta*: connect straight to the parent's parent when it is visible.
+      const std::size_t pp = parent[from];
+      if (pp != from && grid.lineOfSight(grid.cellOf(pp), nb)) {
+        from = pp;
+        cand = g[pp] + segmentLength(grid.cellOf(pp), nb);
       }
       if (cand < g[ni]) {
         g[ni] = cand;
         parent[ni] = from;
         open.push({cand + h(nb), cand, ni});
       }
-    }
+    });
   }
   if (closed[t] == 0) return finish(AnyAngleStatus::kNoPath);
   for (std::size_t i = t;; i = parent[i]) {
@@ -143,16 +133,6 @@ AnyAngleResult search(const GridLayer& grid, GridCell start, GridCell goal, cons
   std::reverse(result.path.begin(), result.path.end());
   result.length_cells = polylineLength(result.path);
   return finish(AnyAngleStatus::kExact);
-}
-
-}  // namespace
-
-AnyAngleResult gridAStar8(const GridLayer& grid, GridCell start, GridCell goal, const TerminationCondition& stop) {
-  return search(grid, start, goal, stop, Mode::kAStar8);
-}
-
-AnyAngleResult thetaStar(const GridLayer& grid, GridCell start, GridCell goal, const TerminationCondition& stop) {
-  return search(grid, start, goal, stop, Mode::kTheta);
 }
 
 }  // namespace skyroute

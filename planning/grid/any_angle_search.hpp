@@ -1,17 +1,18 @@
 // Reference grid searches for the HAB-PP planners and `skyroute grid path`: A* on the 8-connected
-// grid (moves cost 1 and sqrt(2), no corner cutting, as in DESIGN.md) and Theta* (any-angle: a node
-// may take its grandparent as parent when GridLayer::lineOfSight allows, so paths are straight
-// segments between cell centres). Both are deterministic; they are the yardsticks the HAB-PP
-// benchmark compares against, and the `--algo astar|theta` choices of the CLI.
+// grid (astarSearch of grid_search.hpp, with the move rules of grid_moves.hpp) and Theta*
+// (any-angle: a node may take its grandparent as parent when GridLayer::lineOfSight allows, so
+// paths are straight segments between cell centres). Both are deterministic; they are the
+// yardsticks the HAB-PP benchmark compares against, and the `--algo astar|theta` choices of the CLI.
 //
-// Names carry an "AnyAngle" prefix so they do not collide with the general grid searches of
-// planning/grid/grid_search.hpp.
+// Their results carry an "AnyAngle" prefix (a polyline of cell centres and its Euclidean length)
+// so they do not collide with the general grid searches' GridPath.
 #pragma once
 
 #include <cstdint>
 #include <string_view>
 #include <vector>
 
+#include "planning/core/polyline.hpp"
 #include "planning/core/termination.hpp"
 #include "terrain/grid_layer.hpp"
 
@@ -36,7 +37,7 @@ struct AnyAngleResult {
   TerminationCondition::Reason stop_reason = TerminationCondition::Reason::kNone;
 };
 
-// 8-connected A* with the octile heuristic; the path lists every cell it visits.
+// 8-connected A* with the octile heuristic (astarSearch); the path lists every cell it visits.
 AnyAngleResult gridAStar8(const GridLayer& grid, GridCell start, GridCell goal,
                           const TerminationCondition& stop = {});
 
@@ -44,8 +45,6 @@ AnyAngleResult gridAStar8(const GridLayer& grid, GridCell start, GridCell goal,
 AnyAngleResult thetaStar(const GridLayer& grid, GridCell start, GridCell goal,
                          const TerminationCondition& stop = {});
 
-// Sum of Euclidean segment lengths of a polyline of cell centres.
-double polylineLength(const std::vector<GridCell>& path);
 // Sum over interior points of the absolute turning angle in radians (0 for a straight path).
 double polylineAngleChange(const std::vector<GridCell>& path);
 

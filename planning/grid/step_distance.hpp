@@ -6,7 +6,7 @@
 #include <limits>
 #include <vector>
 
-#include "planning/grid/grid_search.hpp"
+#include "planning/grid/grid_moves.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "planning/sampling/rrt_star.hpp"
+#include "planning/core/polyline.hpp"
 
 namespace skyroute {
 

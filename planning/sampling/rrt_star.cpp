@@ -29,12 +29,6 @@ std::string_view to_string(RrtStarStatus status) {
   return "unknown";
 }
 
-double polylineLength(const std::vector<Eigen::Vector3d>& path_m) {
-  double length = 0.0;
-  for (std::size_t i = 1; i < path_m.size(); ++i) length += (path_m[i] - path_m[i - 1]).norm();
-  return length;
-}
-
 double rrtStarRewireRadius(std::size_t n, int dimension, double free_volume, double rewire_factor) {
   if (n < 2) return std::numeric_limits<double>::infinity();
   const double d = dimension;

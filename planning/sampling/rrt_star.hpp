@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "planning/core/motion_validator.hpp"
+#include "planning/core/polyline.hpp"
 #include "planning/core/result.hpp"
 #include "planning/core/termination.hpp"
 
@@ -108,7 +109,5 @@ class RrtStar {
 // Karaman and Frazzoli's rewiring radius for n nodes in a d-dimensional space of free volume
 // free_volume: rewire_factor * 2 (1 + 1/d)^(1/d) (free_volume / unit_ball_volume)^(1/d) (log n / n)^(1/d).
 double rrtStarRewireRadius(std::size_t n, int dimension, double free_volume, double rewire_factor);
-
-double polylineLength(const std::vector<Eigen::Vector3d>& path_m);
 
 }  // namespace skyroute
