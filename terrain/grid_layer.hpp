@@ -86,6 +86,10 @@ class GridLayer {
 
  private:
   void refresh(std::size_t i, std::vector<GridCell>& changed);
+  // Applies change(i) to each cell of `cells` inside the grid, then refreshes its blocked state;
+  // returns the cells whose blocked state changed (one version step when any did).
+  template <class Change>
+  std::vector<GridCell> changeCells(std::span<const GridCell> cells, Change&& change);
 
   int width_ = 0;
   int height_ = 0;

@@ -41,6 +41,18 @@ Status checkCell(const GridLayer& grid, GridCell c, const std::string& field) {
   return Status::success();
 }
 
+// How errors name a vehicle or task: by its id, or by its position when the id is empty.
+std::string placeField(const std::string& kind, std::size_t position, const std::string& id) {
+  return kind + " " + (id.empty() ? "#" + std::to_string(position) : id);
+}
+
+// An id must be given and unique among its kind (`seen` holds the ids so far).
+Status checkId(const std::string& kind, const std::string& field, const std::string& id, std::set<std::string>& seen) {
+  if (id.empty()) return make_error(ErrorCode::kInvalidArgument, field, "empty id");
+  if (!seen.insert(id).second) return make_error(ErrorCode::kInvalidArgument, field, "duplicate " + kind + " id '" + id + "'");
+  return Status::success();
+}
+
 }  // namespace
 
 Status validateFleetProblem(const GridLayer& grid, const FleetProblem& problem) {
@@ -50,11 +62,8 @@ Status validateFleetProblem(const GridLayer& grid, const FleetProblem& problem) 
   std::map<std::pair<int, int>, std::string> depot_owner;
   for (std::size_t i = 0; i < problem.vehicles.size(); ++i) {
     const FleetVehicle& v = problem.vehicles[i];
-    const std::string field = "vehicle " + (v.id.empty() ? "#" + std::to_string(i) : v.id);
-    if (v.id.empty()) return make_error(ErrorCode::kInvalidArgument, field, "empty id");
-    if (!vehicle_ids.insert(v.id).second) {
-      return make_error(ErrorCode::kInvalidArgument, field, "duplicate vehicle id '" + v.id + "'");
-    }
+    const std::string field = placeField("vehicle", i, v.id);
+    if (Status s = checkId("vehicle", field, v.id, vehicle_ids); !s) return s;
     if (v.max_tasks < 0) {
       return make_error(ErrorCode::kInvalidArgument, field + " max_tasks",
                         "max_tasks " + std::to_string(v.max_tasks) + " is negative");
@@ -70,11 +79,8 @@ Status validateFleetProblem(const GridLayer& grid, const FleetProblem& problem) 
   std::set<std::string> task_ids;
   for (std::size_t j = 0; j < problem.tasks.size(); ++j) {
     const FleetTask& t = problem.tasks[j];
-    const std::string field = "task " + (t.id.empty() ? "#" + std::to_string(j) : t.id);
-    if (t.id.empty()) return make_error(ErrorCode::kInvalidArgument, field, "empty id");
-    if (!task_ids.insert(t.id).second) {
-      return make_error(ErrorCode::kInvalidArgument, field, "duplicate task id '" + t.id + "'");
-    }
+    const std::string field = placeField("task", j, t.id);
+    if (Status s = checkId("task", field, t.id, task_ids); !s) return s;
     if (Status s = checkCell(grid, t.cell, field); !s) return s;
     // A vehicle parks on its depot before and after its tour (eq. 7), so a task there could only
     // be served while the owner is away; the paper places tasks off the vehicles' cells.

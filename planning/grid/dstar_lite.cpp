@@ -80,15 +80,20 @@ void DStarQueue::siftUp(std::size_t i) {
   heap_[i] = e;
 }
 
+std::size_t DStarQueue::smallestChild(std::size_t first, std::size_t n) const {
+  const std::size_t last = std::min(first + kArity, n);
+  std::size_t best = first;
+  for (std::size_t c = first + 1; c < last; ++c)
+    if (heap_[c].key < heap_[best].key) best = c;
+  return best;
+}
+
 void DStarQueue::siftDown(std::size_t i, Entry e) {
   const std::size_t n = heap_.size();
   for (;;) {
     const std::size_t first = i * kArity + 1;
     if (first >= n) break;
-    const std::size_t last = std::min(first + kArity, n);
-    std::size_t best = first;
-    for (std::size_t c = first + 1; c < last; ++c)
-      if (heap_[c].key < heap_[best].key) best = c;
+    const std::size_t best = smallestChild(first, n);
     if (!(heap_[best].key < e.key)) break;
     heap_[i] = heap_[best];
     i = best;
@@ -105,10 +110,7 @@ void DStarQueue::removeTop() {
   for (;;) {
     const std::size_t first = i * kArity + 1;
     if (first >= n) break;
-    const std::size_t end = std::min(first + kArity, n);
-    std::size_t best = first;
-    for (std::size_t c = first + 1; c < end; ++c)
-      if (heap_[c].key < heap_[best].key) best = c;
+    const std::size_t best = smallestChild(first, n);
     heap_[i] = heap_[best];
     i = best;
   }

@@ -262,6 +262,8 @@ class DStarQueue {
   void loadBucket();
   void siftUp(std::size_t i);
   void siftDown(std::size_t i, Entry e);
+  // Of the children from index `first` (the heap holding n entries), the one with the smallest key.
+  std::size_t smallestChild(std::size_t first, std::size_t n) const;
   // Pops the root bottom-up (Floyd): the hole walks down the smaller children to a leaf and the
   // last entry, usually among the largest, sifts up from there; this saves the comparison with it
   // at every level, and the removals are most of the queue's time.
