@@ -14,22 +14,14 @@
 namespace skyroute {
 namespace {
 
-// The seed's simulation rule: diagonal moves may pass between two blocked cells.
-GridMoves cornerCuttingMoves() {
-  GridMoves m = GridMoves::paper();
-  m.corner_cutting = true;
-  return m;
-}
+using testing::cornerCuttingMoves;
 
 void checkScenario(const std::string& map_path, const std::string& scen_path) {
-  auto grid = loadMovingAiMap(map_path);
-  ASSERT_TRUE(grid.ok()) << grid.error().describe();
-  auto problems = loadMovingAiScenario(scen_path);
-  ASSERT_TRUE(problems.ok()) << problems.error().describe();
-  ASSERT_FALSE(problems->empty());
-  for (std::size_t i = 0; i < problems->size(); ++i) {
-    const MovingAiProblem& pr = (*problems)[i];
-    DStarLite search(*grid, pr.start, pr.goal);
+  const auto scenario = testing::loadMovingAiCase(map_path, scen_path);
+  ASSERT_TRUE(scenario);
+  for (std::size_t i = 0; i < scenario->problems.size(); ++i) {
+    const MovingAiProblem& pr = scenario->problems[i];
+    DStarLite search(scenario->grid, pr.start, pr.goal);
     ASSERT_EQ(search.computeShortestPath(), SearchStatus::kFound) << "problem " << i;
     EXPECT_NEAR(search.cost(), pr.optimal_length, 1e-3) << "problem " << i;
     const auto path = search.path();

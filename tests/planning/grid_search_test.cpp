@@ -7,6 +7,7 @@
 
 #include "planning/grid/grid_search.hpp"
 #include "terrain/movingai.hpp"
+#include "tests/grid_fixtures.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute {
@@ -27,18 +28,16 @@ void expectValidPath(const GridLayer& grid, const GridPath& p, const GridMoves& 
 }
 
 void checkScenario(const std::string& map_path, const std::string& scen_path, std::size_t stride) {
-  auto grid = loadMovingAiMap(map_path);
-  ASSERT_TRUE(grid.ok()) << grid.error().describe();
-  auto problems = loadMovingAiScenario(scen_path);
-  ASSERT_TRUE(problems.ok()) << problems.error().describe();
-  ASSERT_FALSE(problems->empty());
-  for (std::size_t i = 0; i < problems->size(); i += stride) {
-    const MovingAiProblem& pr = (*problems)[i];
-    const GridPath a = astarSearch(*grid, pr.start, pr.goal);
+  const auto scenario = testing::loadMovingAiCase(map_path, scen_path);
+  ASSERT_TRUE(scenario);
+  const GridLayer& grid = scenario->grid;
+  for (std::size_t i = 0; i < scenario->problems.size(); i += stride) {
+    const MovingAiProblem& pr = scenario->problems[i];
+    const GridPath a = astarSearch(grid, pr.start, pr.goal);
     ASSERT_EQ(a.status, SearchStatus::kFound) << "problem " << i;
     EXPECT_NEAR(a.cost, pr.optimal_length, 1e-3) << "A* problem " << i;
-    expectValidPath(*grid, a, GridMoves{});
-    const GridPath d = dijkstraSearch(*grid, pr.start, pr.goal);
+    expectValidPath(grid, a, GridMoves{});
+    const GridPath d = dijkstraSearch(grid, pr.start, pr.goal);
     EXPECT_NEAR(d.cost, pr.optimal_length, 1e-3) << "Dijkstra problem " << i;
     EXPECT_LE(a.stats.expansions, d.stats.expansions) << "problem " << i;
   }

@@ -16,12 +16,7 @@
 namespace skyroute {
 namespace {
 
-// The seed's simulation rule: diagonal moves may pass between two blocked cells.
-GridMoves cornerCuttingMoves() {
-  GridMoves m = GridMoves::paper();
-  m.corner_cutting = true;
-  return m;
-}
+using testing::cornerCuttingMoves;
 
 // Distinct passable points all in the component of the first one.
 std::vector<GridCell> connectedPoints(const GridLayer& grid, int count, std::mt19937& rng) {
@@ -257,20 +252,20 @@ void expectScenarioOptima(const GridLayer& grid, const std::vector<MovingAiProbl
 TEST(MmdStarLite, SharedGoalMatchesMovingAi) {
   SKYROUTE_REQUIRE_SHARED(map, "movingai/random-64-64-20.map");
   SKYROUTE_REQUIRE_SHARED(scen, "movingai/random-64-64-20-random-1.scen");
-  auto grid = loadMovingAiMap(map);
-  ASSERT_TRUE(grid.ok());
-  auto problems = loadMovingAiScenario(scen);
-  ASSERT_TRUE(problems.ok());
-  expectScenarioOptima(*grid, *problems);
+  const auto scenario = testing::loadMovingAiCase(map, scen);
+  ASSERT_TRUE(scenario);
+  const GridLayer& grid = scenario->grid;
+  const std::vector<MovingAiProblem>& problems = scenario->problems;
+  expectScenarioOptima(grid, problems);
   // Groups of 25 problems: the goal of the first, the starts of all 25.
-  for (std::size_t first = 0; first + 25 <= problems->size(); first += 250) {
-    const GridCell goal = (*problems)[first].goal;
-    SharedGoalSearch search(*grid, goal);
-    const auto field = dijkstraCostField(*grid, goal);
+  for (std::size_t first = 0; first + 25 <= problems.size(); first += 250) {
+    const GridCell goal = problems[first].goal;
+    SharedGoalSearch search(grid, goal);
+    const auto field = dijkstraCostField(grid, goal);
     for (std::size_t k = first; k < first + 25; ++k) {
-      const GridCell s = (*problems)[k].start;
+      const GridCell s = problems[k].start;
       search.solveFrom(s);
-      EXPECT_NEAR(search.cost(s), field[grid->index(s)], 1e-9);
+      EXPECT_NEAR(search.cost(s), field[grid.index(s)], 1e-9);
     }
   }
 }
@@ -278,11 +273,9 @@ TEST(MmdStarLite, SharedGoalMatchesMovingAi) {
 TEST(MmdStarLite, SharedGoalMatchesMovingAiRoom) {
   SKYROUTE_REQUIRE_SHARED(map, "movingai/room-32-32-4.map");
   SKYROUTE_REQUIRE_SHARED(scen, "movingai/room-32-32-4-random-1.scen");
-  auto grid = loadMovingAiMap(map);
-  ASSERT_TRUE(grid.ok());
-  auto problems = loadMovingAiScenario(scen);
-  ASSERT_TRUE(problems.ok());
-  expectScenarioOptima(*grid, *problems);
+  const auto scenario = testing::loadMovingAiCase(map, scen);
+  ASSERT_TRUE(scenario);
+  expectScenarioOptima(scenario->grid, scenario->problems);
 }
 
 }  // namespace
