@@ -505,7 +505,7 @@ int main(int argc, char** argv) {
                   quantile(simplify_times[{n, b}], 0.5));
     }
   }
-  // The comparison: ours against InformedRRTstar + simplifier under the same protocol.
+  // The headline comparison: ours against InformedRRTstar + simplifier under the same protocol.
   std::printf("\nMedian post ratio to five places, ours against OMPL InformedRRTstar + simplifier:\n\n");
   std::printf("| protocol | budget ms | ours | InformedRRTstar | ours raw | InformedRRTstar raw |\n|---|---|---|---|---|---|\n");
   const std::vector<std::tuple<std::string, std::string, std::string>> protocols{
