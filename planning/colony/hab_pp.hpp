@@ -9,8 +9,8 @@
 // segment passes GridLayer::lineOfSight.
 //
 // Where seed 004 defers a detail to the earlier paper [19], which we do not have, we chose; every
-// such choice is marked "Choice:" below and in hab_pp.cpp and has a test in
-// tests/planning/hab_pp_test.cpp.
+// such choice is marked "Choice:" below and in the hab_pp*.cpp files and has a test in
+// tests/planning/colony/hab_pp_test.cpp.
 #pragma once
 
 #include <cstdint>
