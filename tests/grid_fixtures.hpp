@@ -13,6 +13,7 @@
 #include "planning/grid/grid_moves.hpp"
 #include "terrain/grid_layer.hpp"
 #include "terrain/movingai.hpp"
+#include "tests/test_data.hpp"
 
 namespace skyroute {
 
@@ -56,3 +57,12 @@ inline std::optional<MovingAiCase> loadMovingAiCase(const std::string& map_path,
 
 }  // namespace testing
 }  // namespace skyroute
+
+// Declares `var` (a testing::MovingAiCase) from ../shared/data/movingai/<map> and <scen>: the test
+// skips (or fails, under SKYROUTE_REQUIRE_DATA) when they are missing and fails when they do not load.
+#define SKYROUTE_MOVINGAI_CASE(var, map, scen)                                                   \
+  SKYROUTE_REQUIRE_SHARED(var##_map_path, "movingai/" map);                                      \
+  SKYROUTE_REQUIRE_SHARED(var##_scen_path, "movingai/" scen);                                    \
+  const auto var##_loaded = ::skyroute::testing::loadMovingAiCase(var##_map_path, var##_scen_path); \
+  ASSERT_TRUE(var##_loaded);                                                                     \
+  const ::skyroute::testing::MovingAiCase& var = *var##_loaded

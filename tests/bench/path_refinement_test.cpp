@@ -12,11 +12,8 @@
 
 #include "planning/sampling/lospo.hpp"
 #include "planning/sampling/rrt_star.hpp"
-#include "planning/sampling/world_motion_validator.hpp"
-#include "terrain/terrain_world.hpp"
 #include "tests/planning/synthetic_worlds.hpp"
 #include "tests/planning/terrain_legs.hpp"
-#include "tests/test_data.hpp"
 
 namespace skyroute {
 namespace {
@@ -168,37 +165,20 @@ TEST(PathRefinement, BadInputIsAnErrorNamingTheField) {
 // Real terrain: RRT* and LOSPO low over the White Mountains under a ceiling, then the refinement;
 // every 2 m along the refined path the raw heightfield must be at least the clearance below, and
 // the ceiling above. The refinement never lengthens and shortens in total.
-TEST(PathRefinementOnTerrain, RefinedPathsOverARealDemKeepTheClearance) {
-  SKYROUTE_REQUIRE_SHARED(dem_path, "dem/N44W072.hgt");
-  CollisionWorldOptions wo;
-  wo.ceiling_m = 900.0;
-  wo.build_octree = false;
-  auto world = loadTerrainWorld(dem_path, wo);
-  ASSERT_TRUE(world.ok()) << world.error().describe();
-  const Heightfield& hf = *world->heightfield;
-  const WorldMotionValidator whole(world->collision);
+class PathRefinementOnTerrain : public testing::WhiteMountains {};
+
+TEST_F(PathRefinementOnTerrain, RefinedPathsOverARealDemKeepTheClearance) {
   double lospo_total = 0.0, refined_total = 0.0;
-  const int refined_paths = testing::forEachBlockedLeg(hf, whole, wo.min_clearance_m, 3, [&](const testing::TerrainLeg& leg) {
-    const WorldMotionValidator v(world->collision, WorldMotionValidator::corridor(leg.start_m, leg.goal_m, 0.5 * leg.distance_m));
-    RrtStarOptions o;
-    o.seed = static_cast<std::uint64_t>(leg.attempt);
-    auto r = RrtStar(v, o).plan(leg.start_m, leg.goal_m, TerminationCondition().withIterationBudget(4000));
-    if (!r.ok() || !r->solved()) return false;  // some valleys are closed under the ceiling
-    auto opt = lospo(v, r->path_m, LospoOptions{.spacing_m = 50.0});
-    if (!opt.ok()) return false;
-    auto refined = refinePath(v, opt->path_m);
-    EXPECT_TRUE(refined.ok()) << refined.error().describe();
-    if (!refined.ok()) return true;
-    EXPECT_LE(refined->length_m, opt->length_m);
-    lospo_total += opt->length_m;
+  const int planned = forEachPlannedLeg(3, [&](const testing::TerrainLeg& leg, const WorldMotionValidator& v,
+                                               const RrtStarResult&, const LospoResult& shortened) {
+    auto refined = refinePath(v, shortened.path_m);
+    ASSERT_TRUE(refined.ok()) << refined.error().describe();
+    EXPECT_LE(refined->length_m, shortened.length_m);
+    lospo_total += shortened.length_m;
     refined_total += refined->length_m;
-    const testing::PathHeights h = testing::heightsAlong(hf, refined->path_m);
-    EXPECT_TRUE(h.ground_known);
-    EXPECT_GE(h.lowest_agl_m, wo.min_clearance_m - 1e-6) << "attempt " << leg.attempt;
-    EXPECT_LE(h.highest_m, wo.ceiling_m + 1e-9);
-    return true;
+    expectClearOfTerrain(refined->path_m, leg.attempt);
   });
-  EXPECT_EQ(refined_paths, 3);
+  EXPECT_EQ(planned, 3);
   EXPECT_LT(refined_total, lospo_total);
 }
 

@@ -20,34 +20,26 @@ using testing::knownMaps;
 using testing::pathProblem;
 
 TEST(GridAStar8, MatchesMovingAiOptimalLengths) {
-  SKYROUTE_REQUIRE_SHARED(map_path, "movingai/room-32-32-4.map");
-  SKYROUTE_REQUIRE_SHARED(scen_path, "movingai/room-32-32-4-random-1.scen");
-  const auto scenario = testing::loadMovingAiCase(map_path, scen_path);
-  ASSERT_TRUE(scenario);
-  const GridLayer& grid = scenario->grid;
-  for (std::size_t i = 0; i < 200 && i < scenario->problems.size(); ++i) {
-    const MovingAiProblem& p = scenario->problems[i];
-    const AnyAngleResult r = gridAStar8(grid, p.start, p.goal);
+  SKYROUTE_MOVINGAI_CASE(room, "room-32-32-4.map", "room-32-32-4-random-1.scen");
+  for (std::size_t i = 0; i < 200 && i < room.problems.size(); ++i) {
+    const MovingAiProblem& p = room.problems[i];
+    const AnyAngleResult r = gridAStar8(room.grid, p.start, p.goal);
     ASSERT_EQ(r.status, AnyAngleStatus::kExact) << "problem " << i;
     EXPECT_NEAR(r.length_cells, p.optimal_length, 1e-3) << "problem " << i;
     for (std::size_t k = 1; k < r.path.size(); ++k) {  // 8-connected moves, each a visible segment
       EXPECT_LE(std::max(std::abs(r.path[k].x - r.path[k - 1].x), std::abs(r.path[k].y - r.path[k - 1].y)), 1);
     }
-    EXPECT_EQ(pathProblem(grid, r.path, p.start, p.goal), "") << "problem " << i;
+    EXPECT_EQ(pathProblem(room.grid, r.path, p.start, p.goal), "") << "problem " << i;
   }
 }
 
 TEST(ThetaStar, ValidAndBetweenOptimumAndAStarOnMovingAiProblems) {
-  SKYROUTE_REQUIRE_SHARED(map_path, "movingai/room-32-32-4.map");
-  SKYROUTE_REQUIRE_SHARED(scen_path, "movingai/room-32-32-4-random-1.scen");
-  const auto scenario = testing::loadMovingAiCase(map_path, scen_path);
-  ASSERT_TRUE(scenario);
-  const GridLayer& grid = scenario->grid;
-  for (std::size_t i = 0; i < 200 && i < scenario->problems.size(); ++i) {
-    const MovingAiProblem& p = scenario->problems[i];
-    const AnyAngleResult r = thetaStar(grid, p.start, p.goal);
+  SKYROUTE_MOVINGAI_CASE(room, "room-32-32-4.map", "room-32-32-4-random-1.scen");
+  for (std::size_t i = 0; i < 200 && i < room.problems.size(); ++i) {
+    const MovingAiProblem& p = room.problems[i];
+    const AnyAngleResult r = thetaStar(room.grid, p.start, p.goal);
     ASSERT_EQ(r.status, AnyAngleStatus::kExact) << "problem " << i;
-    EXPECT_EQ(pathProblem(grid, r.path, p.start, p.goal), "") << "problem " << i;
+    EXPECT_EQ(pathProblem(room.grid, r.path, p.start, p.goal), "") << "problem " << i;
     EXPECT_LE(r.length_cells, p.optimal_length + 1e-3) << "problem " << i;  // never worse than 8-connected
     EXPECT_GE(r.length_cells, testing::euclid(p.start, p.goal) - 1e-9);
     EXPECT_NEAR(r.length_cells, polylineLength(r.path), 1e-9);

@@ -250,12 +250,9 @@ void expectScenarioOptima(const GridLayer& grid, const std::vector<MovingAiProbl
 // Shared-goal reuse (lines 34-38) on a real benchmark map: one map per goal, many starts, each cost
 // equal to Dijkstra; and every scenario problem solved with its optimal length.
 TEST(MmdStarLite, SharedGoalMatchesMovingAi) {
-  SKYROUTE_REQUIRE_SHARED(map, "movingai/random-64-64-20.map");
-  SKYROUTE_REQUIRE_SHARED(scen, "movingai/random-64-64-20-random-1.scen");
-  const auto scenario = testing::loadMovingAiCase(map, scen);
-  ASSERT_TRUE(scenario);
-  const GridLayer& grid = scenario->grid;
-  const std::vector<MovingAiProblem>& problems = scenario->problems;
+  SKYROUTE_MOVINGAI_CASE(random64, "random-64-64-20.map", "random-64-64-20-random-1.scen");
+  const GridLayer& grid = random64.grid;
+  const std::vector<MovingAiProblem>& problems = random64.problems;
   expectScenarioOptima(grid, problems);
   // Groups of 25 problems: the goal of the first, the starts of all 25.
   for (std::size_t first = 0; first + 25 <= problems.size(); first += 250) {
@@ -271,11 +268,8 @@ TEST(MmdStarLite, SharedGoalMatchesMovingAi) {
 }
 
 TEST(MmdStarLite, SharedGoalMatchesMovingAiRoom) {
-  SKYROUTE_REQUIRE_SHARED(map, "movingai/room-32-32-4.map");
-  SKYROUTE_REQUIRE_SHARED(scen, "movingai/room-32-32-4-random-1.scen");
-  const auto scenario = testing::loadMovingAiCase(map, scen);
-  ASSERT_TRUE(scenario);
-  expectScenarioOptima(scenario->grid, scenario->problems);
+  SKYROUTE_MOVINGAI_CASE(room, "room-32-32-4.map", "room-32-32-4-random-1.scen");
+  expectScenarioOptima(room.grid, room.problems);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// RRT* on synthetic worlds (exact segment checks) and, once the terrain world links, on a real DEM.
+// RRT* on synthetic worlds (exact segment checks) and on a real DEM.
 // Every path is checked against an independent dense point check; lengths against analytic optima.
 #include "planning/sampling/rrt_star.hpp"
 
@@ -13,10 +13,8 @@
 
 #include "planning/sampling/lospo.hpp"
 #include "planning/sampling/world_motion_validator.hpp"
-#include "terrain/terrain_world.hpp"
 #include "tests/planning/synthetic_worlds.hpp"
 #include "tests/planning/terrain_legs.hpp"
-#include "tests/test_data.hpp"
 
 namespace skyroute {
 namespace {
@@ -294,33 +292,14 @@ TEST(RrtStar, RewireRadiusFollowsKaramanFrazzoli) {
 
 // Real terrain: plan low over the White Mountains under a ceiling; every 2 m along the path (and
 // after LOSPO) the raw heightfield must be at least the clearance below, and the ceiling above.
-TEST(RrtStarOnTerrain, PathsOverARealDemKeepTheClearance) {
-  SKYROUTE_REQUIRE_SHARED(dem_path, "dem/N44W072.hgt");
-  CollisionWorldOptions wo;
-  wo.ceiling_m = 900.0;
-  wo.build_octree = false;
-  auto world = loadTerrainWorld(dem_path, wo);
-  ASSERT_TRUE(world.ok()) << world.error().describe();
-  const Heightfield& hf = *world->heightfield;
-  const WorldMotionValidator whole(world->collision);
-  const int planned = testing::forEachBlockedLeg(hf, whole, wo.min_clearance_m, 3, [&](const testing::TerrainLeg& leg) {
-    const WorldMotionValidator v(world->collision, WorldMotionValidator::corridor(leg.start_m, leg.goal_m, 0.5 * leg.distance_m));
-    RrtStarOptions o;
-    o.seed = static_cast<std::uint64_t>(leg.attempt);
-    auto r = RrtStar(v, o).plan(leg.start_m, leg.goal_m, TerminationCondition().withIterationBudget(4000));
-    EXPECT_TRUE(r.ok());
-    if (!r.ok() || !r->solved()) return false;  // some valleys are closed under the ceiling
-    auto opt = lospo(v, r->path_m, LospoOptions{.spacing_m = 50.0});
-    EXPECT_TRUE(opt.ok()) << opt.error().describe();
-    if (!opt.ok()) return true;
-    EXPECT_LE(opt->length_m, r->length_m);
-    for (const auto* path : {&r->path_m, &opt->path_m}) {
-      const testing::PathHeights h = testing::heightsAlong(hf, *path);
-      EXPECT_TRUE(h.ground_known);
-      EXPECT_GE(h.lowest_agl_m, wo.min_clearance_m - 1e-6) << "attempt " << leg.attempt;
-      EXPECT_LE(h.highest_m, wo.ceiling_m + 1e-9);
-    }
-    return true;
+class RrtStarOnTerrain : public testing::WhiteMountains {};
+
+TEST_F(RrtStarOnTerrain, PathsOverARealDemKeepTheClearance) {
+  const int planned = forEachPlannedLeg(3, [&](const testing::TerrainLeg& leg, const WorldMotionValidator&,
+                                               const RrtStarResult& r, const LospoResult& shortened) {
+    EXPECT_LE(shortened.length_m, r.length_m);
+    expectClearOfTerrain(r.path_m, leg.attempt);
+    expectClearOfTerrain(shortened.path_m, leg.attempt);
   });
   EXPECT_EQ(planned, 3);
 }
