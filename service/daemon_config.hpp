@@ -5,9 +5,9 @@
 
 #include <string>
 
+#include "planning/core/result.hpp"
 #include "service/engine.hpp"
 #include "service/world_model.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

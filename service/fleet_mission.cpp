@@ -8,7 +8,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "planning/fleet_planner.hpp"
+#include "planning/fleet/fleet_planner.hpp"
 #include "service/request_footprint.hpp"
 #include "service/trajectory_data.hpp"
 #include "terrain/grid_from_terrain.hpp"

@@ -39,7 +39,7 @@
 
 #include <Eigen/Core>
 
-#include "planning/termination.hpp"
+#include "planning/core/termination.hpp"
 #include "service/mission_types.hpp"
 #include "service/route_planner.hpp"
 #include "service/world_model.hpp"

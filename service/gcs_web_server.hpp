@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "service/gcs_map_state.hpp"
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace httplib {
 class Server;

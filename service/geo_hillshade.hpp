@@ -6,7 +6,7 @@
 #include <string>
 
 #include "terrain/dem.hpp"
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute {
 

@@ -26,7 +26,7 @@
 
 #include <Eigen/Core>
 
-#include "planning/termination.hpp"
+#include "planning/core/termination.hpp"
 #include "service/fleet_mission.hpp"
 #include "service/flight_replanner.hpp"
 #include "service/grid_leg_planner.hpp"

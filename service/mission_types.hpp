@@ -12,9 +12,9 @@
 
 #include <Eigen/Core>
 
+#include "planning/core/result.hpp"
 #include "terrain/local_frame.hpp"
 #include "terrain/obstacle.hpp"
-#include "terrain/result.hpp"
 #include "trajectory/vehicle_limits.hpp"
 
 namespace skyroute {

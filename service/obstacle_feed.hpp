@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "planning/core/result.hpp"
 #include "service/mission_types.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

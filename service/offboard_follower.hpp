@@ -31,7 +31,7 @@
 #include "service/mission_types.hpp"
 #include "service/px4_projection.hpp"
 #include "terrain/local_frame.hpp"
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 #include "trajectory/trajectory.hpp"
 
 namespace skyroute {

@@ -6,7 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "service/number_text.hpp"
-#include "trajectory/collision_recheck.hpp"
+#include "service/trajectory_world_check.hpp"
 
 namespace skyroute {
 

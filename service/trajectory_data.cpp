@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "trajectory/geo_samples.hpp"
+#include "service/geo_samples.hpp"
 
 namespace skyroute {
 

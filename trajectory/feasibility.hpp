@@ -18,7 +18,7 @@
 namespace skyroute {
 
 // Is the straight motion a -> b, flown from trajectory time t_a_s to t_b_s, clear of terrain and
-// obstacles? (collision_recheck.hpp makes one from a CollisionWorld.)
+// obstacles? (service/trajectory_world_check.hpp makes one from a CollisionWorld.)
 using MotionCheck =
     std::function<bool(const Eigen::Vector3d& a_m, double t_a_s, const Eigen::Vector3d& b_m, double t_b_s)>;
 

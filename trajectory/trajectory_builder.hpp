@@ -17,7 +17,7 @@
 
 #include <Eigen/Core>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 #include "trajectory/corner_rounding.hpp"
 #include "trajectory/feasibility.hpp"
 #include "trajectory/spline7.hpp"

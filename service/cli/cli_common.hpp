@@ -9,7 +9,7 @@
 #include "service/cli/exit_codes.hpp"
 #include "service/daemon_config.hpp"
 #include "service/mission_types.hpp"
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace CLI {
 class App;

@@ -23,7 +23,7 @@
 #include <gdal_priv.h>
 #include <nlohmann/json.hpp>
 
-#include "planning/fleet_planner.hpp"
+#include "planning/fleet/fleet_planner.hpp"
 #include "service/cli/commands.hpp"
 #include "terrain/dem.hpp"
 #include "terrain/grid_from_terrain.hpp"

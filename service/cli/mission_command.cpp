@@ -11,7 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "planning/mission_planner.hpp"
+#include "planning/mission/mission_planner.hpp"
 #include "service/cli/commands.hpp"
 #include "terrain/dem.hpp"
 #include "terrain/grid_from_terrain.hpp"

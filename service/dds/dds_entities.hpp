@@ -10,7 +10,7 @@
 
 #include <dds/dds.h>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute::dds {
 

@@ -22,6 +22,7 @@
 #include "terrain/heightfield.hpp"
 #include "tests/daemon/daemon_process.hpp"
 #include "tests/daemon/ground_station.hpp"
+#include "tests/terrain_data.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute::testing {

@@ -10,6 +10,7 @@
 #include "terrain/heightfield.hpp"
 #include "tests/daemon/daemon_process.hpp"
 #include "tests/daemon/ground_station.hpp"
+#include "tests/terrain_data.hpp"
 #include "tests/test_data.hpp"
 #include "tests/daemon/web_driver.hpp"  // last: see its note on httplib and Eigen
 

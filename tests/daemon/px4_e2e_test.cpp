@@ -21,6 +21,7 @@
 #include "tests/daemon/fake_px4.hpp"
 #include "tests/daemon/ground_station.hpp"
 #include "tests/service/synthetic_trajectory.hpp"
+#include "tests/terrain_data.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute {

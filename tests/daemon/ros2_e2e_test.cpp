@@ -15,6 +15,7 @@
 #include "tests/daemon/daemon_process.hpp"
 #include "tests/daemon/ground_station.hpp"
 #include "tests/dds/ros2_reader.hpp"
+#include "tests/terrain_data.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute {

@@ -14,7 +14,9 @@
 
 #include "service/obstacle_feed.hpp"
 #include "service/world_model.hpp"
+#include "terrain/terrain_world.hpp"
 #include "tests/daemon/daemon_fixture.hpp"
+#include "tests/terrain_data.hpp"
 
 namespace skyroute {
 namespace {

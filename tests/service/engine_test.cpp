@@ -16,7 +16,7 @@
 
 #include "service/engine.hpp"
 #include "terrain/terrain_world.hpp"
-#include "tests/test_data.hpp"
+#include "tests/terrain_data.hpp"
 
 namespace skyroute {
 namespace {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "service/gcs_map_state.hpp"
+#include "tests/terrain_data.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute::testing {

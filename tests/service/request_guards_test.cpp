@@ -12,6 +12,7 @@
 #include "service/request_footprint.hpp"
 #include "service/request_registry.hpp"
 #include "terrain/heightfield.hpp"
+#include "tests/terrain_data.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute {
