@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 #include <memory>
 #include <mutex>
 
 #include <cpl_error.h>
+#include <cpl_vsi.h>
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
@@ -121,9 +121,10 @@ Eigen::Vector2d Dem::crsToPixel(double x, double y) const {
 
 Result<std::shared_ptr<const Dem>> Dem::load(const std::string& path, const DemLoadOptions& options) {
   const auto started = std::chrono::steady_clock::now();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return make_error(ErrorCode::kFileNotFound, path, "no such file");
-  if (std::filesystem::is_directory(path, ec)) return make_error(ErrorCode::kNotARaster, path, "is a directory");
+  // GDAL's stat rather than the file system's, so its virtual paths (/vsimem/, /vsizip/...) load too.
+  VSIStatBufL stat;
+  if (VSIStatL(path.c_str(), &stat) != 0) return make_error(ErrorCode::kFileNotFound, path, "no such file");
+  if (VSI_ISDIR(stat.st_mode)) return make_error(ErrorCode::kNotARaster, path, "is a directory");
 
   static std::once_flag gdal_registered;
   std::call_once(gdal_registered, [] { GDALAllRegister(); });

@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <random>
 
+#include <cpl_conv.h>
 #include <cpl_string.h>
+#include <cpl_vsi.h>
 #include <gdal.h>
 #include <gtest/gtest.h>
 #include <ogr_srs_api.h>
@@ -91,6 +93,21 @@ TEST(Dem, EmbeddedDefaultTerrainLoads) {
   ASSERT_TRUE(dem.ok()) << dem.error().describe();
   EXPECT_EQ((*dem)->unknownCells(), 0);
   EXPECT_GT((*dem)->maxHeightM() - (*dem)->minHeightM(), 400.0);  // mountains to climb or go around
+}
+
+TEST(Dem, LoadsFromGdalVirtualPaths) {
+  // An in-memory copy of a file on disk: the same DEM through /vsimem/.
+  const std::string disk = writeTiff("vsimem_source.tif", 4, 4, 1, ramp(4, 4), true);
+  const std::string memory = "/vsimem/dem_test/ramp.tif";
+  ASSERT_EQ(CPLCopyFile(memory.c_str(), disk.c_str()), 0);
+  auto dem = Dem::load(memory);
+  ASSERT_TRUE(dem.ok()) << dem.error().describe();
+  EXPECT_EQ((*dem)->width(), 4);
+  EXPECT_EQ((*dem)->maxHeightM(), 100 + 2 * 3 + 3 * 3);
+  VSIUnlink(memory.c_str());
+  EXPECT_EQ(Dem::load(memory).error().code, ErrorCode::kFileNotFound);
+  VSIMkdir("/vsimem/dem_test_dir", 0755);
+  EXPECT_EQ(Dem::load("/vsimem/dem_test_dir").error().code, ErrorCode::kNotARaster);
 }
 
 TEST(Dem, BadInputGetsTypedErrorsNamingTheFile) {
