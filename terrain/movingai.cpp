@@ -15,6 +15,10 @@ Error parseError(const std::string& path, int line, const std::string& what) {
 Result<GridLayer> loadMovingAiMap(const std::string& path) {
   std::ifstream in(path);
   if (!in) return make_error(ErrorCode::kFileNotFound, path, "cannot open the map file");
+  return parseMovingAiMap(in, path);
+}
+
+Result<GridLayer> parseMovingAiMap(std::istream& in, const std::string& path) {
   int width = -1;
   int height = -1;
   std::string line;
@@ -62,6 +66,10 @@ Result<GridLayer> loadMovingAiMap(const std::string& path) {
 Result<std::vector<MovingAiProblem>> loadMovingAiScenario(const std::string& path) {
   std::ifstream in(path);
   if (!in) return make_error(ErrorCode::kFileNotFound, path, "cannot open the scenario file");
+  return parseMovingAiScenario(in, path);
+}
+
+Result<std::vector<MovingAiProblem>> parseMovingAiScenario(std::istream& in, const std::string& path) {
   std::vector<MovingAiProblem> problems;
   std::string line;
   int line_no = 0;
