@@ -16,6 +16,17 @@ using nlohmann::json;
 
 std::int64_t secondsToNs(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
 
+// A time of the line (seconds, finite, in [0, kMaxObstacleFeedSeconds]; 0 itself only when
+// zero_allowed); an Error names the key.
+Result<double> feedSeconds(const json& value, const char* key, bool zero_allowed) {
+  const double v = value.is_number() ? value.get<double>() : -1.0;
+  if (!value.is_number() || !std::isfinite(v) || v < 0.0 || (!zero_allowed && v == 0.0) || v > kMaxObstacleFeedSeconds) {
+    return make_error(ErrorCode::kParseError, key,
+                      std::string(key) + " must be a number of seconds in " + (zero_allowed ? "[0" : "(0") + ", 1e9]");
+  }
+  return v;
+}
+
 // Parses one data line; an Error names the field.
 Result<FeedEntry> parseEntry(const std::string& line) {
   const json j = json::parse(line, nullptr, /*allow_exceptions=*/false);
@@ -24,23 +35,23 @@ Result<FeedEntry> parseEntry(const std::string& line) {
   FeedEntry entry;
   auto t = j.find("t_s");
   if (t == j.end()) return make_error(ErrorCode::kParseError, "t_s", "t_s is missing");
-  if (!t->is_number() || !std::isfinite(t->get<double>()) || t->get<double>() < 0.0)
-    return make_error(ErrorCode::kParseError, "t_s", "t_s must be a finite number >= 0");
-  entry.t_s = t->get<double>();
+  auto t_s = feedSeconds(*t, "t_s", true);
+  if (!t_s) return t_s.error();
+  entry.t_s = *t_s;
   auto o = j.find("obstacle");
   if (o == j.end()) return make_error(ErrorCode::kParseError, "obstacle", "obstacle is missing");
   auto update = obstacleFromJson(*o, "obstacle");
   if (!update) return update.error();
   entry.update = std::move(*update);
   if (auto f = j.find("valid_from_s"); f != j.end()) {
-    if (!f->is_number() || !std::isfinite(f->get<double>()) || f->get<double>() < 0.0)
-      return make_error(ErrorCode::kParseError, "valid_from_s", "valid_from_s must be a finite number >= 0");
-    entry.valid_from_s = f->get<double>();
+    auto from_s = feedSeconds(*f, "valid_from_s", true);
+    if (!from_s) return from_s.error();
+    entry.valid_from_s = *from_s;
   }
   if (auto d = j.find("valid_for_s"); d != j.end() && !d->is_null()) {
-    if (!d->is_number() || !std::isfinite(d->get<double>()) || !(d->get<double>() > 0.0))
-      return make_error(ErrorCode::kParseError, "valid_for_s", "valid_for_s must be a positive number (or null)");
-    entry.valid_for_s = d->get<double>();
+    auto for_s = feedSeconds(*d, "valid_for_s", false);
+    if (!for_s) return for_s.error();
+    entry.valid_for_s = *for_s;
   }
   return entry;
 }
@@ -50,7 +61,9 @@ Result<FeedEntry> parseEntry(const std::string& line) {
 ObstacleUpdateData FeedEntry::stamped(std::int64_t publish_utc_ns) const {
   ObstacleUpdateData u = update;
   u.valid_from_utc_ns = publish_utc_ns + secondsToNs(valid_from_s);
-  u.valid_until_utc_ns = valid_for_s ? u.valid_from_utc_ns + secondsToNs(*valid_for_s) : 0;
+  // At least a nanosecond: a validity shorter than that still ends after it begins.
+  u.valid_until_utc_ns =
+      valid_for_s ? u.valid_from_utc_ns + std::max<std::int64_t>(1, secondsToNs(*valid_for_s)) : 0;
   if (u.obstacle.motion) u.obstacle.motion->start_time_s = static_cast<double>(u.valid_from_utc_ns) * 1e-9;
   return u;
 }

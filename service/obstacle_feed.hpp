@@ -23,6 +23,9 @@ namespace skyroute {
 
 inline constexpr const char* kObstacleFeedFormat = "skyroute-obstacle-feed";
 inline constexpr int kObstacleFeedVersion = 1;
+// Largest t_s, valid_from_s and valid_for_s (about 32 years): a publish time plus both stays
+// within the wire's int64 UTC nanoseconds.
+inline constexpr double kMaxObstacleFeedSeconds = 1e9;
 
 struct FeedEntry {
   double t_s = 0.0;             // publish time, seconds after the feed start (non-decreasing)

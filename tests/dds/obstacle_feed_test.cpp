@@ -117,6 +117,27 @@ TEST(ObstacleFeed, MalformedLinesAreSkippedWithTheirLineNumbers) {
   }
 }
 
+TEST(ObstacleFeed, TimesStayWithinTheWireNanoseconds) {
+  // Times past 1e9 s would overflow publish + valid_from + valid_for in int64 nanoseconds.
+  const std::string obstacle = R"("obstacle":{"id":1,"shape":"sphere","size_m":[1,1,1],"position_m":[0,0,0]})";
+  std::istringstream in(obstacleFeedHeaderLine() + "\n" +                             // line 1
+                        "{\"t_s\":1e10," + obstacle + "}\n" +                         // line 2
+                        "{\"t_s\":0," + obstacle + ",\"valid_from_s\":1e300}\n" +     // line 3
+                        "{\"t_s\":0," + obstacle + ",\"valid_for_s\":2e9}\n" +        // line 4
+                        "{\"t_s\":1e9," + obstacle + ",\"valid_for_s\":1e-12}\n");    // line 5: accepted
+  auto feed = parseObstacleFeed(in, "times.jsonl");
+  ASSERT_TRUE(feed.ok()) << feed.error().describe();
+  ASSERT_EQ(feed->skipped.size(), 3u);
+  const char* keys[] = {"t_s", "valid_from_s", "valid_for_s"};
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_NE(feed->skipped[i].message.find(keys[i]), std::string::npos) << feed->skipped[i].message;
+  ASSERT_EQ(feed->entries.size(), 1u);
+  // A validity shorter than a nanosecond still ends after it begins, so the daemon accepts it.
+  const ObstacleUpdateData stamped = feed->entries[0].stamped(1'704'067'200'000'000'000);
+  EXPECT_EQ(stamped.valid_until_utc_ns, stamped.valid_from_utc_ns + 1);
+  EXPECT_FALSE(validateObstacleUpdate(stamped).has_value());
+}
+
 TEST(ObstacleFeed, BadHeaderOrVersionIsFatal) {
   std::istringstream no_header("{\"t_s\": 0, \"obstacle\": {\"id\": 1, \"remove\": true}}\n");
   auto r = parseObstacleFeed(no_header, "x.jsonl");
