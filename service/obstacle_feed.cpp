@@ -75,12 +75,16 @@ FeedEntry FeedEntry::fromUpdate(const ObstacleUpdateData& update, double t_s, st
   entry.update.valid_from_utc_ns = 0;
   entry.update.valid_until_utc_ns = 0;
   if (entry.update.obstacle.motion) entry.update.obstacle.motion->start_time_s = 0.0;
-  // An update that took effect before it was heard is recorded as effective at once.
-  entry.valid_from_s = std::max(0.0, static_cast<double>(update.valid_from_utc_ns - received_utc_ns) * 1e-9);
+  // An update that took effect before it was heard is recorded as effective at once. Times beyond
+  // what a feed line may hold (the wire allows centuries) are recorded as the longest it may.
+  if (update.valid_from_utc_ns > received_utc_ns) {
+    entry.valid_from_s =
+        std::min(kMaxObstacleFeedSeconds, static_cast<double>(update.valid_from_utc_ns - received_utc_ns) * 1e-9);
+  }
   if (update.valid_until_utc_ns != 0) {
     const double from_abs_ns = static_cast<double>(std::max(update.valid_from_utc_ns, received_utc_ns));
     const double duration_s = (static_cast<double>(update.valid_until_utc_ns) - from_abs_ns) * 1e-9;
-    entry.valid_for_s = std::max(duration_s, 1e-3);
+    entry.valid_for_s = std::clamp(duration_s, 1e-3, kMaxObstacleFeedSeconds);
   }
   return entry;
 }

@@ -182,6 +182,26 @@ TEST(ObstacleFeed, StampingAndRecordingAreInverse) {
   }
 }
 
+TEST(ObstacleFeed, RecordingAnUpdateValidForCenturiesGivesALineThatReplays) {
+  const std::int64_t heard_ns = 1'704'067'200'000'000'000;
+  ObstacleUpdateData update;
+  update.obstacle.id = 3;
+  update.valid_from_utc_ns = std::numeric_limits<std::int64_t>::max() - 2;  // the year 2262
+  update.valid_until_utc_ns = std::numeric_limits<std::int64_t>::max();
+  const FeedEntry far = FeedEntry::fromUpdate(update, 0.0, heard_ns);
+  EXPECT_EQ(far.valid_from_s, kMaxObstacleFeedSeconds);
+  update.valid_from_utc_ns = std::numeric_limits<std::int64_t>::min();  // long past: effective at once
+  const FeedEntry long_valid = FeedEntry::fromUpdate(update, 0.0, heard_ns);
+  EXPECT_EQ(long_valid.valid_from_s, 0.0);
+  EXPECT_EQ(long_valid.valid_for_s, kMaxObstacleFeedSeconds);
+  for (const FeedEntry& e : {far, long_valid}) {
+    std::istringstream line(obstacleFeedHeaderLine() + "\n" + obstacleFeedEntryLine(e) + "\n");
+    auto feed = parseObstacleFeed(line, "recorded.jsonl");
+    ASSERT_TRUE(feed.ok());
+    EXPECT_EQ(feed->entries.size(), 1u) << (feed->skipped.empty() ? "" : feed->skipped[0].message);
+  }
+}
+
 TEST(ObstacleFeed, ShippedSeed003FeedIsCleanAndMatchesTableOne) {
   auto feed = readObstacleFeed(std::string(SKYROUTE_DATA_DIR) + "/feeds/seed003_table1.jsonl");
   ASSERT_TRUE(feed.ok()) << feed.error().describe();
