@@ -2,18 +2,21 @@
 // infinities, enum values no enumerator has, empty and null strings) -> fromWire, then what the
 // daemon does next. An accepted request meets the engine's checks (validateMissionRequest,
 // validateFleetRequest with the daemon's defaults); a rejected one is answered with a status built
-// from identityFromWire, as the daemon's node does. The first byte picks the message type; the
+// from identityFromWire, as the daemon's node does; an accepted obstacle update is recorded as
+// `skyroute record` does, and the line must read back. The first byte picks the message type; the
 // client-side messages (trajectory, statuses) are read as the ground-station tools read them.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <sstream>
 #include <string>
 
 #include "service/dds/conversions.hpp"
 #include "service/engine.hpp"
 #include "service/fleet_mission.hpp"
+#include "service/obstacle_feed.hpp"
 #include "tests/fuzz/fuzz_bytes.hpp"
 #include "tests/fuzz/mission_equal.hpp"
 
@@ -125,6 +128,7 @@ void missionRequest(FuzzBytes& in) {
 }
 
 void obstacleUpdate(FuzzBytes& in) {
+  using namespace skyroute;
   dds::WireSample<skyroute_msgs_ObstacleUpdate> wire(&skyroute_msgs_ObstacleUpdate_desc);
   skyroute_msgs_ObstacleUpdate& o = wire.msg();
   o.obstacle_id = in.raw<std::uint64_t>();
@@ -140,7 +144,16 @@ void obstacleUpdate(FuzzBytes& in) {
   o.valid_until_utc_ns = in.flag() ? 0 : in.raw<std::int64_t>();
   o.remove = in.flag();
   auto update = dds::fromWire(o, kNowUtcNs);
-  if (!update && update.error().field.empty()) finding("a rejected obstacle update names no field");
+  if (!update) {
+    if (update.error().field.empty()) finding("a rejected obstacle update names no field");
+    return;
+  }
+  // `skyroute record` writes what it hears as a feed line, which `skyroute replay` must read back.
+  const FeedEntry entry = FeedEntry::fromUpdate(*update, 0.0, kNowUtcNs);
+  std::istringstream recorded(obstacleFeedHeaderLine() + "\n" + obstacleFeedEntryLine(entry) + "\n");
+  auto feed = parseObstacleFeed(recorded, "recorded.jsonl");
+  if (!feed || feed->entries.size() != 1)
+    finding("a recorded update does not replay: " + (feed && !feed->skipped.empty() ? feed->skipped[0].message : ""));
 }
 
 void cancelRequest(FuzzBytes& in) {
