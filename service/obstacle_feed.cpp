@@ -99,7 +99,10 @@ Result<ObstacleFeed> parseObstacleFeed(std::istream& in, const std::string& sour
     ++line_number;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     const json header = json::parse(line, nullptr, false);
-    if (header.is_discarded() || !header.is_object() || header.value("format", std::string()) != kObstacleFeedFormat)
+    // Not header.value("format", ...): it throws when "format" is there but not a string.
+    const auto format = header.is_object() ? header.find("format") : header.end();
+    if (!header.is_object() || format == header.end() || !format->is_string() ||
+        format->get_ref<const std::string&>() != kObstacleFeedFormat)
       return make_error(ErrorCode::kParseError, source_name,
                         source_name + ":" + std::to_string(line_number) + ": not an obstacle feed (the first line must be " +
                             obstacleFeedHeaderLine() + ")");
@@ -107,11 +110,13 @@ Result<ObstacleFeed> parseObstacleFeed(std::istream& in, const std::string& sour
     if (version == header.end() || !version->is_number_integer())
       return make_error(ErrorCode::kParseError, source_name,
                         source_name + ":" + std::to_string(line_number) + ": header has no integer version");
-    feed.version = version->get<int>();
-    if (feed.version != kObstacleFeedVersion)
+    // Compared as read: as an int, 4294967297 would pass for version 1.
+    const std::int64_t version_number = version->get<std::int64_t>();
+    if (version_number != kObstacleFeedVersion)
       return make_error(ErrorCode::kParseError, source_name,
-                        source_name + ":" + std::to_string(line_number) + ": feed version " + std::to_string(feed.version) +
+                        source_name + ":" + std::to_string(line_number) + ": feed version " + std::to_string(version_number) +
                             " is not supported (this build reads version " + std::to_string(kObstacleFeedVersion) + ")");
+    feed.version = kObstacleFeedVersion;
     have_header = true;
   }
   if (!have_header)

@@ -152,6 +152,17 @@ TEST(ObstacleFeed, BadHeaderOrVersionIsFatal) {
   std::istringstream empty("");
   EXPECT_FALSE(parseObstacleFeed(empty, "z.jsonl").ok());
 
+  // A header whose format is not a string is refused like any other (it used to throw).
+  std::istringstream number_format("{\"format\":1,\"version\":1}\n");
+  r = parseObstacleFeed(number_format, "n.jsonl");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("not an obstacle feed"), std::string::npos) << r.error().message;
+  // 2^32 + 1 is not version 1, though it is as a 32-bit int.
+  std::istringstream wrapped("{\"format\":\"skyroute-obstacle-feed\",\"version\":4294967297}\n");
+  r = parseObstacleFeed(wrapped, "w.jsonl");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("version 4294967297"), std::string::npos) << r.error().message;
+
   auto missing = readObstacleFeed("/nonexistent/feed.jsonl");
   ASSERT_FALSE(missing.ok());
   EXPECT_EQ(missing.error().code, ErrorCode::kFileNotFound);
