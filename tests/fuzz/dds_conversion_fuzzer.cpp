@@ -2,8 +2,8 @@
 // infinities, enum values no enumerator has, empty and null strings) -> fromWire, then what the
 // daemon does next. An accepted request meets the engine's checks (validateMissionRequest,
 // validateFleetRequest with the daemon's defaults); a rejected one is answered with a status built
-// from identityFromWire, as the daemon's node does; an accepted obstacle update is recorded as
-// `skyroute record` does, and the line must read back. The first byte picks the message type; the
+// from identityFromWire, as the daemon's node does; an accepted obstacle update is placed in the
+// world as the daemon places it, and recorded as `skyroute record` does (the line must read back). The first byte picks the message type; the
 // client-side messages (trajectory, statuses) are read as the ground-station tools read them.
 #include <cstddef>
 #include <cstdint>
@@ -17,6 +17,7 @@
 #include "service/engine.hpp"
 #include "service/fleet_mission.hpp"
 #include "service/obstacle_feed.hpp"
+#include "service/world_model.hpp"
 #include "tests/fuzz/fuzz_bytes.hpp"
 #include "tests/fuzz/mission_equal.hpp"
 
@@ -148,6 +149,14 @@ void obstacleUpdate(FuzzBytes& in) {
     if (update.error().field.empty()) finding("a rejected obstacle update names no field");
     return;
   }
+  // What the world model and every collision check then compute from it (a minute ahead is more
+  // than the replanning horizon).
+  const Obstacle obstacle = worldObstacle(*update, WorldModelOptions{}.constant_velocity_horizon_s);
+  const double now_s = static_cast<double>(kNowUtcNs) * 1e-9;
+  (void)obstacle.centerAt(now_s);
+  (void)obstacle.trackDuring(now_s, now_s + 60.0);
+  (void)obstacle.boundingRadius();
+  (void)obstacle.contains(Eigen::Vector3d::Zero(), now_s, 1.0);
   // `skyroute record` writes what it hears as a feed line, which `skyroute replay` must read back.
   const FeedEntry entry = FeedEntry::fromUpdate(*update, 0.0, kNowUtcNs);
   std::istringstream recorded(obstacleFeedHeaderLine() + "\n" + obstacleFeedEntryLine(entry) + "\n");
