@@ -164,6 +164,11 @@ Result<std::shared_ptr<const Dem>> Dem::load(const std::string& path, const DemL
   dem->width_ = GDALGetRasterXSize(ds.get());
   dem->height_ = GDALGetRasterYSize(ds.get());
   if (dem->width_ < 2 || dem->height_ < 2) return make_error(ErrorCode::kNotARaster, path, "is smaller than 2 x 2 cells");
+  if (static_cast<std::int64_t>(dem->width_) * dem->height_ > options.max_cells) {
+    return make_error(ErrorCode::kInvalidArgument, path,
+                      "is " + std::to_string(dem->width_) + " x " + std::to_string(dem->height_) +
+                          " cells, more than the " + std::to_string(options.max_cells) + " this service loads");
+  }
 
   GDALRasterBandH band = GDALGetRasterBand(ds.get(), band_index);
   const double units = metresPerUnit(GDALGetRasterUnitType(band) ? GDALGetRasterUnitType(band) : "");

@@ -116,8 +116,14 @@ Result<std::shared_ptr<const Heightfield>> Heightfield::build(std::shared_ptr<co
                                        Eigen::Vector2d(e_max - res.x(), n_max - res.y()));
   if (hf->bounds_en_.isEmpty()) return make_error(ErrorCode::kInvalidArgument, dem->path(), "footprint is empty");
 
-  // Lattice ENU -> pixel, exact at the nodes.
-  const double step = std::max(1.0, 8.0 * std::min(res.x(), res.y()));
+  // Lattice ENU -> pixel, exact at the nodes: every 8 cells of the finer axis, but never more nodes
+  // than a quarter of the DEM's cells (a DEM has about a 64th; cells far longer than wide, from a
+  // bad geotransform, would otherwise ask for billions of nodes).
+  if (!outer.sizes().allFinite()) return make_error(ErrorCode::kInvalidArgument, dem->path(), "footprint is not finite");
+  double step = std::max(1.0, 8.0 * std::min(res.x(), res.y()));
+  const double max_nodes = std::max(static_cast<double>(w) * h / 4.0, 65536.0);
+  auto nodes_along = [&](double extent_m) { return std::ceil((extent_m + step) / step) + 2.0; };
+  while (nodes_along(outer.sizes().x()) * nodes_along(outer.sizes().y()) > max_nodes) step *= 2.0;
   hf->lattice_step_m_ = step;
   hf->lattice_origin_m_ = outer.min() - Eigen::Vector2d(step, step);
   hf->lattice_nx_ = static_cast<int>(std::ceil((outer.max().x() - hf->lattice_origin_m_.x()) / step)) + 2;

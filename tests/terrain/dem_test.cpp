@@ -110,6 +110,35 @@ TEST(Dem, LoadsFromGdalVirtualPaths) {
   EXPECT_EQ(Dem::load("/vsimem/dem_test_dir").error().code, ErrorCode::kNotARaster);
 }
 
+TEST(Dem, RefusesMoreCellsThanTheLimitBeforeReadingThem) {
+  const std::string path = writeTiff("limit.tif", 4, 4, 1, ramp(4, 4), true);
+  EXPECT_TRUE(Dem::load(path, DemLoadOptions{.max_cells = 16}).ok());
+  const auto refused = Dem::load(path, DemLoadOptions{.max_cells = 15});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(refused.error().message.find("4 x 4 cells"), std::string::npos) << refused.error().message;
+}
+
+TEST(Heightfield, LatticeOfCellsFarLongerThanWideStaysSmall) {
+  // 200 x 4 cells of 1e-6 degree by 20 degrees: a lattice at 8 of the narrow cells per node would
+  // have about a billion nodes.
+  GDALAllRegister();
+  const std::string path = ::testing::TempDir() + "/sliver.tif";
+  GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), 200, 4, 1, GDT_Float32, nullptr);
+  double gt[6] = {0.0, 1e-6, 0.0, 45.0, 0.0, -20.0};
+  GDALSetGeoTransform(ds, gt);
+  GDALSetProjection(ds, testing::epsgWkt(4326).c_str());
+  std::vector<float> heights(800, 300.f);
+  EXPECT_EQ(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Write, 0, 0, 200, 4, heights.data(), 200, 4, GDT_Float32, 0, 0),
+            CE_None);
+  GDALClose(ds);
+  auto dem = Dem::load(path);
+  ASSERT_TRUE(dem.ok()) << dem.error().describe();
+  auto hf = Heightfield::build(*dem);
+  ASSERT_TRUE(hf.ok()) << hf.error().describe();
+  EXPECT_LT((*hf)->memoryBytes(), std::size_t{4} << 20);
+}
+
 TEST(Dem, BadInputGetsTypedErrorsNamingTheFile) {
   EXPECT_EQ(Dem::load("/nonexistent/x.tif").error().code, ErrorCode::kFileNotFound);
   const std::string text = ::testing::TempDir() + "/not_a_raster.tif";
