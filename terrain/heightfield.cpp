@@ -152,8 +152,10 @@ std::shared_ptr<const Heightfield> Heightfield::dilated(double radius_m) const {
   std::shared_ptr<Heightfield> out(new Heightfield(*this));
   if (!(radius_m > 0.0)) return out;
   const Eigen::Vector2d res = dem_->resolutionM();
-  const int rx = static_cast<int>(std::ceil(radius_m / res.x()));
-  const int ry = static_cast<int>(std::ceil(radius_m / res.y()));
+  // Offsets past the raster's own size never reach a cell: without this bound, cells far narrower
+  // than the radius made a window of millions of offsets for every cell (or an int overflow).
+  const int rx = static_cast<int>(std::min(width_ - 1.0, std::ceil(radius_m / res.x())));
+  const int ry = static_cast<int>(std::min(height_ - 1.0, std::ceil(radius_m / res.y())));
   std::vector<std::pair<int, int>> window;
   for (int dy = -ry; dy <= ry; ++dy) {
     for (int dx = -rx; dx <= rx; ++dx) {

@@ -1,4 +1,5 @@
 // DEM loading, the local frame and the heightfield, on the real DEMs and the embedded terrain.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -119,13 +120,12 @@ TEST(Dem, RefusesMoreCellsThanTheLimitBeforeReadingThem) {
   EXPECT_NE(refused.error().message.find("4 x 4 cells"), std::string::npos) << refused.error().message;
 }
 
-TEST(Heightfield, LatticeOfCellsFarLongerThanWideStaysSmall) {
-  // 200 x 4 cells of 1e-6 degree by 20 degrees: a lattice at 8 of the narrow cells per node would
-  // have about a billion nodes.
+// A 200 x 4 DEM of cells `width_deg` wide and 20 degrees tall, all at 300 m.
+std::shared_ptr<const Dem> sliverDem(const std::string& name, double width_deg) {
   GDALAllRegister();
-  const std::string path = ::testing::TempDir() + "/sliver.tif";
+  const std::string path = ::testing::TempDir() + "/" + name;
   GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), 200, 4, 1, GDT_Float32, nullptr);
-  double gt[6] = {0.0, 1e-6, 0.0, 45.0, 0.0, -20.0};
+  double gt[6] = {0.0, width_deg, 0.0, 45.0, 0.0, -20.0};
   GDALSetGeoTransform(ds, gt);
   GDALSetProjection(ds, testing::epsgWkt(4326).c_str());
   std::vector<float> heights(800, 300.f);
@@ -133,10 +133,31 @@ TEST(Heightfield, LatticeOfCellsFarLongerThanWideStaysSmall) {
             CE_None);
   GDALClose(ds);
   auto dem = Dem::load(path);
-  ASSERT_TRUE(dem.ok()) << dem.error().describe();
-  auto hf = Heightfield::build(*dem);
+  EXPECT_TRUE(dem.ok()) << dem.error().describe();
+  return dem.ok() ? *dem : nullptr;
+}
+
+TEST(Heightfield, LatticeOfCellsFarLongerThanWideStaysSmall) {
+  // At 8 of the narrow cells per node, the lattice of these 1e-6 degree cells would have about a
+  // billion nodes.
+  auto dem = sliverDem("sliver.tif", 1e-6);
+  ASSERT_TRUE(dem);
+  auto hf = Heightfield::build(dem);
   ASSERT_TRUE(hf.ok()) << hf.error().describe();
   EXPECT_LT((*hf)->memoryBytes(), std::size_t{4} << 20);
+}
+
+TEST(Heightfield, DilationWindowStopsAtTheRasterEdge) {
+  // 30 m spans 380,000 of these 1e-9 degree cells: a window that size for each of 800 cells never
+  // finished; no offset past the raster's 200 columns can reach a cell anyway.
+  auto dem = sliverDem("needle.tif", 1e-9);
+  ASSERT_TRUE(dem);
+  auto hf = Heightfield::build(dem);
+  ASSERT_TRUE(hf.ok()) << hf.error().describe();
+  const auto started = std::chrono::steady_clock::now();
+  const auto dilated = (*hf)->dilated(30.0);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 5.0);
+  EXPECT_EQ(dilated->maxHeightM(), 300.0);
 }
 
 TEST(Dem, BadInputGetsTypedErrorsNamingTheFile) {
