@@ -1,5 +1,6 @@
 // Fuzzes DEM loading (skyrouted's terrain.dem, `skyroute plan --dem`): raster bytes written to
-// GDAL's /vsimem/ and loaded as the daemon loads its terrain (loadTerrainWorld without the octree),
+// GDAL's /vsimem/ and loaded as the daemon loads its terrain (loadTerrainWorld without the octree,
+// with a terrain margin),
 // then asked what planning asks of it: heights, clearance along a segment, point and segment
 // validity across the flyable box. The first byte picks the file name, hence the GDAL driver;
 // only the drivers of real DEM formats stay registered (GDAL's own drivers are fuzzed by GDAL).
@@ -77,7 +78,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   CollisionWorldOptions options;
   options.build_octree = false;  // as the daemon: every check on the heightfield
-  auto world = loadTerrainWorld(path, options);
+  options.terrain_margin_m = 30.0;  // as terrain.terrain_margin_m: the dilated terrain is built too
+  // The same limit as the daemon's (DemLoadOptions::max_cells), lowered so that an input stays
+  // within libFuzzer's time and memory limits.
+  DemLoadOptions dem_options;
+  dem_options.max_cells = 1'000'000;
+  auto world = loadTerrainWorld(path, options, dem_options);
   if (world) {
     const Heightfield& terrain = *world->heightfield;
     const Eigen::AlignedBox3d box = world->collision->flyableBounds();
