@@ -230,6 +230,12 @@ Result<std::shared_ptr<const Dem>> Dem::finish(std::shared_ptr<Dem> dem, const D
     return make_error(ErrorCode::kNoCrs, path, "has a coordinate reference system GDAL cannot interpret");
   }
   dem->geographic_ = OSRIsGeographic(srs.get()) != 0;
+  // Checked before any transformation is made: PROJ spends seconds searching for one from a
+  // geocentric CRS with a made-up ellipsoid, only to find none.
+  if (!dem->geographic_ && OSRIsProjected(srs.get()) == 0) {
+    return make_error(ErrorCode::kNoCrs, path,
+                      "has a CRS that is neither geographic nor projected (a DEM needs horizontal coordinates)");
+  }
   const char* name = OSRGetName(srs.get());
   dem->crs_name_ = name ? name : "unnamed";
   const char* authority = OSRGetAuthorityName(srs.get(), nullptr);

@@ -111,6 +111,19 @@ TEST(Dem, LoadsFromGdalVirtualPaths) {
   EXPECT_EQ(Dem::load("/vsimem/dem_test_dir").error().code, ErrorCode::kNotARaster);
 }
 
+TEST(Dem, RefusesACrsWithoutHorizontalCoordinates) {
+  OGRSpatialReferenceH geocentric = OSRNewSpatialReference(nullptr);
+  ASSERT_EQ(OSRSetFromUserInput(geocentric, "EPSG:4978"), OGRERR_NONE);  // WGS 84 earth-centred X, Y, Z
+  char* wkt = nullptr;
+  OSRExportToWkt(geocentric, &wkt);
+  const auto dem = Dem::fromArray(2, 2, {1, 2, 3, 4}, {0, 1, 0, 0, 0, -1}, wkt, "geocentric");
+  CPLFree(wkt);
+  OSRDestroySpatialReference(geocentric);
+  ASSERT_FALSE(dem.ok());
+  EXPECT_EQ(dem.error().code, ErrorCode::kNoCrs);
+  EXPECT_NE(dem.error().message.find("neither geographic nor projected"), std::string::npos) << dem.error().message;
+}
+
 TEST(Dem, RefusesMoreCellsThanTheLimitBeforeReadingThem) {
   const std::string path = writeTiff("limit.tif", 4, 4, 1, ramp(4, 4), true);
   EXPECT_TRUE(Dem::load(path, DemLoadOptions{.max_cells = 16}).ok());
