@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include <cpl_conv.h>
@@ -158,6 +159,51 @@ TEST(Heightfield, LatticeOfCellsFarLongerThanWideStaysSmall) {
   auto hf = Heightfield::build(dem);
   ASSERT_TRUE(hf.ok()) << hf.error().describe();
   EXPECT_LT((*hf)->memoryBytes(), std::size_t{4} << 20);
+}
+
+TEST(Heightfield, DilationMatchesTheWindowByBruteForce) {
+  // Random heights on 30 m x 45 m cells, with a void too large to be filled (80 cells).
+  constexpr int w = 23;
+  constexpr int h = 17;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> height(0.f, 500.f);
+  std::vector<float> heights(w * h);
+  for (float& v : heights) v = height(rng);
+  for (int r = 0; r < 8; ++r)
+    for (int c = 0; c < 10; ++c) heights[r * w + c] = std::numeric_limits<float>::quiet_NaN();
+  auto dem = Dem::fromArray(w, h, heights, {500000.0, 30.0, 0.0, 5200000.0, 0.0, -45.0}, utmWkt(), "random");
+  ASSERT_TRUE(dem.ok()) << dem.error().describe();
+  auto hf = Heightfield::build(*dem);
+  ASSERT_TRUE(hf.ok()) << hf.error().describe();
+  const Eigen::Vector2d res = (*dem)->resolutionM();
+  for (const double radius_m : {10.0, 40.0, 100.0, 333.0, 2000.0}) {
+    const auto dilated = (*hf)->dilated(radius_m);
+    const int rx = static_cast<int>(std::ceil(radius_m / res.x()));
+    const int ry = static_cast<int>(std::ceil(radius_m / res.y()));
+    for (int row = 0; row < h; ++row) {
+      for (int col = 0; col < w; ++col) {
+        // The definition: the highest cell whose centre is within the radius plus half a diagonal.
+        float expected = -std::numeric_limits<float>::infinity();
+        for (int dy = -ry; dy <= ry; ++dy) {
+          for (int dx = -rx; dx <= rx; ++dx) {
+            const int c = col + dx;
+            const int r = row + dy;
+            if (c < 0 || r < 0 || c >= w || r >= h) continue;
+            if (std::hypot(dx * res.x(), dy * res.y()) > radius_m + 0.5 * res.norm()) continue;
+            const float v = (*hf)->heightCell(c, r);
+            expected = std::isnan(v) || std::isnan(expected) ? std::numeric_limits<float>::quiet_NaN()
+                                                             : std::max(expected, v);
+          }
+        }
+        const float got = dilated->heightCell(col, row);
+        if (std::isnan(expected)) {
+          EXPECT_TRUE(std::isnan(got)) << radius_m << " m at " << col << "," << row;
+        } else {
+          EXPECT_EQ(got, expected) << radius_m << " m at " << col << "," << row;
+        }
+      }
+    }
+  }
 }
 
 TEST(Heightfield, DilationWindowStopsAtTheRasterEdge) {
