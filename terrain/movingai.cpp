@@ -44,7 +44,7 @@ Result<GridLayer> parseMovingAiMap(std::istream& in, const std::string& path) {
   if (width <= 0 || height <= 0 || width > 100000 || height > 100000) {
     return parseError(path, line_no, "missing or absurd width/height");
   }
-  GridLayer grid(width, height);
+  // The rows are read before the grid is made: a header alone may declare 10^10 cells.
   std::vector<GridCell> walls;
   for (int y = 0; y < height; ++y) {
     if (!std::getline(in, line)) return parseError(path, line_no + 1, "map has fewer rows than its height");
@@ -59,6 +59,7 @@ Result<GridLayer> parseMovingAiMap(std::istream& in, const std::string& path) {
       }
     }
   }
+  GridLayer grid(width, height);
   grid.setStaticBlocked(walls, true);
   return grid;
 }
