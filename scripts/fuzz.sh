@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seconds="${1:-30}"
-[ $# -gt 0 ] && shift
+if [ $# -gt 0 ]; then shift; fi
 if ! [[ "$seconds" =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
   echo "fuzz: SECONDS must be a positive integer (got '$seconds')" >&2
   exit 2
@@ -35,10 +35,10 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-build_started=$(date +%s)
+started=$(date +%s)
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j "$(nproc)"
-echo "fuzz: build took $(( $(date +%s) - build_started )) s"
+echo "fuzz: build took $(( $(date +%s) - started )) s"
 
 harnesses=("$@")
 if [ ${#harnesses[@]} -eq 0 ]; then
@@ -82,7 +82,7 @@ for name in "${harnesses[@]}"; do
 done
 
 echo
-echo "fuzz: ${seconds} s per harness"
+echo "fuzz: ${seconds} s per harness, $(( $(date +%s) - started )) s in all (build included)"
 printf '%s\n' "${summary[@]}"
 if [ ${#failed[@]} -gt 0 ]; then
   echo "fuzz: FAILED: ${failed[*]} (inputs in build-fuzz/artifacts/)" >&2
