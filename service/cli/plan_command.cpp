@@ -210,7 +210,7 @@ void runPlan(const PlanArgs& a) {
   checkOutputPath("--png", a.png, {"png"});
   const MissionRequestData mission = buildMission(a);
 
-  const std::string dem = demPathOf(config);
+  const std::string dem = demPathOf(kTool, config);
   std::cerr << "loading " << dem << " ..." << std::endl;
   auto world = WorldModel::load(dem, config.world);
   if (!world.ok()) fail(kTool, kExitBadInput, "terrain.dem " + world.error().describe());
