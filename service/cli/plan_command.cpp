@@ -13,6 +13,7 @@
 
 #include "service/cli/cli_common.hpp"
 #include "service/cli/commands.hpp"
+#include "service/cli/height_ref_option.hpp"
 #include "service/map_image.hpp"
 #include "service/mission_json.hpp"
 #include "service/mission_pipeline.hpp"
@@ -43,6 +44,7 @@ struct PlanArgs {
       max_descent_mps, min_turn_radius_m;
   std::string out;
   std::string png;
+  HeightRefArgs height_ref;
 };
 
 std::string lowerExtension(const std::string& path) {
@@ -208,9 +210,9 @@ void runPlan(const PlanArgs& a) {
   if (printConfigIfAsked(a.config, config)) return;
   checkOutputPath("--out", a.out, {"csv", "geojson", "json", "plan", "waypoints"});
   checkOutputPath("--png", a.png, {"png"});
-  const MissionRequestData mission = buildMission(a);
+  const MissionRequestData mission = missionInAmsl(kTool, a.height_ref, a.mission_file, buildMission(a));
 
-  const std::string dem = demPathOf(config);
+  const std::string dem = demPathOf(kTool, config);
   std::cerr << "loading " << dem << " ..." << std::endl;
   auto world = WorldModel::load(dem, config.world);
   if (!world.ok()) fail(kTool, kExitBadInput, "terrain.dem " + world.error().describe());
@@ -272,6 +274,7 @@ void addPlanCommand(CLI::App& app) {
   plan->add_option("--to", a->to, "Goal LAT,LON,ALT");
   plan->add_option("--via", a->via, "Mission point LAT,LON,ALT (repeatable); MMD*L orders them unless --fixed-order");
   plan->add_flag("--fixed-order", a->fixed_order, "Visit the points in the given order");
+  addHeightRefOption(*plan, a->height_ref);
   plan->add_option("--vehicle", a->vehicle, "Vehicle id (default: the mission's, else uav-1)");
   plan->add_option("--planner", a->planner,
                    "Route planner: " + routePlannerNames(" | ") + " (default: config planning.default_planner)");

@@ -22,6 +22,7 @@
 
 #include "service/cli/dds_cli_common.hpp"
 #include "service/cli/dds_commands.hpp"
+#include "service/cli/height_ref_option.hpp"
 #include "service/dds/service_instance.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/mission_json.hpp"
@@ -36,6 +37,7 @@ struct RequestOptions {
   std::string vehicle, begin, points, end, file, request_id, planner;
   bool fixed_order = false;
   double wait_s = 30.0;
+  HeightRefArgs height_ref;
 };
 
 MissionRequestData buildMission(const RequestOptions& o) {
@@ -91,7 +93,7 @@ struct Heard {
 
 void runRequest(const RequestOptions& o) {
   const std::string tool = "request";
-  const MissionRequestData mission = buildMission(o);
+  const MissionRequestData mission = missionInAmsl(tool, o.height_ref, o.file, buildMission(o));
   dds::Entity participant = openParticipant(tool, o.domain);
   // The status reader exists before the request is written, so no reply can be missed.
   auto statuses = dds::Reader<PlanStatusData>::create(participant.get());
@@ -241,6 +243,7 @@ void addRequestCommand(CLI::App& app) {
   cmd->add_option("--request-id", options->request_id, "Request id (default: vehicle-pid-milliseconds)");
   cmd->add_option("--planner", options->planner, "Planner name (default: the service's)");
   cmd->add_flag("--fixed-order", options->fixed_order, "Visit the points in the given order");
+  addHeightRefOption(*cmd, options->height_ref);
   cmd->add_option("--wait", options->wait_s, "Seconds to wait for the service and its answer")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
