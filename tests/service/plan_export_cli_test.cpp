@@ -15,6 +15,7 @@
 
 #include "tests/cli_run.hpp"
 #include "tests/test_data.hpp"
+#include "tests/text_file.hpp"
 
 namespace {
 
@@ -28,12 +29,7 @@ CliRun run(const std::string& args) {
   return CliRun{r.exit_code, std::move(r.text)};
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string slurp(const std::string& path) { return skyroute::testing::readTextFile(path); }
 
 // A short reproducible plan across the embedded terrain (ground below 922 m AMSL).
 std::string planArgs(const std::string& out) {
