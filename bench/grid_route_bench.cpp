@@ -1,8 +1,10 @@
 // HAB-PP routes through the trajectory stage on the embedded terrain: seeded random missions
 // (begin, one point, end, each 60 m above the ground, anywhere within 5.5 km of the centre) whose
-// straight legs are not all clear are planned by planGridRoutePaths (hab-pp) with the output
+// straight legs are not all clear are planned as the mission pipeline plans them: the registry's
+// hab-pp leg planner (legPathPlanner) with the pipeline's default options and budget, the output
 // stage's windowed re-planning off (0) and on (3 segments), and each route is built into a
-// trajectory for a vehicle with a 30 m turn radius (buildRouteTrajectory). Prints how many routes
+// trajectory for a vehicle with a 30 m turn radius by the pipeline's trajectory stage
+// (buildRouteTrajectory with the pipeline's trajectory options). Prints how many routes
 // and trajectories come out, the mean 3D route length over the missions both settings fly, and
 // the trajectory stage's failure reasons. docs/benchmarks/habpp.md records the output.
 //
@@ -14,7 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "service/grid_leg_planner.hpp"
+#include "service/mission_pipeline.hpp"
+#include "service/planner_registry.hpp"
 #include "service/route_planner.hpp"
 #include "service/world_model.hpp"
 #include "terrain/terrain_world.hpp"
@@ -33,9 +36,11 @@ struct Outcome {
 Outcome fly(const std::shared_ptr<const CollisionWorld>& world, const std::vector<Eigen::Vector3d>& points,
             int window_segments, double turn_radius_m, std::uint64_t seed) {
   Outcome out;
-  GridLegOptions legs;
-  legs.output_window_segments = window_segments;
-  auto route = planGridRoutePaths(world, points, GridGlobalPlanner::kHabPp, legs, seed);
+  PipelineOptions pipeline;
+  pipeline.grid_legs.output_window_segments = window_segments;
+  const RouteOptions route_options = pipelineReplanOptions(pipeline, pipeline.budget, seed).route;
+  const LegPathPlanner legs = legPathPlanner(RoutePlannerKind::kHabPp, pipeline.grid_legs);
+  auto route = legs(world, points, route_options, TerminationCondition());
   if (!route.ok()) return out;
   out.path = true;
   for (const RouteLeg& leg : route->legs) {
@@ -43,7 +48,7 @@ Outcome fly(const std::shared_ptr<const CollisionWorld>& world, const std::vecto
   }
   VehicleLimits limits;
   limits.min_turn_radius_m = turn_radius_m;
-  const Status built = buildRouteTrajectory(world, points, limits, RouteOptions{}, *route);
+  const Status built = buildRouteTrajectory(world, points, limits, route_options, *route);
   out.trajectory = built.ok();
   if (!built.ok()) {
     const std::string why = built.error().describe();

@@ -247,7 +247,7 @@ int main(int argc, char** argv) {
         const std::clock_t c0 = std::clock();
         const AnyAngleResult res = fn(grid, c.start, c.goal, TerminationCondition{});
         const double cpu_s = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-        if (res.status != AnyAngleStatus::kExact) continue;
+        if (res.status != PlannerStatus::kSolved) continue;
         ++st->solved;
         ++st->converged;
         st->first_s.push_back(cpu_s);
@@ -316,7 +316,7 @@ int main(int argc, char** argv) {
         first[k] = res.first_path_cpu_s;
         total[k] = res.total_cpu_s;
         ++row.s.solved;
-        if (res.status == HabPpStatus::kConverged) ++row.s.converged;
+        if (res.status == PlannerStatus::kSolved) ++row.s.converged;
         row.s.total_s.push_back(res.total_cpu_s);
         row.s.length.push_back(res.length_cells);
         row.s.angle.push_back(res.angle_change_rad);

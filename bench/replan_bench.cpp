@@ -8,9 +8,16 @@
 //   - check-only cycles: the trajectory ahead is clear, only the conflict check runs.
 // Each seed also reports arrival, collisions (independent 10 ms check) and minimum separation.
 //
+// The flight is planned and replanned as the daemon does it: the mission pipeline's replanning
+// options for the plan's seed and default budget (pipelineReplanOptions), the first legs by the
+// registry's default leg planner (legPathPlanner), then FlightReplanner::step every cycle. Only
+// the scenario's corridor is wider (the obstacles are kilometres across).
+//
 // Usage: replan_bench [--seeds N] [--first-seed S] [--config NAME] [--budget-ms MS]
-// (NAME: deadline | no-deadline | both; MS: replan_budget_ms, default ReplanOptions')
-// "deadline" is ReplanOptions' defaults (a wall-clock budget per replan); "no deadline" sets
+//                     [--replan-iterations N]
+// (NAME: deadline | no-deadline | both; MS: replan_budget_ms, default the pipeline's; N: RRT*
+// iterations per leg when replanning, default the pipeline's, 0 = the first plan's)
+// "deadline" is the pipeline's defaults (a wall-clock budget per replan); "no deadline" sets
 // replan_budget_ms = 0, so attempts end only on their iteration budgets (reproducible, and what
 // the work costs when nothing cuts it short).
 #include <algorithm>
@@ -24,6 +31,8 @@
 #include <vector>
 
 #include "service/flight_replanner.hpp"
+#include "service/mission_pipeline.hpp"
+#include "service/planner_registry.hpp"
 #include "service/moving_obstacle_scenario.hpp"
 #include "terrain/terrain_world.hpp"
 
@@ -64,14 +73,14 @@ struct Config {
   ReplanOptions options;
 };
 
-ReplanOptions scenarioOptions(bool deadline, double budget_ms) {
-  ReplanOptions options;
-  // As the test: iteration budgets, a corridor wide enough to go round the obstacles.
-  options.route.leg_budget_ms = 0.0;
-  options.route.leg_max_iterations = 3000;
+ReplanOptions scenarioOptions(bool deadline, double budget_ms, long replan_iterations) {
+  // The daemon's options for a plan (the seed is set per run), with the scenario's corridor.
+  const PipelineOptions pipeline;
+  ReplanOptions options = pipelineReplanOptions(pipeline, pipeline.budget, pipeline.seed);
   options.route.corridor_margin_m = 4000.0;
   if (budget_ms > 0.0) options.replan_budget_ms = budget_ms;
   if (!deadline) options.replan_budget_ms = 0.0;
+  if (replan_iterations >= 0) options.replan_leg_max_iterations = static_cast<std::uint64_t>(replan_iterations);
   return options;
 }
 
@@ -81,13 +90,15 @@ int main(int argc, char** argv) {
   int seeds = 5;
   std::uint64_t first_seed = 1;
   std::string which = "both";
-  double budget_ms = 0.0;  // 0: ReplanOptions' default
+  double budget_ms = 0.0;         // 0: the pipeline's default
+  long replan_iterations = -1;    // < 0: the pipeline's default
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--seeds") seeds = std::atoi(argv[i + 1]);
     else if (a == "--first-seed") first_seed = std::strtoull(argv[i + 1], nullptr, 10);
     else if (a == "--config") which = argv[i + 1];
     else if (a == "--budget-ms") budget_ms = std::atof(argv[i + 1]);
+    else if (a == "--replan-iterations") replan_iterations = std::atol(argv[i + 1]);
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
@@ -106,16 +117,20 @@ int main(int argc, char** argv) {
   }
   const MovingObstacleScenario scenario = seed003Table1Scenario(*world->heightfield);
   for (const Obstacle& o : scenario.obstacles) world->collision->upsertObstacle(o);
-  VehicleLimits limits;
-  limits.v_ref_mps = 50.0;
-  limits.max_speed_mps = 65.0;
-  limits.max_accel_mps2 = 10.0;
-  limits.max_climb_mps = 20.0;
-  limits.max_descent_mps = 20.0;
+  const VehicleLimits limits = seed003ScenarioLimits();
+
+  // The first legs by the configuration's default planner, as the pipeline picks it.
+  const PipelineOptions pipeline;
+  const RoutePlannerInfo* planner = nullptr;
+  if (auto unknown = findRoutePlanner(pipeline.default_planner, &planner)) {
+    std::fprintf(stderr, "%s\n", unknown->describe().c_str());
+    return 1;
+  }
+  const LegPathPlanner first_legs = legPathPlanner(planner->kind, pipeline.grid_legs);
 
   std::vector<Config> configs;
-  if (which == "deadline" || which == "both") configs.push_back({"deadline", scenarioOptions(true, budget_ms)});
-  if (which == "no-deadline" || which == "both") configs.push_back({"no deadline", scenarioOptions(false, budget_ms)});
+  if (which == "deadline" || which == "both") configs.push_back({"deadline", scenarioOptions(true, budget_ms, replan_iterations)});
+  if (which == "no-deadline" || which == "both") configs.push_back({"no deadline", scenarioOptions(false, budget_ms, replan_iterations)});
   if (configs.empty()) {
     std::fprintf(stderr, "unknown config %s\n", which.c_str());
     return 2;
@@ -136,7 +151,8 @@ int main(int argc, char** argv) {
       options.route.seed = out.seed;
       const double w0 = threadCpuMs();
       const auto t0 = std::chrono::steady_clock::now();
-      auto started = FlightReplanner::start(world->collision, {scenario.start_m, scenario.goal_m}, limits, options, 0.0);
+      auto started = FlightReplanner::start(world->collision, {scenario.start_m, scenario.goal_m}, limits, options, 0.0,
+                                            first_legs);
       totals[c].start.cpu_ms.push_back(threadCpuMs() - w0);
       totals[c].start.wall_ms.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());

@@ -8,7 +8,7 @@
 //                       [--max-vertices N] [--passes N] [--plan-share F] [--ompl-plan-share F]
 //                       [--refine 0|1] [--refine-min-step M] [--refine-shortcuts N] [--budgets MS,MS,...]
 //                       [--ompl 0|1] [--ompl-planners NAME,...] [--protocols inside,after]
-//                       [--knn 0|1] [--prune 0|1] [--goal-bias F]
+//                       [--knn 0|1] [--prune 0|1] [--goal-bias F] [--product 0|1]
 //                       [--variant NAME,PLAN_SHARE,MAX_VERTICES,PASSES,REFINE[,RRT_FLAGS] ...]
 // RRT_FLAGS: '+'-separated RRT* settings of the variant: knn, radius (near set), prune, noprune,
 // gb=F (goal bias), rf=F (rewire factor), stepx=F (steering range multiple).
@@ -23,6 +23,13 @@
 //  - after: the planner gets the whole budget and the post-processing runs to completion after it,
 //    untimed (simplifyMax for OMPL). Rows "skyroute RRT* [after]" and "OMPL <planner>".
 // The row "skyroute RRT* LOSPO only" is the inside run's path before refinePath.
+// Those rows measure the planner. The rows "product rrtstar-lospo" time the product's leg as the
+// mission pipeline plans it: the registry's leg planner (legPathPlanner) with the pipeline's
+// route options (its own corridor round the leg, RRT* and LOSPO settings, no refinePath), capped
+// at the budget in wall-clock time as the product caps it, with no iteration budget; the row
+// "product rrtstar-lospo [default budget]" uses the pipeline's default budget (an iteration count
+// with a wall-clock cap). The product rows are not counted in a pair's best length, so the other
+// rows' ratios stay comparable with earlier runs; `--product 0` leaves them out.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -53,6 +60,8 @@
 #include "planning/sampling/lospo.hpp"
 #include "planning/sampling/rrt_star.hpp"
 #include "planning/sampling/world_motion_validator.hpp"
+#include "service/mission_pipeline.hpp"
+#include "service/planner_registry.hpp"
 #include "terrain/terrain_world.hpp"
 
 namespace ob = ompl::base;
@@ -193,6 +202,40 @@ Run runOurs(const MotionValidator& v, const Pair& p, double budget_ms, std::uint
   return run;
 }
 
+// The product's name for the leg planner these rows time.
+std::string productRowName(bool default_budget) {
+  const std::string name(skyroute::routePlanner(skyroute::RoutePlannerKind::kRrtStarLospo).name);
+  return "product " + name + (default_budget ? " [default budget]" : "");
+}
+
+// The product's leg from p.start to p.goal, planned as the mission pipeline plans it. budget_ms >
+// 0: a wall-clock cap of that much and no iteration budget; 0: the pipeline's default budget.
+Run runProduct(const std::shared_ptr<const skyroute::CollisionWorld>& world, const Pair& p, double budget_ms,
+               std::uint64_t seed) {
+  const skyroute::PipelineOptions pipeline;
+  skyroute::PlanBudget budget = pipeline.budget;
+  if (budget_ms > 0.0) {
+    budget.leg_max_iterations = 0;
+    budget.leg_time_cap_s = budget_ms * 1e-3;
+  }
+  const skyroute::RouteOptions options = skyroute::pipelineReplanOptions(pipeline, budget, seed).route;
+  const skyroute::LegPathPlanner legs = skyroute::legPathPlanner(skyroute::RoutePlannerKind::kRrtStarLospo, pipeline.grid_legs);
+  Run run;
+  run.planner = productRowName(budget_ms <= 0.0);
+  run.budget_ms = budget_ms;
+  const auto t0 = TerminationCondition::threadCpuNow();
+  auto route = legs(world, {p.start, p.goal}, options, TerminationCondition());
+  run.plan_s = cpuSecondsSince(t0);
+  if (!route.ok() || route->legs.size() != 1) return run;
+  const skyroute::RouteLeg& leg = route->legs.front();
+  run.solved = true;
+  run.length_m = leg.rrt.length_m;
+  run.simplified_m = leg.lospo_length_m;
+  run.lospo_m = leg.lospo_length_m;
+  run.tree_size = leg.rrt.tree_size;
+  return run;
+}
+
 // plan_share < 1: inside protocol (the planner gets plan_share of the budget, the simplifier the
 // rest of it); plan_share = 1: after protocol (the whole budget, then simplifyMax untimed).
 Run runOmpl(const std::string& name, const MotionValidator& v, const Pair& p, double budget_ms, double step_m,
@@ -328,6 +371,7 @@ int main(int argc, char** argv) {
   OurOptions ours;
   std::vector<OurOptions> variants;  // extra configurations of ours, run next to it
   bool with_ompl = true;
+  bool with_product = true;
   std::vector<std::string> ompl_planners{"RRTstar", "InformedRRTstar", "BITstar"};
   double ompl_plan_share = 0.9;
   bool protocol_inside = true, protocol_after = true;
@@ -391,6 +435,7 @@ int main(int argc, char** argv) {
       variant.refine = std::atoi(refine.c_str()) != 0;
       variants.push_back(variant);
     }
+    else if (a == "--product") with_product = std::atoi(argv[i + 1]) != 0;
     else if (a == "--ompl") with_ompl = std::atoi(argv[i + 1]) != 0;  // 0: ours only (tuning runs)
     else if (a == "--budgets") {  // comma-separated, replaces 10,50,100 (the long one is added)
       budgets.clear();
@@ -420,6 +465,7 @@ int main(int argc, char** argv) {
   std::map<std::tuple<std::string, double, bool>, std::vector<double>> ratios;
   std::map<std::tuple<std::string, double>, std::vector<double>> simplify_times;
   std::map<std::tuple<std::string, double>, int> solved_count;
+  std::map<std::string, std::vector<double>> plan_times;  // CPU ms of the whole leg, product default budget
   int total_pairs = 0;
   for (const DemCase& dc : cases) {
     skyroute::CollisionWorldOptions wo;
@@ -454,6 +500,10 @@ int main(int argc, char** argv) {
       for (const Run& r : runs) {
         if (r.solved) best = std::min({best, r.length_m, r.simplified_m});
       }
+      if (with_product) {  // after `best`: the product rows are measured against the others' best
+        for (double b : budgets) runs.push_back(runProduct(world->collision, pairs[k], b, 1000 + k));
+        runs.push_back(runProduct(world->collision, pairs[k], 0.0, 1000 + k));
+      }
       for (Run& r : runs) {
         r.dem = dc.name;
         r.pair = static_cast<int>(k);
@@ -465,6 +515,7 @@ int main(int argc, char** argv) {
         ratios[{r.planner, r.budget_ms, true}].push_back(r.solved ? r.simplified_m / best : INFINITY);
         simplify_times[{r.planner, r.budget_ms}].push_back(r.simplify_s * 1000);
         solved_count[{r.planner, r.budget_ms}] += r.solved ? 1 : 0;
+        if (r.budget_ms == 0.0) plan_times[r.planner].push_back(r.plan_s * 1000);
         if (r.planner == "skyroute RRT*") {  // the same run before the refinement
           const std::string before = "skyroute RRT* LOSPO only";
           ratios[{before, r.budget_ms, false}].push_back(r.solved ? r.length_m / best : INFINITY);
@@ -497,6 +548,7 @@ int main(int argc, char** argv) {
     names.push_back(ours_after.name);
     for (const auto& n : ompl_planners) names.push_back("OMPL " + n);
   }
+  if (with_product) names.push_back(productRowName(false));
   for (double b : budgets) {
     for (const auto& n : names) {
       std::printf("| %s | %.0f | %d/%d | %.3f | %.3f | %.3f | %.3f | %.1f |\n", n.c_str(), b, solved_count[{n, b}],
@@ -504,6 +556,20 @@ int main(int argc, char** argv) {
                   quantile(ratios[{n, b, true}], 0.5), quantile(ratios[{n, b, true}], 0.9),
                   quantile(simplify_times[{n, b}], 0.5));
     }
+  }
+  if (with_product) {
+    const std::string n = productRowName(true);
+    std::printf("| %s | %llu it, cap %.0f s | %d/%d | %.3f | %.3f | %.3f | %.3f | %.1f |\n", n.c_str(),
+                static_cast<unsigned long long>(skyroute::PlanBudget{}.leg_max_iterations),
+                skyroute::PlanBudget{}.leg_time_cap_s, solved_count[{n, 0.0}], total_pairs,
+                quantile(ratios[{n, 0.0, false}], 0.5), quantile(ratios[{n, 0.0, false}], 0.9),
+                quantile(ratios[{n, 0.0, true}], 0.5), quantile(ratios[{n, 0.0, true}], 0.9),
+                quantile(plan_times[n], 0.5));
+  }
+  if (with_product) {
+    std::printf("\nproduct rows: raw = RRT*, post = after LOSPO (no refinePath); budgets are the product's wall-clock "
+                "cap; their post ms is not measured, except the [default budget] row's, which is the CPU ms of the "
+                "whole leg.\n");
   }
   // The headline comparison: ours against InformedRRTstar + simplifier under the same protocol.
   std::printf("\nMedian post ratio to five places, ours against OMPL InformedRRTstar + simplifier:\n\n");

@@ -6,26 +6,13 @@
 
 #include <spdlog/spdlog.h>
 
+#include "service/engine_state.hpp"
 #include "service/number_text.hpp"
 #include "service/trajectory_data.hpp"
 
 namespace skyroute {
 
-struct Engine::Job {
-  MissionRequestData request;                // a mission (request.vehicle_id set), or
-  std::optional<FleetRequestData> fleet;     // a fleet (request left empty)
-  std::shared_ptr<std::atomic<bool>> cancel = std::make_shared<std::atomic<bool>>(false);
-};
-
-struct Engine::Mission {
-  MissionRequestData request;
-  std::shared_ptr<WorldModel> world_model;   // planned on (its frame turns ENU into WGS84)
-  std::string plan_id;
-  MissionPlan plan;                          // order, points and the flight being replanned
-  std::shared_ptr<std::atomic<bool>> cancel;
-  std::mutex mutex;                          // the flight and `ended`
-  bool ended = false;                        // cancelled or replaced: no more revisions
-};
+using engine_detail::cancelledStatus;
 
 namespace {
 
@@ -73,11 +60,15 @@ void logPlanned(const MissionRequestData& r, const MissionPlan& plan) {
   }
 }
 
+}  // namespace
+
+namespace engine_detail {
+
 PlanStatusData cancelledStatus(const MissionRequestData& r, const std::string& why) {
   return PlanStatusData::failed(r, PlanError{PlanErrorCode::kCancelled, "", why}, 0.0);
 }
 
-}  // namespace
+}  // namespace engine_detail
 
 FootprintOptions footprintOptions(const EngineOptions& o) {
   const PipelineOptions& p = o.pipeline;
@@ -264,94 +255,6 @@ std::optional<PlanError> Engine::submit(MissionRequestData request) {
   status(request, PlanState::kAccepted);
   work_cv_.notify_one();
   return std::nullopt;
-}
-
-namespace {
-
-FleetStatusData fleetStatus(const std::string& request_id, PlanState state) {
-  FleetStatusData s;
-  s.request_id = request_id;
-  s.state = state;
-  return s;
-}
-
-FleetStatusData fleetFailed(const std::string& request_id, const PlanError& error) {
-  FleetStatusData s = fleetStatus(request_id, error.code == PlanErrorCode::kCancelled ? PlanState::kCancelled
-                                                                                         : PlanState::kFailed);
-  s.error_code = error.code;
-  s.field = error.field;
-  s.message = error.describe();
-  return s;
-}
-
-}  // namespace
-
-std::optional<PlanError> Engine::submitFleet(FleetRequestData request) {
-  auto job = std::make_unique<Job>();
-  job->fleet = request;
-  const std::optional<PlanError> problem = enqueue(
-      std::move(job), [&](const EngineOptions& o) { return validateFleetRequest(request, fleetMissionOptions(o.pipeline)); });
-  if (problem) {
-    throttle_.warn("fleet_rejected:" + std::string(to_string(problem->code)) + ":" + problem->field,
-                   fmt::format("event=fleet_rejected request={} code={} field={} message=\"{}\"", request.request_id,
-                               to_string(problem->code), problem->field, problem->message));
-    sink_.publishFleetStatus(fleetFailed(request.request_id, *problem));
-    return problem;
-  }
-  spdlog::info("event=fleet_accepted request={} vehicles={} tasks={}", request.request_id, request.vehicle_ids.size(),
-               request.tasks.size());
-  sink_.publishFleetStatus(fleetStatus(request.request_id, PlanState::kAccepted));
-  work_cv_.notify_one();
-  return std::nullopt;
-}
-
-void Engine::planFleetJob(Job& job) {
-  const FleetRequestData& r = *job.fleet;
-  if (job.cancel->load()) {
-    sink_.publishFleetStatus(fleetFailed(r.request_id, PlanError{PlanErrorCode::kCancelled, "", "cancelled before planning"}));
-    return;
-  }
-  sink_.publishFleetStatus(fleetStatus(r.request_id, PlanState::kPlanning));
-  const MissionPipeline pipeline(world(), options().pipeline);
-  TerminationCondition stop;
-  stop.withCancelFlag(job.cancel);
-  const FleetPlanOutput out = pipeline.planFleet(r, clock_(), stop);
-  if (!out.ok()) {
-    spdlog::warn("event=fleet_failed request={} code={} field={} message=\"{}\" time_s={:.3f}", r.request_id,
-                 to_string(out.status.error_code), out.status.field, out.status.message, out.status.planning_time_s);
-    sink_.publishFleetStatus(out.status);
-    return;
-  }
-  // A vehicle's own mission ends: the fleet's trajectory replaces it (and is not replanned).
-  // Decided under the lock, so a stop that began meanwhile is answered cancelled, never succeeded.
-  std::vector<std::shared_ptr<Mission>> replaced;
-  bool stopped = false;
-  {
-    std::lock_guard lock(mutex_);
-    stopped = job.cancel->load() || stopping_;
-    for (const std::string& vehicle : r.vehicle_ids) {
-      if (stopped) break;
-      if (auto it = missions_.find(vehicle); it != missions_.end()) {
-        replaced.push_back(it->second);
-        missions_.erase(it);
-      }
-    }
-  }
-  if (stopped) {
-    sink_.publishFleetStatus(fleetFailed(r.request_id, PlanError{PlanErrorCode::kCancelled, "", "cancelled during planning"}));
-    return;
-  }
-  for (const std::shared_ptr<Mission>& m : replaced) {
-    m->cancel->store(true);
-    std::lock_guard old_lock(m->mutex);
-    m->ended = true;
-  }
-  for (const TrajectoryData& t : out.trajectories) sink_.publishTrajectory(t);
-  spdlog::info("event=fleet_succeeded request={} vehicles={} makespan_steps={} makespan_s={:.1f} separation_m={:.0f} "
-               "repairs={} time_s={:.3f}",
-               r.request_id, r.vehicle_ids.size(), out.status.makespan_steps, out.status.makespan_s,
-               out.status.achieved_separation_m, out.status.separation_repairs, out.status.planning_time_s);
-  sink_.publishFleetStatus(out.status);
 }
 
 bool Engine::cancel(const CancelRequestData& request) {
@@ -560,163 +463,29 @@ void Engine::plan(Job& job) {
   finish(succeeded);
 }
 
+std::unique_ptr<Engine::Job> Engine::takeJobLocked() {
+  if (queue_.empty()) return nullptr;
+  std::unique_ptr<Job> job = std::move(queue_.front());
+  queue_.pop_front();
+  in_flight_.push_back(job.get());
+  return job;
+}
+
+void Engine::planTaken(std::unique_ptr<Job> job) {
+  plan(*job);
+  std::lock_guard lock(mutex_);
+  std::erase(in_flight_, job.get());
+}
+
 bool Engine::planNext() {
   std::unique_ptr<Job> job;
   {
     std::lock_guard lock(mutex_);
-    if (queue_.empty()) return false;
-    job = std::move(queue_.front());
-    queue_.pop_front();
-    in_flight_.push_back(job.get());
+    job = takeJobLocked();
   }
-  plan(*job);
-  std::lock_guard lock(mutex_);
-  std::erase(in_flight_, job.get());
+  if (!job) return false;
+  planTaken(std::move(job));
   return true;
-}
-
-std::size_t Engine::replanCycle() {
-  const double now_s = static_cast<double>(clock_()) * 1e-9;
-  world()->expire(now_s);
-  throttle_.flush();
-  std::vector<std::shared_ptr<Mission>> missions;
-  {
-    std::lock_guard lock(mutex_);
-    if (!options_.replanning) return 0;
-    for (const auto& [vehicle, mission] : missions_) missions.push_back(mission);
-  }
-  std::size_t published = 0;
-  for (const std::shared_ptr<Mission>& mission : missions) {
-    if (stopping_) break;
-    std::unique_lock mission_lock(mission->mutex);
-    if (mission->ended) continue;
-    if (mission->plan.flight->finished(now_s)) {
-      mission->ended = true;
-      mission_lock.unlock();
-      std::lock_guard lock(mutex_);
-      if (auto it = missions_.find(mission->request.vehicle_id); it != missions_.end() && it->second == mission) {
-        missions_.erase(it);
-        spdlog::info("event=mission_completed request={} vehicle={} plan={}", mission->request.request_id,
-                     mission->request.vehicle_id, mission->plan_id);
-      }
-      continue;
-    }
-    const ReplanStep step = mission->plan.flight->step(now_s);
-    if (step.replanned) {
-      const TrajectoryData data = trajectoryOf(*mission);
-      sink_.publishTrajectory(data);
-      mission_lock.unlock();
-      ++replans_;
-      ++published;
-      spdlog::info("event=replanned request={} vehicle={} plan={} revision={} latency_ms={:.1f}",
-                   mission->request.request_id, mission->request.vehicle_id, mission->plan_id, data.revision,
-                   step.latency_ms);
-      status(mission->request, PlanState::kReplanned, step.latency_ms * 1e-3);
-    } else if (step.failure) {
-      // A blocked vehicle fails every cycle (10 Hz) until the obstacle moves: one line per window.
-      throttle_.warn("replan_failed:" + mission->request.vehicle_id + ":" + step.failure->field,
-                     fmt::format("event=replan_failed request={} vehicle={} field={} message=\"{}\"",
-                                 mission->request.request_id, mission->request.vehicle_id, step.failure->field,
-                                 step.failure->message));
-    }
-  }
-  return published;
-}
-
-void Engine::startWorkers(int count) {
-  while (running_workers_ < count) {
-    ++running_workers_;
-    workers_.emplace_back([this] { workerLoop(); });
-  }
-}
-
-void Engine::workerLoop() {
-  for (;;) {
-    std::unique_ptr<Job> job;
-    {
-      std::unique_lock lock(mutex_);
-      const auto retire = [&] { return running_workers_ > options_.planning_threads; };
-      work_cv_.wait(lock, [&] { return stopping_.load() || !queue_.empty() || retire(); });
-      if (stopping_) return;
-      if (retire()) {
-        --running_workers_;
-        retired_.push_back(std::this_thread::get_id());
-        return;
-      }
-      job = std::move(queue_.front());
-      queue_.pop_front();
-      in_flight_.push_back(job.get());
-    }
-    plan(*job);
-    std::lock_guard lock(mutex_);
-    std::erase(in_flight_, job.get());
-  }
-}
-
-void Engine::replanLoop() {
-  auto next = std::chrono::steady_clock::now();
-  while (!stopping_) {
-    replanCycle();
-    double period_s = 0.1;
-    {
-      std::lock_guard lock(mutex_);
-      period_s = options_.pipeline.replan.period_s;
-    }
-    next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(period_s));
-    const auto now = std::chrono::steady_clock::now();
-    if (next < now) next = now;  // a long cycle: start the next at once rather than catch up
-    std::unique_lock lock(mutex_);
-    replan_cv_.wait_until(lock, next, [&] { return stopping_.load() || replan_wake_; });
-    replan_wake_ = false;
-  }
-}
-
-void Engine::start() {
-  if (running_.exchange(true)) return;
-  stopping_ = false;
-  int threads = 0;
-  {
-    std::lock_guard lock(mutex_);
-    threads = options_.planning_threads;
-    startWorkers(threads);
-  }
-  replanner_ = std::thread([this] { replanLoop(); });
-  spdlog::info("event=engine_started planning_threads={}", threads);
-}
-
-void Engine::stop() {
-  std::vector<MissionRequestData> dropped;
-  std::vector<std::string> dropped_fleets;
-  std::vector<std::thread> workers;
-  {
-    std::lock_guard lock(mutex_);
-    if (stopping_ && !running_) return;
-    stopping_ = true;
-    for (Job* job : in_flight_) job->cancel->store(true);
-    for (const auto& [vehicle, mission] : missions_) mission->cancel->store(true);
-    for (const auto& job : queue_) {
-      if (job->fleet) {
-        dropped_fleets.push_back(job->fleet->request_id);
-      } else {
-        dropped.push_back(job->request);
-      }
-    }
-    queue_.clear();
-    workers = std::move(workers_);
-    workers_.clear();
-    running_workers_ = 0;
-    retired_.clear();
-  }
-  work_cv_.notify_all();
-  replan_cv_.notify_all();
-  for (std::thread& t : workers) t.join();
-  if (replanner_.joinable()) replanner_.join();
-  for (const MissionRequestData& r : dropped) finish(cancelledStatus(r, "the service stopped"));
-  for (const std::string& id : dropped_fleets) {
-    sink_.publishFleetStatus(fleetFailed(id, PlanError{PlanErrorCode::kCancelled, "", "the service stopped"}));
-  }
-  throttle_.flushAll();
-  if (running_.exchange(false)) spdlog::info("event=engine_stopped");
 }
 
 std::size_t Engine::activeMissions() const {

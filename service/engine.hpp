@@ -136,6 +136,10 @@ class Engine {
   std::optional<PlanError> enqueue(std::unique_ptr<Job> job, const Validator& validate);
   std::optional<PlanError> queueRefusal() const;  // shutting down or queue full (under mutex_)
   void plan(Job& job);
+  // Takes the oldest queued job into in_flight_ (the caller holds mutex_); null when none.
+  std::unique_ptr<Job> takeJobLocked();
+  // Plans a taken job and drops it from in_flight_.
+  void planTaken(std::unique_ptr<Job> job);
   void planFleetJob(Job& job);
   void status(const MissionRequestData& request, PlanState state, double planning_time_s = 0.0);
   // Publishes a request's final status and records it for duplicates of the request.

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "planning/colony/hab_pp.hpp"
+#include "service/planner_status.hpp"
 #include "terrain/grid_from_terrain.hpp"
 
 namespace skyroute {
@@ -61,10 +62,12 @@ Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> wo
       // The caller's own deadline is not this leg's cap.
       leg.time_capped = found.stop_reason == TerminationCondition::Reason::kDeadline && !stop.shouldStop();
       if (found.stop_reason == TerminationCondition::Reason::kCancelled)
-        return make_error(ErrorCode::kCancelled, legName(i), "cancelled");
+        return plannerError(PlannerStatus::kCancelled, legName(i), "cancelled");
       if (!hasPath(found.status)) {
-        return make_error(ErrorCode::kUnreachable, legName(i),
-                          std::string(to_string(found.status)) + " on the flight band under " +
+        // The leg's own cap is part of its budget: no path within it.
+        const PlannerStatus status = isStopped(found.status) ? PlannerStatus::kBudgetExhausted : found.status;
+        return plannerError(status, legName(i),
+                            std::string(to_string(found.status)) + " on the flight band under " +
                               std::to_string(static_cast<int>(band_top_m)) + " m" +
                               (found.message.empty() ? "" : ": " + found.message));
       }

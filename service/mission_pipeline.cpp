@@ -64,6 +64,14 @@ ReplanOptions PipelineOptions::defaultReplanOptions() {
   return o;
 }
 
+ReplanOptions pipelineReplanOptions(const PipelineOptions& options, const PlanBudget& budget, std::uint64_t seed) {
+  ReplanOptions replan = options.replan;
+  replan.route.seed = seed;
+  replan.route.leg_max_iterations = budget.leg_max_iterations;
+  replan.route.leg_budget_ms = budget.leg_time_cap_s * 1e3;
+  return replan;
+}
+
 std::optional<PlanError> validatePipelineOptions(const PipelineOptions& o) {
   auto bad = [](std::string key, std::string message) {
     return PlanError{PlanErrorCode::kInvalidArgument, std::move(key), std::move(message)};
@@ -178,10 +186,7 @@ Result<MissionPlan, PlanError> MissionPipeline::plan(const PipelineRequest& requ
   plan.mission = std::move(*ordered);
   plan.seed = request.seed.value_or(options_.seed);
   const PlanBudget budget = request.budget.value_or(options_.budget);
-  ReplanOptions replan = options_.replan;
-  replan.route.seed = plan.seed;
-  replan.route.leg_max_iterations = budget.leg_max_iterations;
-  replan.route.leg_budget_ms = budget.leg_time_cap_s * 1e3;
+  ReplanOptions replan = pipelineReplanOptions(options_, budget, plan.seed);
   replan.cancel = stop.sharedCancelFlag();  // the replanner keeps it for its later cycles too
   // Building and repairing a trajectory checks it segment by segment: a cancel ends it there,
   // first plan and every later replan of the mission alike.

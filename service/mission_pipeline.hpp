@@ -63,6 +63,11 @@ struct PipelineOptions {
   static ReplanOptions defaultReplanOptions();
 };
 
+// The flight's options for one plan: the configuration's replanning settings with the plan's seed
+// and budget in its route (leg) stage. What plan() gives FlightReplanner, and what the benchmarks
+// that time the product's legs and replans use.
+ReplanOptions pipelineReplanOptions(const PipelineOptions& options, const PlanBudget& budget, std::uint64_t seed);
+
 // Checks options that a configuration file or a command line may set. Errors name the key.
 std::optional<PlanError> validatePipelineOptions(const PipelineOptions& options);
 

@@ -37,4 +37,14 @@ MovingObstacleScenario seed003Table1Scenario(const Heightfield& terrain, const G
   return s;
 }
 
+VehicleLimits seed003ScenarioLimits() {
+  VehicleLimits limits;
+  limits.v_ref_mps = 50.0;
+  limits.max_speed_mps = 65.0;
+  limits.max_accel_mps2 = 10.0;
+  limits.max_climb_mps = 20.0;
+  limits.max_descent_mps = 20.0;
+  return limits;
+}
+
 }  // namespace skyroute

@@ -9,6 +9,7 @@
 
 #include "terrain/heightfield.hpp"
 #include "terrain/obstacle.hpp"
+#include "trajectory/vehicle_limits.hpp"
 
 namespace skyroute {
 
@@ -21,6 +22,10 @@ struct MovingObstacleScenario {
 
 // start and goal are at (1500, 1500) and (11500, 9000) m in the square (the route crosses the tracks
 // of A and B and runs beside C's), at altitude_m AMSL or 100 m above the ground there, whichever is higher.
+// The scenario's vehicle: V_ref 50 m/s with the speed, acceleration and climb margins the
+// replanning tests and benchmark fly it with.
+VehicleLimits seed003ScenarioLimits();
+
 MovingObstacleScenario seed003Table1Scenario(const Heightfield& terrain, const GeoPoint& south_west_corner = {44.2, -71.9, 0.0},
                                              double altitude_m = 450.0);
 

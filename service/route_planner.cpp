@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "service/number_text.hpp"
+#include "service/planner_status.hpp"
 #include "service/trajectory_world_check.hpp"
 
 namespace skyroute {
@@ -66,8 +67,7 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
   for (std::size_t i = 0; i + 1 < points_m.size(); ++i) {
     const std::string leg_name = "legs[" + std::to_string(i) + "]";
     if (auto reason = stop.reason(); reason != TerminationCondition::Reason::kNone) {
-      return make_error(reason == TerminationCondition::Reason::kCancelled ? ErrorCode::kCancelled : ErrorCode::kTimeout,
-                        leg_name, "stopped before planning this leg");
+      return plannerError(stoppedStatus(reason), leg_name, "stopped before planning this leg");
     }
     WorldMotionValidator validator(
         world, WorldMotionValidator::corridor(points_m[i], points_m[i + 1], options.corridor_margin_m), options.snapshot);
@@ -82,16 +82,17 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
     if (!rrt->solved()) {
       // The caller's deadline or cancel flag, not the leg's own budget, stopped the search.
       if (auto reason = stop.reason(); reason != TerminationCondition::Reason::kNone) {
-        return make_error(reason == TerminationCondition::Reason::kCancelled ? ErrorCode::kCancelled : ErrorCode::kTimeout,
-                          leg_name, "stopped while planning this leg");
+        return plannerError(stoppedStatus(reason), leg_name, "stopped while planning this leg");
       }
       // The leg is named by the error's field; the message says only what happened, so a caller
-      // that names the leg's points its own way never contradicts it.
-      const std::string why = rrt->status == RrtStarStatus::kTimeout ? "its time budget ran out"
-                              : rrt->status == RrtStarStatus::kNoPath ? "its iteration budget ran out"
-                                                                       : std::string(to_string(rrt->status));
-      return make_error(ErrorCode::kUnreachable, leg_name,
-                        "no path found: RRT* drew " + std::to_string(rrt->iterations) + " samples before " + why);
+      // that names the leg's points its own way never contradicts it. The leg's own wall-clock
+      // cap is part of its budget: no path within it.
+      const std::string why = rrt->status == PlannerStatus::kTimeout ? "its time budget ran out"
+                              : rrt->status == PlannerStatus::kBudgetExhausted ? "its iteration budget ran out"
+                                                                               : std::string(to_string(rrt->status));
+      const PlannerStatus status = isStopped(rrt->status) ? PlannerStatus::kBudgetExhausted : rrt->status;
+      return plannerError(status, leg_name,
+                          "no path found: RRT* drew " + std::to_string(rrt->iterations) + " samples before " + why);
     }
     auto shortened = lospo(validator, rrt->path_m, options.lospo, stop);
     if (!shortened.ok()) return shortened.error();

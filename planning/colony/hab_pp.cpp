@@ -13,19 +13,6 @@
 
 namespace skyroute {
 
-std::string_view to_string(HabPpStatus status) {
-  switch (status) {
-    case HabPpStatus::kConverged: return "converged";
-    case HabPpStatus::kStoppedWithPath: return "stopped with path";
-    case HabPpStatus::kStoppedWithoutPath: return "stopped without path";
-    case HabPpStatus::kInvalidStart: return "invalid start";
-    case HabPpStatus::kInvalidGoal: return "invalid goal";
-    case HabPpStatus::kUnreachable: return "unreachable";
-    case HabPpStatus::kInvalidParameters: return "invalid parameters";
-  }
-  return "unknown";
-}
-
 Status HabPpParameters::validate() const {
   auto bad = [](const char* field, const std::string& why) {
     return Status(make_error(ErrorCode::kInvalidArgument, field, std::string(field) + ": " + why));
@@ -117,21 +104,21 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   auto cpu_seconds = [&] { return static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC; };
   HabPpResult result;
-  auto fail = [&](HabPpStatus status, std::string message) {
+  auto fail = [&](PlannerStatus status, std::string message) {
     result.status = status;
     result.message = std::move(message);
     result.total_time_s = seconds();
     result.total_cpu_s = cpu_seconds();
     return result;
   };
-  if (const Status valid = params.validate(); !valid) return fail(HabPpStatus::kInvalidParameters, valid.error().describe());
+  if (const Status valid = params.validate(); !valid) return fail(PlannerStatus::kInvalidParameters, valid.error().describe());
   auto where = [](GridCell c) { return "(" + std::to_string(c.x) + ", " + std::to_string(c.y) + ")"; };
-  if (!grid.inside(start)) return fail(HabPpStatus::kInvalidStart, "start: " + where(start) + " is outside the grid");
-  if (grid.blocked(start)) return fail(HabPpStatus::kInvalidStart, "start: " + where(start) + " is blocked");
-  if (!grid.inside(goal)) return fail(HabPpStatus::kInvalidGoal, "goal: " + where(goal) + " is outside the grid");
-  if (grid.blocked(goal)) return fail(HabPpStatus::kInvalidGoal, "goal: " + where(goal) + " is blocked");
+  if (!grid.inside(start)) return fail(PlannerStatus::kStartInvalid, "start: " + where(start) + " is outside the grid");
+  if (grid.blocked(start)) return fail(PlannerStatus::kStartInvalid, "start: " + where(start) + " is blocked");
+  if (!grid.inside(goal)) return fail(PlannerStatus::kGoalInvalid, "goal: " + where(goal) + " is outside the grid");
+  if (grid.blocked(goal)) return fail(PlannerStatus::kGoalInvalid, "goal: " + where(goal) + " is blocked");
   if (start == goal) {
-    result.status = HabPpStatus::kConverged;
+    result.status = PlannerStatus::kSolved;
     result.path = {start};
     result.first_path_time_s = seconds();
     result.total_time_s = result.first_path_time_s;
@@ -140,7 +127,7 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
   // 8-connected without corner cutting: exactly the cells an any-angle path can reach, since a
   // segment that passes lineOfSight steps through side- or corner-adjacent free cells.
   if (reachableCells(grid, start)[grid.index(goal)] == 0) {
-    return fail(HabPpStatus::kUnreachable, "goal: no free path joins start " + where(start) + " and goal " + where(goal));
+    return fail(PlannerStatus::kNoPath, "goal: no free path joins start " + where(start) + " and goal " + where(goal));
   }
 
   habpp::Rng rng(seed);
@@ -151,7 +138,7 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
     const auto reason = stop.reason(result.iterations);
     if (reason != TerminationCondition::Reason::kNone) {
       result.stop_reason = reason;
-      result.status = colony.ranked().empty() ? HabPpStatus::kStoppedWithoutPath : HabPpStatus::kStoppedWithPath;
+      result.status = colony.ranked().empty() ? stoppedStatus(reason) : PlannerStatus::kStoppedWithPath;
       break;
     }
     ++result.iterations;
@@ -174,7 +161,7 @@ HabPpResult planHabPp(const GridLayer& grid, GridCell start, GridCell goal, cons
     const bool full = colony.ranked().size() >= static_cast<std::size_t>(params.ranked_paths);
     if (!colony.ranked().empty() &&
         (full ? unchanged >= params.stable_iterations : unchanged_with_arrivals >= params.stable_iterations)) {
-      result.status = HabPpStatus::kConverged;
+      result.status = PlannerStatus::kSolved;
       break;
     }
   }

@@ -18,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "planning/core/planner_status.hpp"
 #include "planning/core/result.hpp"
 #include "planning/core/termination.hpp"
 #include "terrain/grid_layer.hpp"
@@ -175,21 +176,13 @@ struct HabPpParameters {
   Status validate() const;
 };
 
-enum class HabPpStatus {
-  kConverged,            // the ranked list stopped changing: path is the best ranked path
-  kStoppedWithPath,      // the termination condition stopped it after a path was found (best so far)
-  kStoppedWithoutPath,   // the termination condition stopped it before any path reached the goal
-  kInvalidStart,         // start outside the grid or blocked
-  kInvalidGoal,          // goal outside the grid or blocked
-  kUnreachable,          // no chain of free cells joins start and goal (checked before the search)
-  kInvalidParameters,    // HabPpParameters::validate failed (message in HabPpResult::message)
-};
-
-std::string_view to_string(HabPpStatus status);
-inline bool hasPath(HabPpStatus s) { return s == HabPpStatus::kConverged || s == HabPpStatus::kStoppedWithPath; }
-
+// status: kSolved (the ranked list stopped changing: path is the best ranked path),
+// kStoppedWithPath (the termination condition stopped it after a path was found: the best so
+// far), kTimeout / kCancelled / kBudgetExhausted (stopped before any path reached the goal),
+// kStartInvalid / kGoalInvalid (outside the grid or blocked), kNoPath (no chain of free cells
+// joins start and goal, checked before the search), kInvalidParameters (message says which).
 struct HabPpResult {
-  HabPpStatus status = HabPpStatus::kStoppedWithoutPath;
+  PlannerStatus status = PlannerStatus::kTimeout;
   std::string message;               // why it failed, naming the field, when it did
   std::vector<GridCell> path;        // best ranked path after the output stage, start first, any-angle segments
   double length_cells = 0.0;         // Euclidean length of path, in cell edges

@@ -83,7 +83,7 @@ Path replanWindows(const GridLayer& grid, const Path& path, const WindowOptions&
       const GridLayer box = grid.cropped(lo, hi.x - lo.x + 1, hi.y - lo.y + 1);
       const AnyAngleResult local =
           thetaStar(box, GridCell{best[i].x - lo.x, best[i].y - lo.y}, GridCell{best[j].x - lo.x, best[j].y - lo.y});
-      if (local.status != AnyAngleStatus::kExact || local.length_cells >= piece - 1e-9) {
+      if (local.status != PlannerStatus::kSolved || local.length_cells >= piece - 1e-9) {
         tried.push_back(Tried{best[i], best[j], piece});
         continue;
       }
@@ -129,7 +129,7 @@ Path tautPath(const GridLayer& grid, const std::vector<Path>& routes, int corrid
     for (std::size_t count : {std::size_t{1}, routes.size()}) {
       const GridLayer corridor = corridorGrid(grid, routes.data(), count, corridor_cells);
       const AnyAngleResult theta = thetaStar(corridor, start, goal);
-      if (theta.status == AnyAngleStatus::kExact) offer(tightenPath(grid, theta.path, tighten_passes));
+      if (theta.status == PlannerStatus::kSolved) offer(tightenPath(grid, theta.path, tighten_passes));
       if (routes.size() == 1) break;
     }
   }

@@ -16,15 +16,6 @@ GridCell VehiclePlan::cellAt(int step) const {
   return cells[static_cast<std::size_t>(step)];
 }
 
-std::string_view to_string(FleetPathStatus status) {
-  switch (status) {
-    case FleetPathStatus::kSolved: return "solved";
-    case FleetPathStatus::kUnresolved: return "unresolved conflicts";
-    case FleetPathStatus::kStopped: return "stopped";
-  }
-  return "unknown";
-}
-
 namespace {
 
 // One vehicle's route while the conflicts are worked out: waypoints are the depot, its tasks and
@@ -92,7 +83,7 @@ class PathResolver {
 
     const int budget = options_.max_resolutions > 0 ? options_.max_resolutions
                                                      : 100 + 50 * nu + 10 * problem_.taskCount();
-    out.status = FleetPathStatus::kSolved;
+    out.status = PlannerStatus::kSolved;
     int s = 0;
     while (s < endStep()) {
       const std::optional<Conflict> c = firstConflict(s);
@@ -101,12 +92,12 @@ class PathResolver {
         continue;
       }
       if (stop_.shouldStop()) {
-        out.status = FleetPathStatus::kStopped;
+        out.status = stoppedStatus(stop_.reason());
         out.detail = "stopped while resolving conflicts at step " + std::to_string(s);
         break;
       }
       if (out.conflicts_resolved >= budget) {
-        out.status = FleetPathStatus::kUnresolved;
+        out.status = PlannerStatus::kBudgetExhausted;
         out.detail = "gave up after " + std::to_string(budget) + " conflicts; the last at step " +
                      std::to_string(c->step + 1) + " between " + name(c->a) + " and " + name(c->b);
         break;

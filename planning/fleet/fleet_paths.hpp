@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "planning/core/planner_status.hpp"
 #include "planning/core/termination.hpp"
 #include "planning/fleet/fleet_allocation.hpp"
 #include "planning/fleet/fleet_problem.hpp"
@@ -45,11 +46,11 @@ struct FleetPathOptions {
   std::uint64_t max_expansions_per_search = 1'000'000;
 };
 
-enum class FleetPathStatus { kSolved, kUnresolved, kStopped };
-std::string_view to_string(FleetPathStatus status);
+// How the path stage ended: kSolved (every conflict resolved), kBudgetExhausted (it gave up after
+// max_resolutions conflicts; detail names the last), kTimeout or kCancelled (stopped meanwhile).
 
 struct FleetPaths {
-  FleetPathStatus status = FleetPathStatus::kUnresolved;
+  PlannerStatus status = PlannerStatus::kBudgetExhausted;
   std::vector<VehiclePlan> vehicles;
   int makespan_steps = 0;          // max_i T_i
   long long sum_of_steps = 0;      // sum_i T_i

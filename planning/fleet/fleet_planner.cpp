@@ -58,13 +58,11 @@ Result<FleetPlan> planFleet(const GridLayer& grid, const FleetProblem& problem, 
   }
 
   plan.paths = buildFleetPaths(grid, problem, table, plan.allocation, options.paths, stop);
-  if (plan.paths.status == FleetPathStatus::kStopped) {
-    const bool cancelled = stop.reason() == TerminationCondition::Reason::kCancelled;
-    return make_error(cancelled ? ErrorCode::kCancelled : ErrorCode::kTimeout, "fleet paths",
-                      plan.paths.detail);
-  }
-  if (plan.paths.status != FleetPathStatus::kSolved) {
-    return make_error(ErrorCode::kUnreachable, "fleet paths", plan.paths.detail);
+  switch (plan.paths.status) {
+    case PlannerStatus::kSolved: break;
+    case PlannerStatus::kCancelled: return make_error(ErrorCode::kCancelled, "fleet paths", plan.paths.detail);
+    case PlannerStatus::kTimeout: return make_error(ErrorCode::kTimeout, "fleet paths", plan.paths.detail);
+    default: return make_error(ErrorCode::kUnreachable, "fleet paths", plan.paths.detail);
   }
   plan.check = checkFleetPlan(grid, problem, pathsOf(plan.paths), sequencesOf(plan.paths));
   if (!plan.check.ok()) {

@@ -10,17 +10,6 @@
 
 namespace skyroute {
 
-std::string_view to_string(AnyAngleStatus status) {
-  switch (status) {
-    case AnyAngleStatus::kExact: return "exact";
-    case AnyAngleStatus::kInvalidStart: return "invalid start";
-    case AnyAngleStatus::kInvalidGoal: return "invalid goal";
-    case AnyAngleStatus::kNoPath: return "no path";
-    case AnyAngleStatus::kTerminated: return "terminated";
-  }
-  return "unknown";
-}
-
 double polylineAngleChange(const std::vector<GridCell>& path) {
   double total = 0.0;
   for (std::size_t i = 1; i + 1 < path.size(); ++i) {
@@ -37,13 +26,8 @@ double polylineAngleChange(const std::vector<GridCell>& path) {
 AnyAngleResult gridAStar8(const GridLayer& grid, GridCell start, GridCell goal, const TerminationCondition& stop) {
   GridPath found = astarSearch(grid, start, goal, GridMoves{}, stop);
   AnyAngleResult result;
-  switch (found.status) {
-    case SearchStatus::kFound: result.status = AnyAngleStatus::kExact; break;
-    case SearchStatus::kNoPath: result.status = AnyAngleStatus::kNoPath; break;
-    case SearchStatus::kInvalidStart: result.status = AnyAngleStatus::kInvalidStart; break;
-    case SearchStatus::kInvalidGoal: result.status = AnyAngleStatus::kInvalidGoal; break;
-    case SearchStatus::kStopped: result.status = AnyAngleStatus::kTerminated; break;
-  }
+  result.status = found.status;
+  result.stop_reason = found.stop_reason;
   result.path = std::move(found.cells);
   result.length_cells = polylineLength(result.path);
   result.expansions = found.stats.expansions;
@@ -73,13 +57,13 @@ struct OpenEntry {
 AnyAngleResult thetaStar(const GridLayer& grid, GridCell start, GridCell goal, const TerminationCondition& stop) {
   const auto t0 = std::chrono::steady_clock::now();
   AnyAngleResult result;
-  auto finish = [&](AnyAngleStatus status) {
+  auto finish = [&](PlannerStatus status) {
     result.status = status;
     result.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return result;
   };
-  if (grid.blocked(start)) return finish(AnyAngleStatus::kInvalidStart);
-  if (grid.blocked(goal)) return finish(AnyAngleStatus::kInvalidGoal);
+  if (grid.blocked(start)) return finish(PlannerStatus::kStartInvalid);
+  if (grid.blocked(goal)) return finish(PlannerStatus::kGoalInvalid);
 
   const std::size_t n = grid.cellCount();
   std::vector<double> g(n, kInf);
@@ -98,7 +82,7 @@ AnyAngleResult thetaStar(const GridLayer& grid, GridCell start, GridCell goal, c
       const auto reason = stop.reason(result.expansions);
       if (reason != TerminationCondition::Reason::kNone) {
         result.stop_reason = reason;
-        return finish(AnyAngleStatus::kTerminated);
+        return finish(stoppedStatus(reason));
       }
     }
     const OpenEntry top = open.top();
@@ -125,14 +109,14 @@ AnyAngleResult thetaStar(const GridLayer& grid, GridCell start, GridCell goal, c
       }
     });
   }
-  if (closed[t] == 0) return finish(AnyAngleStatus::kNoPath);
+  if (closed[t] == 0) return finish(PlannerStatus::kNoPath);
   for (std::size_t i = t;; i = parent[i]) {
     result.path.push_back(grid.cellOf(i));
     if (i == s) break;
   }
   std::reverse(result.path.begin(), result.path.end());
   result.length_cells = polylineLength(result.path);
-  return finish(AnyAngleStatus::kExact);
+  return finish(PlannerStatus::kSolved);
 }
 
 }  // namespace skyroute

@@ -12,24 +12,17 @@
 #include <string_view>
 #include <vector>
 
+#include "planning/core/planner_status.hpp"
 #include "planning/core/polyline.hpp"
 #include "planning/core/termination.hpp"
 #include "terrain/grid_layer.hpp"
 
 namespace skyroute {
 
-enum class AnyAngleStatus {
-  kExact,          // a path from start to goal
-  kInvalidStart,   // start outside the grid or blocked
-  kInvalidGoal,    // goal outside the grid or blocked
-  kNoPath,         // the open list ran empty: the goal is unreachable
-  kTerminated,     // the termination condition stopped the search (see stop_reason)
-};
-
-std::string_view to_string(AnyAngleStatus status);
-
+// status: kSolved (a path from start to goal), kStartInvalid / kGoalInvalid (outside the grid or
+// blocked), kNoPath (the open list ran empty), or how the termination condition stopped it.
 struct AnyAngleResult {
-  AnyAngleStatus status = AnyAngleStatus::kNoPath;
+  PlannerStatus status = PlannerStatus::kNoPath;
   std::vector<GridCell> path;  // cell centres, start first; consecutive ones joined by straight segments
   double length_cells = 0.0;   // Euclidean length in cell edges
   std::uint64_t expansions = 0;

@@ -170,7 +170,7 @@ void dstarInitialize(DStarGoalField& field, DStarQueue& queue, SearchStats& stat
   queue.push(field.goal_index_, queue.calcKey(field, field.goal_index_), stats);
 }
 
-SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, SearchStats& stats,
+PlannerStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, SearchStats& stats,
                                       const TerminationCondition& stop) {
   const auto t0 = std::chrono::steady_clock::now();
   GridMoveTable& table = *field.table_;
@@ -194,7 +194,7 @@ SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, 
     queue.push(v, DStarKey{m + moves.estimate(sc, GridCell{vx, vy}) + km, m}, stats);
     if (log) field.record(v);
   };
-  SearchStatus status = SearchStatus::kFound;
+  PlannerStatus status = PlannerStatus::kSolved;
   std::uint64_t iterations = 0;
   for (;;) {
     const DStarQueue::Entry* top = queue.top(field, stats);
@@ -202,7 +202,7 @@ SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, 
     const bool start_inconsistent = !field.consistent(s);
     if (!(top->key < queue.calcKey(field, s, sc.x, sc.y)) && !start_inconsistent) break;
     if ((++iterations & 1023) == 0 && stop.shouldStop(stats.expansions)) {
-      status = SearchStatus::kStopped;
+      status = stoppedStatus(stop.reason(stats.expansions));
       break;
     }
     const DStarQueue::Entry e = queue.pop(stats);
@@ -249,12 +249,12 @@ SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, 
   }
   // This queue holds its own insertions already: it has read the log up to its end.
   if (log) field.readLog(queue);
-  if (status == SearchStatus::kFound && !(cost[s].g < kInfiniteCost)) status = SearchStatus::kNoPath;
+  if (status == PlannerStatus::kSolved && !(cost[s].g < kInfiniteCost)) status = PlannerStatus::kNoPath;
   stats.time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return status;
 }
 
-SearchStatus dstarSweepInitialize(DStarGoalField& field, std::span<const GridCell> starts, DStarQueue& frontier,
+PlannerStatus dstarSweepInitialize(DStarGoalField& field, std::span<const GridCell> starts, DStarQueue& frontier,
                                   SearchStats& stats, const TerminationCondition& stop) {
   const auto t0 = std::chrono::steady_clock::now();
   GridMoveTable& table = *field.table_;
@@ -289,7 +289,7 @@ SearchStatus dstarSweepInitialize(DStarGoalField& field, std::span<const GridCel
     while (targets_left > 0 && cost[targets[targets_left - 1]].g < kInfiniteCost) --targets_left;
     return targets_left == 0;
   };
-  SearchStatus status = SearchStatus::kFound;
+  PlannerStatus status = PlannerStatus::kSolved;
   for (std::size_t b = 0; waiting > 0; ++b) {
     std::vector<std::uint32_t>& bucket = ring[b & ring_mask];
     // Relaxations from this bucket land in later ones, so it does not grow while it is walked.
@@ -328,12 +328,12 @@ SearchStatus dstarSweepInitialize(DStarGoalField& field, std::span<const GridCel
     bucket.clear();
     if (settledTargets()) break;
     if (stop.shouldStop(stats.expansions)) {
-      status = SearchStatus::kStopped;
+      status = stoppedStatus(stop.reason(stats.expansions));
       break;
     }
   }
   stats.queue_pushes += pushes;
-  if (status != SearchStatus::kStopped) {
+  if (!isStopped(status)) {
     // The frontier: every waiting cell still unsettled (once, though it may wait in two buckets).
     std::vector<std::uint32_t> open;
     for (const std::vector<std::uint32_t>& bucket : ring)
@@ -342,7 +342,7 @@ SearchStatus dstarSweepInitialize(DStarGoalField& field, std::span<const GridCel
     std::sort(open.begin(), open.end());
     open.erase(std::unique(open.begin(), open.end()), open.end());
     for (const std::uint32_t u : open) frontier.push(u, frontier.calcKey(field, u), stats);
-    if (!settledTargets()) status = SearchStatus::kNoPath;
+    if (!settledTargets()) status = PlannerStatus::kNoPath;
   }
   stats.time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return status;
@@ -428,9 +428,9 @@ DStarLite::DStarLite(std::shared_ptr<GridMoveTable> table, GridCell start, GridC
   if (field_.grid().passable(goal)) dstarInitialize(field_, queue_, stats_);
 }
 
-SearchStatus DStarLite::computeShortestPath(const TerminationCondition& stop) {
-  if (field_.grid().blocked(queue_.start())) return SearchStatus::kInvalidStart;
-  if (field_.grid().blocked(field_.goal())) return SearchStatus::kInvalidGoal;
+PlannerStatus DStarLite::computeShortestPath(const TerminationCondition& stop) {
+  if (field_.grid().blocked(queue_.start())) return PlannerStatus::kStartInvalid;
+  if (field_.grid().blocked(field_.goal())) return PlannerStatus::kGoalInvalid;
   // k_m grows by the start's move since the keys were last computed (seed line 52). Doing it here
   // rather than only on edge changes keeps every stored key a lower bound however the caller
   // interleaves moves, changes and searches.

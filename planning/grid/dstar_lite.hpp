@@ -131,11 +131,11 @@ class DStarGoalField {
 
  private:
   friend class DStarQueue;
-  friend SearchStatus dstarComputeShortestPath(DStarGoalField&, DStarQueue&, SearchStats&, const TerminationCondition&);
+  friend PlannerStatus dstarComputeShortestPath(DStarGoalField&, DStarQueue&, SearchStats&, const TerminationCondition&);
   friend void dstarUpdateChangedCells(DStarGoalField&, std::span<const GridCell>, std::span<DStarQueue* const>,
                                       SearchStats&);
   friend void dstarInitialize(DStarGoalField&, DStarQueue&, SearchStats&);
-  friend SearchStatus dstarSweepInitialize(DStarGoalField&, std::span<const GridCell>, DStarQueue&, SearchStats&,
+  friend PlannerStatus dstarSweepInitialize(DStarGoalField&, std::span<const GridCell>, DStarQueue&, SearchStats&,
                                            const TerminationCondition&);
   friend void dstarSyncQueue(DStarGoalField&, DStarQueue&, SearchStats&);
   friend void dstarTrimLog(DStarGoalField&, std::span<DStarQueue* const>);
@@ -240,7 +240,7 @@ class DStarQueue {
   friend class DStarGoalField;
   friend void dstarSyncQueue(DStarGoalField&, DStarQueue&, SearchStats&);
   friend void dstarTrimLog(DStarGoalField&, std::span<DStarQueue* const>);
-  friend SearchStatus dstarComputeShortestPath(DStarGoalField&, DStarQueue&, SearchStats&, const TerminationCondition&);
+  friend PlannerStatus dstarComputeShortestPath(DStarGoalField&, DStarQueue&, SearchStats&, const TerminationCondition&);
   static constexpr std::size_t kArity = 4;  // shallower than binary, children share a cache line
   // A power of two, so bucket edges are exact; keys are sums of move costs near 1.
   static constexpr double kBucketWidth = 2.0;
@@ -282,7 +282,7 @@ class DStarQueue {
 
 // ComputeShortestPath (optimised D* Lite; lines 09-19 of the seed) with `queue` as U. When the
 // field logs, every insertion is recorded for the other queues sharing the field (lines 20-30).
-SearchStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, SearchStats& stats,
+PlannerStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue, SearchStats& stats,
                                       const TerminationCondition& stop);
 
 // Repairs rhs after the blocked state of `changed` cells flipped (the grid already shows the new
@@ -314,8 +314,8 @@ void dstarInitialize(DStarGoalField& field, DStarQueue& queue, SearchStats& stat
 // it (lines 39-41), so those starts' searches stop at once. Expansions count settled cells and queue
 // operations the bucket queue's pushes and pops, so they are not comparable with the seed's.
 // kNoPath when some start was not reached (its g stays infinite, as D* Lite would leave it);
-// kStopped when `stop` fired (the field is then partly built and must be reset before reuse).
-SearchStatus dstarSweepInitialize(DStarGoalField& field, std::span<const GridCell> starts, DStarQueue& frontier,
+// A stopped status (isStopped) when `stop` fired (the field is then partly built and must be reset before reuse).
+PlannerStatus dstarSweepInitialize(DStarGoalField& field, std::span<const GridCell> starts, DStarQueue& frontier,
                                   SearchStats& stats, const TerminationCondition& stop);
 
 // Plain single-pair D* Lite.
@@ -326,7 +326,7 @@ class DStarLite {
   DStarLite(std::shared_ptr<GridMoveTable> table, GridCell start, GridCell goal);
 
   // kInvalidStart / kInvalidGoal when outside or blocked (checked before any search).
-  SearchStatus computeShortestPath(const TerminationCondition& stop = {});
+  PlannerStatus computeShortestPath(const TerminationCondition& stop = {});
   // The vehicle moved; k_m grows by h(last, new) before the next vertex update or search (line 52).
   void moveStart(GridCell start) { queue_.setStart(start); }
   // The grid's blocked state of these cells changed; call computeShortestPath afterwards.

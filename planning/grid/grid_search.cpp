@@ -7,17 +7,6 @@
 
 namespace skyroute {
 
-std::string_view to_string(SearchStatus status) {
-  switch (status) {
-    case SearchStatus::kFound: return "found";
-    case SearchStatus::kNoPath: return "no_path";
-    case SearchStatus::kInvalidStart: return "invalid_start";
-    case SearchStatus::kInvalidGoal: return "invalid_goal";
-    case SearchStatus::kStopped: return "stopped";
-  }
-  return "unknown";
-}
-
 namespace {
 
 constexpr std::uint32_t kNoParent = std::numeric_limits<std::uint32_t>::max();
@@ -39,11 +28,11 @@ GridPath bestFirst(const GridLayer& grid, GridCell start, GridCell goal, const G
     return out;
   };
   if (grid.blocked(start)) {
-    out.status = SearchStatus::kInvalidStart;
+    out.status = PlannerStatus::kStartInvalid;
     return finish();
   }
   if (grid.blocked(goal)) {
-    out.status = SearchStatus::kInvalidGoal;
+    out.status = PlannerStatus::kGoalInvalid;
     return finish();
   }
   std::vector<double> g(grid.cellCount(), kInfiniteCost);
@@ -60,7 +49,7 @@ GridPath bestFirst(const GridLayer& grid, GridCell start, GridCell goal, const G
     if ((out.stats.queue_pops & 1023) == 0) {
       out.stop_reason = stop.reason(out.stats.expansions);
       if (out.stop_reason != TerminationCondition::Reason::kNone) {
-        out.status = SearchStatus::kStopped;
+        out.status = stoppedStatus(out.stop_reason);
         return finish();
       }
     }
@@ -85,10 +74,10 @@ GridPath bestFirst(const GridLayer& grid, GridCell start, GridCell goal, const G
     });
   }
   if (!closed[gi]) {
-    out.status = SearchStatus::kNoPath;
+    out.status = PlannerStatus::kNoPath;
     return finish();
   }
-  out.status = SearchStatus::kFound;
+  out.status = PlannerStatus::kSolved;
   out.cost = g[gi];
   for (std::uint32_t i = static_cast<std::uint32_t>(gi); i != kNoParent; i = parent[i]) out.cells.push_back(grid.cellOf(i));
   std::reverse(out.cells.begin(), out.cells.end());

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "planning/core/planner_status.hpp"
 #include "planning/core/termination.hpp"
 #include "planning/grid/grid_moves.hpp"
 #include "terrain/grid_layer.hpp"
@@ -28,21 +29,16 @@ struct SearchStats {
   }
 };
 
-enum class SearchStatus {
-  kFound,         // cost and path are optimal
-  kNoPath,        // start and goal are valid but not connected
-  kInvalidStart,  // outside the grid or blocked
-  kInvalidGoal,   // outside the grid or blocked
-  kStopped,       // the termination condition fired first
-};
-std::string_view to_string(SearchStatus status);
+// kSolved: cost and path are optimal; kNoPath: start and goal are valid but not connected;
+// kStartInvalid / kGoalInvalid: outside the grid or blocked; kTimeout / kCancelled /
+// kBudgetExhausted: the termination condition fired first (stop_reason says which).
 
 struct GridPath {
-  SearchStatus status = SearchStatus::kNoPath;
+  PlannerStatus status = PlannerStatus::kNoPath;
   double cost = kInfiniteCost;   // cell edges
   std::vector<GridCell> cells;   // start .. goal, empty unless found
   SearchStats stats;
-  TerminationCondition::Reason stop_reason = TerminationCondition::Reason::kNone;  // why, when kStopped
+  TerminationCondition::Reason stop_reason = TerminationCondition::Reason::kNone;  // why, when stopped
 };
 
 // A* with the moves' heuristic; closed cells are never reopened (the heuristic is consistent).

@@ -97,36 +97,24 @@ bool CellTimeReservations::freeFrom(GridCell cell, int step, int self) const {
   return true;
 }
 
-std::string_view to_string(SpaceTimeStatus status) {
-  switch (status) {
-    case SpaceTimeStatus::kFound: return "found";
-    case SpaceTimeStatus::kStartBlocked: return "start blocked";
-    case SpaceTimeStatus::kGoalBlocked: return "goal blocked";
-    case SpaceTimeStatus::kNoPath: return "no path";
-    case SpaceTimeStatus::kBudgetExhausted: return "expansion budget exhausted";
-    case SpaceTimeStatus::kStopped: return "stopped";
-  }
-  return "unknown";
-}
-
 SpaceTimePath planSpaceTime(const GridLayer& grid, const CellTimeReservations& reservations, const SpaceTimeQuery& q,
                             const TerminationCondition& stop) {
   const auto started = std::chrono::steady_clock::now();
   SpaceTimePath out;
   out.start_step = q.start_step;
-  auto finish = [&](SpaceTimeStatus s) {
+  auto finish = [&](PlannerStatus s) {
     out.status = s;
     out.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return out;
   };
-  if (grid.blocked(q.start)) return finish(SpaceTimeStatus::kStartBlocked);
-  if (grid.blocked(q.goal)) return finish(SpaceTimeStatus::kGoalBlocked);
+  if (grid.blocked(q.start)) return finish(PlannerStatus::kStartInvalid);
+  if (grid.blocked(q.goal)) return finish(PlannerStatus::kGoalInvalid);
 
   auto h = [&](GridCell c) -> int {
     if (q.heuristic == nullptr) return std::abs(c.x - q.goal.x) + std::abs(c.y - q.goal.y);
     return (*q.heuristic)[grid.index(c)];
   };
-  if (h(q.start) == kUnreachableSteps) return finish(SpaceTimeStatus::kNoPath);
+  if (h(q.start) == kUnreachableSteps) return finish(PlannerStatus::kNoPath);
 
   // From this step on nothing time-limited is reserved: (cell, t) and (cell, t') are the same
   // state for t, t' >= merge_step, and the earliest wins.
@@ -165,15 +153,15 @@ SpaceTimePath planSpaceTime(const GridLayer& grid, const CellTimeReservations& r
     const Node n = nodes[static_cast<std::size_t>(e.node)];
     if (!closed.insert(state_key(n.cell, n.step)).second) continue;
     ++out.expansions;
-    if ((out.expansions & 1023) == 0 && stop.shouldStop()) return finish(SpaceTimeStatus::kStopped);
-    if (out.expansions > q.max_expansions) return finish(SpaceTimeStatus::kBudgetExhausted);
+    if ((out.expansions & 1023) == 0 && stop.shouldStop()) return finish(stoppedStatus(stop.reason()));
+    if (out.expansions > q.max_expansions) return finish(PlannerStatus::kBudgetExhausted);
     if (n.cell == q.goal && n.step >= q.earliest_arrival &&
         (!q.park_at_goal || reservations.freeFrom(q.goal, n.step, q.self))) {
       for (int i = e.node; i >= 0; i = nodes[static_cast<std::size_t>(i)].parent) {
         out.cells.push_back(nodes[static_cast<std::size_t>(i)].cell);
       }
       std::reverse(out.cells.begin(), out.cells.end());
-      return finish(SpaceTimeStatus::kFound);
+      return finish(PlannerStatus::kSolved);
     }
     const GridCell moves[5] = {kFourMoves[0], kFourMoves[1], kFourMoves[2], kFourMoves[3], GridCell{0, 0}};
     for (const GridCell& m : moves) {
@@ -187,7 +175,7 @@ SpaceTimePath planSpaceTime(const GridLayer& grid, const CellTimeReservations& r
       open.push(Entry{n.step + 1 + hn, n.step + 1, pushed++, static_cast<int>(nodes.size()) - 1});
     }
   }
-  return finish(SpaceTimeStatus::kNoPath);
+  return finish(PlannerStatus::kNoPath);
 }
 
 }  // namespace skyroute

@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "planning/core/planner_status.hpp"
 #include "planning/core/termination.hpp"
 #include "terrain/grid_layer.hpp"
 
@@ -55,8 +56,6 @@ class CellTimeReservations {
   std::vector<int> holders(GridCell cell, int step) const;
 };
 
-enum class SpaceTimeStatus { kFound, kStartBlocked, kGoalBlocked, kNoPath, kBudgetExhausted, kStopped };
-std::string_view to_string(SpaceTimeStatus status);
 
 struct SpaceTimeQuery {
   int self = 0;                 // the agent searching (its own reservations are ignored)
@@ -71,12 +70,12 @@ struct SpaceTimeQuery {
 };
 
 struct SpaceTimePath {
-  SpaceTimeStatus status = SpaceTimeStatus::kNoPath;
+  PlannerStatus status = PlannerStatus::kNoPath;
   std::vector<GridCell> cells;  // cells[k] at step start_step + k; front() = start, back() = goal
   int start_step = 0;
   std::uint64_t expansions = 0;
   double time_s = 0.0;
-  bool found() const { return status == SpaceTimeStatus::kFound; }
+  bool found() const { return status == PlannerStatus::kSolved; }
   int arrivalStep() const { return start_step + static_cast<int>(cells.size()) - 1; }
 };
 

@@ -96,20 +96,20 @@ std::string MissionPlanner::pointName(int point) const { return nameOf(point, se
 Result<MissionPlan> MissionPlanner::preplan(const TerminationCondition& stop) {
   const SearchStats before = search_->stats();
   const auto t0 = Clock::now();
-  const SearchStatus status = search_->preplan(stop);
+  const PlannerStatus status = search_->preplan(stop);
   return finishPlan(status, stop, before, msSince(t0));
 }
 
 Result<MissionPlan> MissionPlanner::replan(std::span<const GridCell> changed, const TerminationCondition& stop) {
   const SearchStats before = search_->stats();
   const auto t0 = Clock::now();
-  const SearchStatus status = search_->applyChanges(changed, stop);
+  const PlannerStatus status = search_->applyChanges(changed, stop);
   return finishPlan(status, stop, before, msSince(t0));
 }
 
-Result<MissionPlan> MissionPlanner::finishPlan(SearchStatus status, const TerminationCondition& stop,
+Result<MissionPlan> MissionPlanner::finishPlan(PlannerStatus status, const TerminationCondition& stop,
                                                const SearchStats& before, double search_ms) {
-  if (status == SearchStatus::kStopped) {
+  if (isStopped(status)) {
     const bool cancelled = stop.reason() == TerminationCondition::Reason::kCancelled;
     return make_error(cancelled ? ErrorCode::kCancelled : ErrorCode::kTimeout, "mission",
                       cancelled ? "mission planning was cancelled" : "mission planning ran out of time");

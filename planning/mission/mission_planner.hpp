@@ -92,7 +92,7 @@ class MissionPlanner {
  private:
   MissionPlanner(std::unique_ptr<MissionSearch> search, const MissionOptions& options)
       : search_(std::move(search)), options_(options) {}
-  Result<MissionPlan> finishPlan(SearchStatus status, const TerminationCondition& stop, const SearchStats& before,
+  Result<MissionPlan> finishPlan(PlannerStatus status, const TerminationCondition& stop, const SearchStats& before,
                                  double search_ms);
   std::string pointName(int point) const;
 

@@ -29,11 +29,11 @@ class MissionSearch {
   MissionSearch& operator=(const MissionSearch&) = delete;
 
   virtual std::string_view name() const = 0;
-  // Plans every pair (seed lines 33-42 for MMD*L). kStopped when the termination fired.
-  virtual SearchStatus preplan(const TerminationCondition& stop = {}) = 0;
+  // Plans every pair (seed lines 33-42 for MMD*L). A stopped status (isStopped) when the termination fired.
+  virtual PlannerStatus preplan(const TerminationCondition& stop = {}) = 0;
   // The grid's blocked state of `changed` flipped (the grid already shows it): repair every
   // remaining pair incrementally (lines 51-71).
-  virtual SearchStatus applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop = {}) = 0;
+  virtual PlannerStatus applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop = {}) = 0;
   // Cost of a planned pair (from the vehicle's current cell when from == vehiclePoint());
   // infinity when the pair is not planned or not connected.
   virtual double cost(int from_point, int to_point) const = 0;

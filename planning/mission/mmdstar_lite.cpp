@@ -9,9 +9,9 @@ namespace skyroute {
 SharedGoalSearch::SharedGoalSearch(const GridLayer& grid, GridCell goal, const GridMoves& moves)
     : field_(grid, goal, moves), queue_(goal, 0.0) {}
 
-SearchStatus SharedGoalSearch::solveFrom(GridCell start, const TerminationCondition& stop) {
-  if (field_.grid().blocked(start)) return SearchStatus::kInvalidStart;
-  if (field_.grid().blocked(field_.goal())) return SearchStatus::kInvalidGoal;
+PlannerStatus SharedGoalSearch::solveFrom(GridCell start, const TerminationCondition& stop) {
+  if (field_.grid().blocked(start)) return PlannerStatus::kStartInvalid;
+  if (field_.grid().blocked(field_.goal())) return PlannerStatus::kGoalInvalid;
   queue_.setStart(start);
   if (!initialized_) {
     dstarInitialize(field_, queue_, stats_);
@@ -26,23 +26,27 @@ MmdStarLite::MmdStarLite(const GridLayer& grid, std::vector<GridCell> points, co
     : MissionSearch(grid, std::move(points), moves), threads_(std::max(1, threads)) {}
 
 template <class Work>
-SearchStatus MmdStarLite::forEachGoal(Work&& work) {
+PlannerStatus MmdStarLite::forEachGoal(Work&& work) {
   // Goals are taken in order from a shared counter: their costs differ a lot (a change near one goal
   // can cost more than all others together), so a fixed split would leave a thread idle.
   std::atomic<std::size_t> next{0};
   std::atomic<bool> stopped{false};
+  std::atomic<PlannerStatus> stopped_as{PlannerStatus::kSolved};  // how a stopped goal's search ended
   const std::size_t helpers = std::min<std::size_t>(static_cast<std::size_t>(threads_), goals_.size());
   std::vector<SearchStats> stats(std::max<std::size_t>(helpers, 1));
   auto loop = [&](std::size_t t) {
     for (std::size_t i = next++; i < goals_.size() && !stopped.load(std::memory_order_relaxed); i = next++)
-      if (work(goals_[i], stats[t]) == SearchStatus::kStopped) stopped = true;
+      if (const PlannerStatus s = work(goals_[i], stats[t]); isStopped(s)) {
+        stopped_as = s;
+        stopped = true;
+      }
   };
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < helpers; ++t) pool.emplace_back(loop, t);
   loop(0);
   for (std::thread& th : pool) th.join();
   for (const SearchStats& s : stats) stats_ += s;
-  return stopped ? SearchStatus::kStopped : SearchStatus::kFound;
+  return stopped ? stopped_as.load() : PlannerStatus::kSolved;
 }
 
 MmdStarLite::GoalSlot* MmdStarLite::slot(int goal_point) {
@@ -62,7 +66,7 @@ const DStarGoalField* MmdStarLite::field(int goal_point) const {
   return g && !g->deferred ? g->field.get() : nullptr;
 }
 
-SearchStatus MmdStarLite::preplanGoal(GoalSlot& goal, SearchStats& stats, const TerminationCondition& stop) const {
+PlannerStatus MmdStarLite::preplanGoal(GoalSlot& goal, SearchStats& stats, const TerminationCondition& stop) const {
   const std::vector<int> starts = startsFor(goal.point);
   const std::uint64_t expansions_before = stats.expansions;
   // One U carried from start to start (lines 34-38).
@@ -72,16 +76,14 @@ SearchStatus MmdStarLite::preplanGoal(GoalSlot& goal, SearchStats& stats, const 
     // leaves the same kind of state as lines 34-38 (see dstarSweepInitialize).
     std::vector<GridCell> cells;
     for (int start_point : starts) cells.push_back(startCell(start_point));
-    if (dstarSweepInitialize(*goal.field, cells, carried, stats, stop) == SearchStatus::kStopped)
-      return SearchStatus::kStopped;
+    if (const PlannerStatus s = dstarSweepInitialize(*goal.field, cells, carried, stats, stop); isStopped(s)) return s;
   } else {
     dstarInitialize(*goal.field, carried, stats);  // line 34
     for (int start_point : starts) {               // line 35
       carried.setStart(startCell(start_point));
       carried.setKm(0.0);
       carried.adapt(*goal.field, stats);  // line 37
-      if (dstarComputeShortestPath(*goal.field, carried, stats, stop) == SearchStatus::kStopped)  // line 38
-        return SearchStatus::kStopped;
+      if (const PlannerStatus s = dstarComputeShortestPath(*goal.field, carried, stats, stop); isStopped(s)) return s;
     }
   }
   // Lines 39-41: every start keeps the final U adapted to itself.
@@ -95,10 +97,10 @@ SearchStatus MmdStarLite::preplanGoal(GoalSlot& goal, SearchStats& stats, const 
   // From now on the starts share their insertions through the field (lines 20-30).
   goal.field->setLogging(true);
   goal.plan_expansions = stats.expansions - expansions_before;
-  return SearchStatus::kFound;
+  return PlannerStatus::kSolved;
 }
 
-SearchStatus MmdStarLite::preplan(const TerminationCondition& stop) {
+PlannerStatus MmdStarLite::preplan(const TerminationCondition& stop) {
   goals_.clear();
   table_ = std::make_shared<GridMoveTable>(*grid_, moves_);
   for (int goal_point : remainingGoals()) {  // line 33
@@ -107,7 +109,7 @@ SearchStatus MmdStarLite::preplan(const TerminationCondition& stop) {
     goal.point = goal_point;
     goals_.push_back(std::move(goal));
   }
-  const SearchStatus status = forEachGoal([&](GoalSlot& goal, SearchStats& stats) {
+  const PlannerStatus status = forEachGoal([&](GoalSlot& goal, SearchStats& stats) {
     // Made by the goal's thread: filling 16 bytes a cell is a good part of a large map's cost.
     goal.field = std::make_unique<DStarGoalField>(table_, points_[goal.point]);
     return preplanGoal(goal, stats, stop);
@@ -117,9 +119,9 @@ SearchStatus MmdStarLite::preplan(const TerminationCondition& stop) {
   return status;
 }
 
-SearchStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> changed, SearchStats& stats,
+PlannerStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> changed, SearchStats& stats,
                                      const TerminationCondition& stop) {
-  if (goal.deferred) return SearchStatus::kFound;  // nothing to repair: its costs come from other maps
+  if (goal.deferred) return PlannerStatus::kSolved;  // nothing to repair: its costs come from other maps
   std::vector<DStarQueue*> queues;
   for (StartSlot& st : goal.starts) {
     // Lines 60-61 / 67-68: the vehicle's queue uses its k_m; unreached mission points use 0.
@@ -140,15 +142,16 @@ SearchStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> c
     budget.withIterationBudget(static_cast<std::uint64_t>(fresh_plan_fraction_ * static_cast<double>(goal.plan_expansions)) + 1);
   for (DStarQueue* q : queues) {  // lines 66-70
     dstarSyncQueue(*goal.field, *q, repair);  // line 69: load U with what the others inserted
-    if (dstarComputeShortestPath(*goal.field, *q, repair, bounded ? budget : stop) == SearchStatus::kStopped) {
+    if (const PlannerStatus s = dstarComputeShortestPath(*goal.field, *q, repair, bounded ? budget : stop); isStopped(s)) {
       stats += repair;
-      if (!bounded || stop.shouldStop()) return SearchStatus::kStopped;
+      if (!bounded) return s;
+      if (stop.shouldStop()) return stoppedStatus(stop.reason());
       if (defer_goal_maps_ && goal.point != endPoint()) {
         // Over budget: leave the map stale (setDeferGoalMaps); settleDeferred does the rest.
         ++deferred_goals_;
         goal.deferred = true;
         goal.starts.clear();
-        return SearchStatus::kFound;
+        return PlannerStatus::kSolved;
       }
       // Over budget: plan this goal from scratch on the current grid.
       ++fresh_plans_;
@@ -158,21 +161,21 @@ SearchStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> c
     }
   }
   stats += repair;
-  return SearchStatus::kFound;
+  return PlannerStatus::kSolved;
 }
 
-SearchStatus MmdStarLite::applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop) {
-  if (changed.empty()) return SearchStatus::kFound;
+PlannerStatus MmdStarLite::applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop) {
+  if (changed.empty()) return PlannerStatus::kSolved;
   accumulateKm();  // lines 52-54
   // The shared move table follows the change here, once, before the goals' threads read it.
   if (table_) table_->update(changed);
-  const SearchStatus status =
+  const PlannerStatus status =
       forEachGoal([&](GoalSlot& goal, SearchStats& stats) { return replanGoal(goal, changed, stats, stop); });
-  if (status == SearchStatus::kStopped) return status;
+  if (isStopped(status)) return status;
   return settleDeferred(stop);
 }
 
-SearchStatus MmdStarLite::settleDeferred(const TerminationCondition& stop) {
+PlannerStatus MmdStarLite::settleDeferred(const TerminationCondition& stop) {
   for (GoalSlot& goal : goals_) {
     if (!goal.deferred) continue;
     bool sourced = true;
@@ -191,11 +194,11 @@ SearchStatus MmdStarLite::settleDeferred(const TerminationCondition& stop) {
     goal.vehicle_path.clear();
     goal.field->reset();
     SearchStats stats;
-    const SearchStatus s = preplanGoal(goal, stats, stop);
+    const PlannerStatus s = preplanGoal(goal, stats, stop);
     stats_ += stats;
-    if (s == SearchStatus::kStopped) return s;
+    if (isStopped(s)) return s;
   }
-  return SearchStatus::kFound;
+  return PlannerStatus::kSolved;
 }
 
 SearchStats MmdStarLite::routeVehicle(const GoalSlot& goal) const {
@@ -204,7 +207,7 @@ SearchStats MmdStarLite::routeVehicle(const GoalSlot& goal) const {
   goal.vehicle_cost = kInfiniteCost;
   if (!planned(vehicle_point_, goal.point)) return {};
   GridPath route = astarSearch(*grid_, vehicle_cell_, points_[goal.point], moves_);
-  if (route.status == SearchStatus::kFound) {
+  if (route.status == PlannerStatus::kSolved) {
     goal.vehicle_path = std::move(route.cells);
     goal.vehicle_cost = route.cost;
   }

@@ -39,7 +39,7 @@ class SharedGoalSearch {
   SharedGoalSearch(const GridLayer& grid, GridCell goal, const GridMoves& moves = {});
   // Plans from `start` reusing everything earlier starts computed. kInvalidStart / kInvalidGoal
   // when outside or blocked.
-  SearchStatus solveFrom(GridCell start, const TerminationCondition& stop = {});
+  PlannerStatus solveFrom(GridCell start, const TerminationCondition& stop = {});
   double cost(GridCell start) const { return field_.costFrom(start); }
   std::vector<GridCell> path(GridCell start) const { return field_.pathFrom(start); }
   GridCell goal() const { return field_.goal(); }
@@ -61,8 +61,8 @@ class MmdStarLite final : public MissionSearch {
   MmdStarLite(const GridLayer& grid, std::vector<GridCell> points, const GridMoves& moves = {}, int threads = 1);
 
   std::string_view name() const override { return "mmdstar"; }
-  SearchStatus preplan(const TerminationCondition& stop = {}) override;
-  SearchStatus applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop = {}) override;
+  PlannerStatus preplan(const TerminationCondition& stop = {}) override;
+  PlannerStatus applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop = {}) override;
   double cost(int from_point, int to_point) const override;
   std::vector<GridCell> path(int from_point, int to_point) const override;
   GridCell nextCell(int goal_point) const override;
@@ -129,17 +129,17 @@ class MmdStarLite final : public MissionSearch {
 
   GoalSlot* slot(int goal_point);
   // Lines 34-42 for one goal whose field exists.
-  SearchStatus preplanGoal(GoalSlot& goal, SearchStats& stats, const TerminationCondition& stop) const;
+  PlannerStatus preplanGoal(GoalSlot& goal, SearchStats& stats, const TerminationCondition& stop) const;
   // Lines 57-71 for one goal (the move table already follows `changed`).
-  SearchStatus replanGoal(GoalSlot& goal, std::span<const GridCell> changed, SearchStats& stats,
+  PlannerStatus replanGoal(GoalSlot& goal, std::span<const GridCell> changed, SearchStats& stats,
                           const TerminationCondition& stop);
-  // Runs work(goal, stats) for every goal on up to threads_ threads; kStopped if any stopped.
+  // Runs work(goal, stats) for every goal on up to threads_ threads; a stopped status (isStopped) if any stopped.
   template <class Work>
-  SearchStatus forEachGoal(Work&& work);
+  PlannerStatus forEachGoal(Work&& work);
   const GoalSlot* slot(int goal_point) const;
   // After every goal's repair: plans afresh the deferred goals that lack a source map, routes the
   // vehicle to the others.
-  SearchStatus settleDeferred(const TerminationCondition& stop);
+  PlannerStatus settleDeferred(const TerminationCondition& stop);
   // A* from the vehicle to a deferred goal on the current grid; returns its counters.
   SearchStats routeVehicle(const GoalSlot& goal) const;
   const GoalSlot& routed(const GoalSlot& goal) const {

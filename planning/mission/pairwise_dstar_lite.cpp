@@ -5,9 +5,9 @@ namespace skyroute {
 PairwiseDStarLite::PairwiseDStarLite(const GridLayer& grid, std::vector<GridCell> points, const GridMoves& moves)
     : MissionSearch(grid, std::move(points), moves) {}
 
-SearchStatus PairwiseDStarLite::run(DStarLite& search, const TerminationCondition& stop) {
+PlannerStatus PairwiseDStarLite::run(DStarLite& search, const TerminationCondition& stop) {
   const SearchStats before = search.stats();
-  const SearchStatus s = search.computeShortestPath(stop);
+  const PlannerStatus s = search.computeShortestPath(stop);
   const SearchStats& after = search.stats();
   stats_.expansions += after.expansions - before.expansions;
   stats_.queue_pushes += after.queue_pushes - before.queue_pushes;
@@ -16,7 +16,7 @@ SearchStatus PairwiseDStarLite::run(DStarLite& search, const TerminationConditio
   return s;
 }
 
-SearchStatus PairwiseDStarLite::preplan(const TerminationCondition& stop) {
+PlannerStatus PairwiseDStarLite::preplan(const TerminationCondition& stop) {
   pairs_.clear();
   table_ = std::make_shared<GridMoveTable>(*grid_, moves_);
   for (int goal : remainingGoals()) {
@@ -25,21 +25,21 @@ SearchStatus PairwiseDStarLite::preplan(const TerminationCondition& stop) {
       // The initial goal insertion is a queue operation of this pair too.
       stats_.queue_pushes += search->stats().queue_pushes;
       search->resetStats();
-      if (run(*search, stop) == SearchStatus::kStopped) return SearchStatus::kStopped;
+      if (const PlannerStatus s = run(*search, stop); isStopped(s)) return s;
       pairs_.emplace(std::make_pair(start, goal), std::move(search));
     }
   }
-  return SearchStatus::kFound;
+  return PlannerStatus::kSolved;
 }
 
-SearchStatus PairwiseDStarLite::applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop) {
-  if (changed.empty()) return SearchStatus::kFound;
+PlannerStatus PairwiseDStarLite::applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop) {
+  if (changed.empty()) return PlannerStatus::kSolved;
   accumulateKm();
   // The vehicle's pairs add h(last, now) to their k_m inside updateCells.
   for (auto& [key, search] : pairs_) search->updateCells(changed);
   for (auto& [key, search] : pairs_)
-    if (run(*search, stop) == SearchStatus::kStopped) return SearchStatus::kStopped;
-  return SearchStatus::kFound;
+    if (const PlannerStatus s = run(*search, stop); isStopped(s)) return s;
+  return PlannerStatus::kSolved;
 }
 
 double PairwiseDStarLite::cost(int from, int to) const {

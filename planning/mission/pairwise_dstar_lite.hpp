@@ -16,8 +16,8 @@ class PairwiseDStarLite final : public MissionSearch {
   PairwiseDStarLite(const GridLayer& grid, std::vector<GridCell> points, const GridMoves& moves = {});
 
   std::string_view name() const override { return "dstar-lite"; }
-  SearchStatus preplan(const TerminationCondition& stop = {}) override;
-  SearchStatus applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop = {}) override;
+  PlannerStatus preplan(const TerminationCondition& stop = {}) override;
+  PlannerStatus applyChanges(std::span<const GridCell> changed, const TerminationCondition& stop = {}) override;
   double cost(int from_point, int to_point) const override;
   std::vector<GridCell> path(int from_point, int to_point) const override;
   GridCell nextCell(int goal_point) const override;
@@ -32,7 +32,7 @@ class PairwiseDStarLite final : public MissionSearch {
   }
 
  private:
-  SearchStatus run(DStarLite& search, const TerminationCondition& stop);
+  PlannerStatus run(DStarLite& search, const TerminationCondition& stop);
 
   std::shared_ptr<GridMoveTable> table_;  // shared by every pair (it holds no search state)
   std::map<std::pair<int, int>, std::unique_ptr<DStarLite>> pairs_;  // (start, goal)

@@ -16,19 +16,6 @@
 
 namespace skyroute {
 
-std::string_view to_string(RrtStarStatus status) {
-  switch (status) {
-    case RrtStarStatus::kExactSolution: return "exact solution";
-    case RrtStarStatus::kApproximateSolution: return "approximate solution";
-    case RrtStarStatus::kInvalidStart: return "invalid start";
-    case RrtStarStatus::kInvalidGoal: return "invalid goal";
-    case RrtStarStatus::kTimeout: return "timeout";
-    case RrtStarStatus::kCancelled: return "cancelled";
-    case RrtStarStatus::kNoPath: return "no path";
-  }
-  return "unknown";
-}
-
 double rrtStarRewireRadius(std::size_t n, int dimension, double free_volume, double rewire_factor) {
   if (n < 2) return std::numeric_limits<double>::infinity();
   const double d = dimension;
@@ -227,7 +214,7 @@ class Search {
       if ((result.path_m.back() - goal_).norm() > 0.0) result.path_m.push_back(goal_);
       result.length_m = polylineLength(result.path_m);
       result.distance_to_goal_m = 0.0;
-      result.status = RrtStarStatus::kExactSolution;
+      result.status = PlannerStatus::kSolved;
       return;
     }
     if (allow_approximate) {
@@ -241,15 +228,15 @@ class Search {
         result.path_m = pathTo(closest);
         result.length_m = polylineLength(result.path_m);
         result.distance_to_goal_m = best;
-        result.status = RrtStarStatus::kApproximateSolution;
+        result.status = PlannerStatus::kApproximate;
         return;
       }
     }
     result.distance_to_goal_m = (nodes_[0].p - goal_).norm();
     switch (result.stop_reason) {
-      case TerminationCondition::Reason::kDeadline: result.status = RrtStarStatus::kTimeout; break;
-      case TerminationCondition::Reason::kCancelled: result.status = RrtStarStatus::kCancelled; break;
-      default: result.status = RrtStarStatus::kNoPath; break;
+      case TerminationCondition::Reason::kDeadline: result.status = PlannerStatus::kTimeout; break;
+      case TerminationCondition::Reason::kCancelled: result.status = PlannerStatus::kCancelled; break;
+      default: result.status = PlannerStatus::kBudgetExhausted; break;
     }
   }
 
@@ -454,17 +441,17 @@ Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen:
     return result;
   };
   if (!bounds.contains(start_m) || !validator_.isStateValid(start_m)) {
-    result.status = RrtStarStatus::kInvalidStart;
+    result.status = PlannerStatus::kStartInvalid;
     return finish();
   }
   if (!bounds.contains(goal_m) || !validator_.isStateValid(goal_m)) {
-    result.status = RrtStarStatus::kInvalidGoal;
+    result.status = PlannerStatus::kGoalInvalid;
     return finish();
   }
   if (options_.try_direct_first) {
     ++result.motion_checks;
     if (validator_.isMotionValid(start_m, goal_m)) {
-      result.status = RrtStarStatus::kExactSolution;
+      result.status = PlannerStatus::kSolved;
       result.path_m = {start_m, goal_m};
       result.length_m = (goal_m - start_m).norm();
       result.tree_size = 2;

@@ -18,23 +18,12 @@
 #include <Eigen/Core>
 
 #include "planning/core/motion_validator.hpp"
+#include "planning/core/planner_status.hpp"
 #include "planning/core/polyline.hpp"
 #include "planning/core/result.hpp"
 #include "planning/core/termination.hpp"
 
 namespace skyroute {
-
-enum class RrtStarStatus {
-  kExactSolution,        // the path ends at the goal
-  kApproximateSolution,  // no path to the goal; the path ends at the tree node nearest the goal
-                         // (only when options.allow_approximate)
-  kInvalidStart,         // start outside the sampling bounds or not a valid state
-  kInvalidGoal,          // goal outside the sampling bounds or not a valid state
-  kTimeout,              // the deadline passed before any path to the goal was found
-  kCancelled,            // the cancel flag was set before any path to the goal was found
-  kNoPath,               // the iteration or node budget ran out before any path was found
-};
-std::string_view to_string(RrtStarStatus status);
 
 struct RrtStarOptions {
   std::uint64_t seed = 1;
@@ -65,7 +54,7 @@ struct RrtStarOptions {
 };
 
 struct RrtStarResult {
-  RrtStarStatus status = RrtStarStatus::kNoPath;
+  PlannerStatus status = PlannerStatus::kBudgetExhausted;
   std::vector<Eigen::Vector3d> path_m;  // start .. goal (or the approximate end); empty without a path
   double length_m = 0.0;                // polyline length of path_m
   double distance_to_goal_m = 0.0;      // 0 for exact solutions
@@ -79,7 +68,7 @@ struct RrtStarResult {
   TerminationCondition::Reason stop_reason = TerminationCondition::Reason::kNone;
   bool node_budget_reached = false;
 
-  bool solved() const { return status == RrtStarStatus::kExactSolution; }
+  bool solved() const { return status == PlannerStatus::kSolved; }
 };
 
 class RrtStar {

@@ -77,7 +77,7 @@ void run(const GridPathOptions& o) {
   bool found = false;
   if (o.algo == "astar" || o.algo == "theta") {
     const AnyAngleResult r = o.algo == "astar" ? gridAStar8(*grid, start, goal, stop) : thetaStar(*grid, start, goal, stop);
-    found = r.status == AnyAngleStatus::kExact;
+    found = r.status == PlannerStatus::kSolved;
     status = std::string(to_string(r.status));
     path = r.path;
     length = r.length_cells;

@@ -47,7 +47,7 @@ void runSolve(const SolveArgs& args) {
   std::uint64_t total_expansions = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const MovingAiProblem& pr = (*problems)[i];
-    SearchStatus status;
+    PlannerStatus status;
     double cost = kInfiniteCost;
     SearchStats stats;
     const auto t0 = std::chrono::steady_clock::now();
@@ -89,7 +89,7 @@ void runSolve(const SolveArgs& args) {
     std::cout << j.dump() << "\n";
     total_ms += ms;
     total_expansions += stats.expansions;
-    if (status != SearchStatus::kFound) {
+    if (status != PlannerStatus::kSolved) {
       ++failures;
       continue;
     }

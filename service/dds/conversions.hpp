@@ -54,7 +54,7 @@ MissionRequestData identityFromWire(const skyroute_msgs_MissionRequest& in);
 CancelRequestData identityFromWire(const skyroute_msgs_CancelRequest& in);
 FleetRequestData identityFromWire(const skyroute_msgs_FleetRequest& in);
 
-// Fleet status (issue 7): the allocation and timing of a fleet plan.
+// Fleet status: the allocation and timing of a fleet plan.
 void toWire(const FleetStatusData& in, skyroute_msgs_FleetStatus& out);
 Result<FleetStatusData> fromWire(const skyroute_msgs_FleetStatus& in);
 

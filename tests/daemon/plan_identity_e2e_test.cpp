@@ -12,6 +12,7 @@
 #include "service/dds/loopback.hpp"
 #include "tests/daemon/daemon_process.hpp"
 #include "tests/test_data.hpp"
+#include "tests/text_file.hpp"
 
 namespace skyroute {
 namespace {
@@ -23,12 +24,7 @@ std::string tempPath(const std::string& name) {
       .string();
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string slurp(const std::string& path) { return skyroute::testing::readTextFile(path); }
 
 // Runs a program to its end (at most timeout_s) and returns its exit code; stdout in *out.
 int run(const std::vector<std::string>& argv, const std::string& name, std::string* out = nullptr,

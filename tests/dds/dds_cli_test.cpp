@@ -22,6 +22,7 @@
 #include "service/dds/wait_loop.hpp"
 #include "service/height_datum.hpp"
 #include "service/obstacle_feed.hpp"
+#include "tests/text_file.hpp"
 
 extern char** environ;
 
@@ -43,12 +44,7 @@ std::string tempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("skyroute_dds_cli_" + std::to_string(::getpid()) + "_" + name)).string();
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string slurp(const std::string& path) { return skyroute::testing::readTextFile(path); }
 
 // A child process running `sh -c command` with stdout and stderr in files.
 struct Child {

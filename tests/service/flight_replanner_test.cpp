@@ -25,15 +25,7 @@ CollisionWorldOptions scenarioWorldOptions() {
   return world_options;
 }
 
-VehicleLimits scenarioLimits() {
-  VehicleLimits limits;
-  limits.v_ref_mps = 50.0;
-  limits.max_speed_mps = 65.0;
-  limits.max_accel_mps2 = 10.0;
-  limits.max_climb_mps = 20.0;
-  limits.max_descent_mps = 20.0;
-  return limits;
-}
+VehicleLimits scenarioLimits() { return seed003ScenarioLimits(); }
 
 ReplanOptions scenarioReplanOptions() {
   ReplanOptions options;

@@ -1,9 +1,6 @@
 // The `skyroute grid solve` and `skyroute mission` commands, run as a user would: JSON lines checked
 // against the scenario's optimal lengths and against Dijkstra, and bad input giving a message that
 // names the point and a non-zero exit.
-#include <sys/wait.h>
-
-#include <array>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -14,27 +11,15 @@
 
 #include "planning/grid/grid_search.hpp"
 #include "terrain/movingai.hpp"
+#include "tests/cli_run.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute {
 namespace {
 
-struct Output {
-  int exit_code = -1;
-  std::string text;
-};
+using Output = testing::CliOutput;
 
-Output run(const std::string& args) {
-  Output out;
-  const std::string cmd = std::string(SKYROUTE_CLI) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return out;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe)) out.text += buf.data();
-  const int status = pclose(pipe);
-  out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return out;
-}
+Output run(const std::string& args) { return testing::runCli(args); }
 
 std::vector<nlohmann::json> jsonLines(const std::string& text) {
   std::vector<nlohmann::json> lines;

@@ -13,7 +13,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/cli_run.hpp"
 #include "tests/test_data.hpp"
+#include "tests/text_file.hpp"
 
 namespace {
 
@@ -23,22 +25,11 @@ struct CliRun {
 };
 
 CliRun run(const std::string& args) {
-  const std::string command = std::string(SKYROUTE_CLI) + " " + args + " 2>&1";
-  CliRun r;
-  FILE* pipe = popen(command.c_str(), "r");
-  std::array<char, 4096> buffer{};
-  while (pipe && fgets(buffer.data(), buffer.size(), pipe)) r.output += buffer.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  skyroute::testing::CliOutput r = skyroute::testing::runCli(args);
+  return CliRun{r.exit_code, std::move(r.text)};
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string slurp(const std::string& path) { return skyroute::testing::readTextFile(path); }
 
 // A short reproducible plan across the embedded terrain (ground below 922 m AMSL).
 std::string planArgs(const std::string& out) {

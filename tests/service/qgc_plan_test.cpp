@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "service/polyline_simplify.hpp"
+#include "tests/text_file.hpp"
 
 namespace skyroute {
 namespace {
@@ -42,12 +43,7 @@ TrajectoryData weavingTrajectory(const LocalFrame& frame, const std::string& veh
   return t;
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string slurp(const std::string& path) { return skyroute::testing::readTextFile(path); }
 
 // The keys and JSON types QGroundControl's loader checks (plan file format, mission version 2).
 void expectPlanSchema(const json& plan) {

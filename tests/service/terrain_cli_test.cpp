@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/cli_run.hpp"
 #include "tests/test_data.hpp"
 
 namespace {
@@ -18,14 +19,8 @@ struct CliRun {
 };
 
 CliRun run(const std::string& args) {
-  const std::string command = std::string(SKYROUTE_CLI) + " " + args + " 2>&1";
-  CliRun r;
-  FILE* pipe = popen(command.c_str(), "r");
-  std::array<char, 4096> buffer{};
-  while (pipe && fgets(buffer.data(), buffer.size(), pipe)) r.output += buffer.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  skyroute::testing::CliOutput r = skyroute::testing::runCli(args);
+  return CliRun{r.exit_code, std::move(r.text)};
 }
 
 TEST(TerrainCli, InfoJsonOnDefaultTerrain) {

@@ -2,6 +2,7 @@
 // vertex, the height datum each format promises (KML absolute = AMSL, GeoJSON z = ellipsoidal), one
 // colour per vehicle in KML, the CSV's ellipsoidal column, and no file at all without the geoid grid.
 #include "service/trajectory_export.hpp"
+#include "tests/text_file.hpp"
 
 #include <gdal.h>
 #include <gtest/gtest.h>
@@ -38,12 +39,7 @@ TrajectoryData trajectoryOf(const std::string& vehicle, std::uint32_t revision, 
   return t;
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string slurp(const std::string& path) { return skyroute::testing::readTextFile(path); }
 
 struct DatasetCloser {
   void operator()(void* ds) const { GDALClose(ds); }

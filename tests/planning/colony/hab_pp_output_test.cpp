@@ -26,7 +26,7 @@ TEST(HabPpOutput, EightConnectedPathsBecomeTautWithinOnePercentOfTheOptimum) {
   for (const auto& m : testing::knownMaps()) {
     SCOPED_TRACE(m.name);
     const AnyAngleResult grid_path = gridAStar8(m.grid, m.start, m.goal, TerminationCondition{});
-    ASSERT_EQ(grid_path.status, AnyAngleStatus::kExact);
+    ASSERT_EQ(grid_path.status, PlannerStatus::kSolved);
     const double optimum = testing::visibilityGraphOptimum(m.grid, m.start, m.goal);
     const Path out = habpp::tautPath(m.grid, grid_path.path, 2, 64);
     EXPECT_EQ(pathProblem(m.grid, out, m.start, m.goal), "");
@@ -55,7 +55,7 @@ TEST(HabPpOutput, NeverLongerAndAlwaysValidOnRandomMaps) {
       if (g.passable(c) && !(c == p.back()) && g.lineOfSight(p.back(), c)) p.push_back(c);
     }
     const AnyAngleResult rest = thetaStar(g, p.back(), goal);
-    if (rest.status != AnyAngleStatus::kExact) continue;
+    if (rest.status != PlannerStatus::kSolved) continue;
     p.insert(p.end(), rest.path.begin() + 1, rest.path.end());
     ASSERT_EQ(pathProblem(g, p, start, goal), "");
     for (int corridor : {0, 1, 3}) {
@@ -166,7 +166,7 @@ TEST(HabPpOutput, WindowsTakeTheNearerDoorWithinAFewTurns) {
   EXPECT_TRUE(passes(out, GridCell{5, 9}));
   EXPECT_FALSE(passes(out, GridCell{18, 9}));
   const AnyAngleResult theta = thetaStar(g, start, goal);
-  ASSERT_EQ(theta.status, AnyAngleStatus::kExact);
+  ASSERT_EQ(theta.status, PlannerStatus::kSolved);
   EXPECT_LE(polylineLength(out), polylineLength(theta.path) + 1e-9);
 
   // Locality: from (10, 6) to (10, 12) through the far door. The box of the path's vertices

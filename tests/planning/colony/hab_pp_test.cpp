@@ -220,7 +220,7 @@ TEST(HabPpPruning, StringPullingKeepsValidityAndNeverLengthens) {
 TEST(HabPpPruning, TighteningPullsGridPathsTautAndStaysValid) {
   for (const auto& m : knownMaps()) {
     const AnyAngleResult grid_path = gridAStar8(m.grid, m.start, m.goal, TerminationCondition{});
-    ASSERT_EQ(grid_path.status, AnyAngleStatus::kExact);
+    ASSERT_EQ(grid_path.status, PlannerStatus::kSolved);
     const double optimum = testing::visibilityGraphOptimum(m.grid, m.start, m.goal);
     const Path pruned = habpp::prunePath(m.grid, grid_path.path);
     const Path taut = habpp::tightenPath(m.grid, grid_path.path, 64);
@@ -540,7 +540,7 @@ TEST(HabPp, PathsAreValidAndNearTheAnyAngleOptimum) {
         const HabPpResult r = planHabPp(m.grid, m.start, m.goal, params, seed,
                                         TerminationCondition::afterMilliseconds(20000));
         SCOPED_TRACE(m.name + " variant " + std::to_string(variant) + " seed " + std::to_string(seed));
-        ASSERT_EQ(r.status, HabPpStatus::kConverged) << r.message;
+        ASSERT_EQ(r.status, PlannerStatus::kSolved) << r.message;
         EXPECT_EQ(pathProblem(m.grid, r.path, m.start, m.goal), "");
         EXPECT_NEAR(r.length_cells, polylineLength(r.path), 1e-9);
         EXPECT_NEAR(r.angle_change_rad, polylineAngleChange(r.path), 1e-9);
@@ -701,7 +701,7 @@ TEST(HabPp, SpeciesLayoutAndRestingTrees) {
       p.ranked_paths = 3;  // a list this short fills up on this map
       const HabPpResult a = planHabPp(m.grid, m.start, m.goal, p, 9);
       const HabPpResult b = planHabPp(m.grid, m.start, m.goal, p, 9);
-      ASSERT_EQ(a.status, HabPpStatus::kConverged);
+      ASSERT_EQ(a.status, PlannerStatus::kSolved);
       EXPECT_EQ(pathProblem(m.grid, a.path, m.start, m.goal), "");
       EXPECT_TRUE(sameCells(a.path, b.path));
       EXPECT_EQ(a.iterations, b.iterations);
@@ -726,17 +726,17 @@ TEST(HabPp, BadEndpointsAndUnreachableGoalEndWithAClearStatus) {
   });
   const HabPpParameters p = smallColony(true);
   HabPpResult r = planHabPp(g, GridCell{4, 0}, GridCell{0, 0}, p, 1);
-  EXPECT_EQ(r.status, HabPpStatus::kInvalidStart);
+  EXPECT_EQ(r.status, PlannerStatus::kStartInvalid);
   EXPECT_NE(r.message.find("start"), std::string::npos);
   r = planHabPp(g, GridCell{0, 0}, GridCell{3, 3}, p, 1);
-  EXPECT_EQ(r.status, HabPpStatus::kInvalidGoal);
+  EXPECT_EQ(r.status, PlannerStatus::kGoalInvalid);
   EXPECT_NE(r.message.find("goal"), std::string::npos);
   r = planHabPp(g, GridCell{0, 0}, GridCell{9, 0}, p, 1);
-  EXPECT_EQ(r.status, HabPpStatus::kInvalidGoal);
+  EXPECT_EQ(r.status, PlannerStatus::kGoalInvalid);
   EXPECT_NE(r.message.find("outside"), std::string::npos);
   // The wall is closed diagonally at (4,2)-(3,3): no corner cutting, so the right side is unreachable.
   r = planHabPp(g, GridCell{0, 0}, GridCell{8, 3}, p, 1);
-  EXPECT_EQ(r.status, HabPpStatus::kUnreachable);
+  EXPECT_EQ(r.status, PlannerStatus::kNoPath);
   EXPECT_TRUE(r.path.empty());
   EXPECT_FALSE(hasPath(r.status));
 }
@@ -746,20 +746,20 @@ TEST(HabPp, TerminationConditionAndParameterErrors) {
   const auto& m = maps[2];
   auto one = TerminationCondition().withIterationBudget(1);
   HabPpResult r = planHabPp(m.grid, m.start, m.goal, smallColony(false), 1, one);
-  EXPECT_EQ(r.status, HabPpStatus::kStoppedWithoutPath);
+  EXPECT_EQ(r.status, PlannerStatus::kBudgetExhausted);
   EXPECT_EQ(r.stop_reason, TerminationCondition::Reason::kIterations);
   EXPECT_LT(r.first_path_time_s, 0.0);
   // Enough iterations for a path but not for convergence: the best path so far.
   HabPpParameters slow = smallColony(false);
   slow.stable_iterations = 1000000;
   r = planHabPp(m.grid, m.start, m.goal, slow, 1, TerminationCondition().withIterationBudget(400));
-  EXPECT_EQ(r.status, HabPpStatus::kStoppedWithPath);
+  EXPECT_EQ(r.status, PlannerStatus::kStoppedWithPath);
   EXPECT_EQ(pathProblem(m.grid, r.path, m.start, m.goal), "");
 
   HabPpParameters bad = smallColony(false);
   bad.rho = 1.5;
   r = planHabPp(m.grid, m.start, m.goal, bad, 1);
-  EXPECT_EQ(r.status, HabPpStatus::kInvalidParameters);
+  EXPECT_EQ(r.status, PlannerStatus::kInvalidParameters);
   EXPECT_NE(r.message.find("rho"), std::string::npos);
   bad = smallColony(false);
   bad.sight_max_radius = 1;
@@ -770,7 +770,7 @@ TEST(HabPp, TerminationConditionAndParameterErrors) {
   bad = HabPpParameters::improved();
   bad.rrt_tree_from_goal = false;  // ants cannot finish along a tree that ends at the start
   r = planHabPp(m.grid, m.start, m.goal, bad, 1);
-  EXPECT_EQ(r.status, HabPpStatus::kInvalidParameters);
+  EXPECT_EQ(r.status, PlannerStatus::kInvalidParameters);
   EXPECT_NE(r.message.find("rrt_ants_join_tree"), std::string::npos);
   bad = HabPpParameters::improved();
   bad.rrt_nodes_after_solution = -1;

@@ -323,7 +323,7 @@ TEST(FleetPaths, ParkedVehicleMovesAsideForAnother) {
   allocation.sequences = {{0}, {}};
   refreshAllocationCosts(table, allocation);
   const FleetPaths paths = buildFleetPaths(g, p, table, allocation);
-  ASSERT_EQ(paths.status, FleetPathStatus::kSolved) << paths.detail;
+  ASSERT_EQ(paths.status, PlannerStatus::kSolved) << paths.detail;
   const FleetCheckReport r = checkFleetPlan(g, p, pathsOf(paths), sequencesOf(paths));
   EXPECT_TRUE(r.ok()) << r.summary();
   const VehiclePlan& home = paths.vehicles[1];

@@ -24,7 +24,7 @@ TEST(GridAStar8, MatchesMovingAiOptimalLengths) {
   for (std::size_t i = 0; i < 200 && i < room.problems.size(); ++i) {
     const MovingAiProblem& p = room.problems[i];
     const AnyAngleResult r = gridAStar8(room.grid, p.start, p.goal);
-    ASSERT_EQ(r.status, AnyAngleStatus::kExact) << "problem " << i;
+    ASSERT_EQ(r.status, PlannerStatus::kSolved) << "problem " << i;
     EXPECT_NEAR(r.length_cells, p.optimal_length, 1e-3) << "problem " << i;
     for (std::size_t k = 1; k < r.path.size(); ++k) {  // 8-connected moves, each a visible segment
       EXPECT_LE(std::max(std::abs(r.path[k].x - r.path[k - 1].x), std::abs(r.path[k].y - r.path[k - 1].y)), 1);
@@ -38,7 +38,7 @@ TEST(ThetaStar, ValidAndBetweenOptimumAndAStarOnMovingAiProblems) {
   for (std::size_t i = 0; i < 200 && i < room.problems.size(); ++i) {
     const MovingAiProblem& p = room.problems[i];
     const AnyAngleResult r = thetaStar(room.grid, p.start, p.goal);
-    ASSERT_EQ(r.status, AnyAngleStatus::kExact) << "problem " << i;
+    ASSERT_EQ(r.status, PlannerStatus::kSolved) << "problem " << i;
     EXPECT_EQ(pathProblem(room.grid, r.path, p.start, p.goal), "") << "problem " << i;
     EXPECT_LE(r.length_cells, p.optimal_length + 1e-3) << "problem " << i;  // never worse than 8-connected
     EXPECT_GE(r.length_cells, testing::euclid(p.start, p.goal) - 1e-9);
@@ -52,7 +52,7 @@ TEST(ThetaStar, WithinOneAndAHalfPercentOfTheAnyAngleOptimumOnKnownMaps) {
   for (const auto& m : knownMaps()) {
     const double optimum = testing::visibilityGraphOptimum(m.grid, m.start, m.goal);
     const AnyAngleResult r = thetaStar(m.grid, m.start, m.goal);
-    ASSERT_EQ(r.status, AnyAngleStatus::kExact) << m.name;
+    ASSERT_EQ(r.status, PlannerStatus::kSolved) << m.name;
     EXPECT_EQ(pathProblem(m.grid, r.path, m.start, m.goal), "") << m.name;
     EXPECT_GE(r.length_cells, optimum - 1e-9) << m.name;
     EXPECT_LE(r.length_cells, optimum * 1.015) << m.name;
@@ -69,12 +69,12 @@ TEST(AnyAngleSearch, BlockedOrOutsideEndpointsAndUnreachableGoal) {
       ".....#....",
   });
   for (auto* search : {&gridAStar8, &thetaStar}) {
-    EXPECT_EQ(search(g, GridCell{5, 0}, GridCell{0, 0}, {}).status, AnyAngleStatus::kInvalidStart);
-    EXPECT_EQ(search(g, GridCell{-1, 0}, GridCell{0, 0}, {}).status, AnyAngleStatus::kInvalidStart);
-    EXPECT_EQ(search(g, GridCell{0, 0}, GridCell{5, 3}, {}).status, AnyAngleStatus::kInvalidGoal);
-    EXPECT_EQ(search(g, GridCell{0, 0}, GridCell{0, 9}, {}).status, AnyAngleStatus::kInvalidGoal);
+    EXPECT_EQ(search(g, GridCell{5, 0}, GridCell{0, 0}, {}).status, PlannerStatus::kStartInvalid);
+    EXPECT_EQ(search(g, GridCell{-1, 0}, GridCell{0, 0}, {}).status, PlannerStatus::kStartInvalid);
+    EXPECT_EQ(search(g, GridCell{0, 0}, GridCell{5, 3}, {}).status, PlannerStatus::kGoalInvalid);
+    EXPECT_EQ(search(g, GridCell{0, 0}, GridCell{0, 9}, {}).status, PlannerStatus::kGoalInvalid);
     const AnyAngleResult r = search(g, GridCell{0, 0}, GridCell{9, 3}, {});
-    EXPECT_EQ(r.status, AnyAngleStatus::kNoPath);
+    EXPECT_EQ(r.status, PlannerStatus::kNoPath);
     EXPECT_TRUE(r.path.empty());
   }
 }
@@ -85,15 +85,15 @@ TEST(AnyAngleSearch, DiagonalGapIsNotCut) {
       "#.",
       ".#",
   });
-  EXPECT_EQ(gridAStar8(g, GridCell{1, 0}, GridCell{0, 1}, {}).status, AnyAngleStatus::kNoPath);
-  EXPECT_EQ(thetaStar(g, GridCell{1, 0}, GridCell{0, 1}, {}).status, AnyAngleStatus::kNoPath);
+  EXPECT_EQ(gridAStar8(g, GridCell{1, 0}, GridCell{0, 1}, {}).status, PlannerStatus::kNoPath);
+  EXPECT_EQ(thetaStar(g, GridCell{1, 0}, GridCell{0, 1}, {}).status, PlannerStatus::kNoPath);
 }
 
 TEST(AnyAngleSearch, StopsOnTheTerminationCondition) {
   const GridLayer g(200, 200);
   auto stop = TerminationCondition().withIterationBudget(1);
   const AnyAngleResult r = thetaStar(g, GridCell{0, 0}, GridCell{199, 150}, stop);
-  EXPECT_EQ(r.status, AnyAngleStatus::kTerminated);
+  EXPECT_EQ(r.status, PlannerStatus::kBudgetExhausted);
   EXPECT_EQ(r.stop_reason, TerminationCondition::Reason::kIterations);
 }
 

@@ -22,7 +22,7 @@ void checkScenario(const std::string& map_path, const std::string& scen_path) {
   for (std::size_t i = 0; i < scenario->problems.size(); ++i) {
     const MovingAiProblem& pr = scenario->problems[i];
     DStarLite search(scenario->grid, pr.start, pr.goal);
-    ASSERT_EQ(search.computeShortestPath(), SearchStatus::kFound) << "problem " << i;
+    ASSERT_EQ(search.computeShortestPath(), PlannerStatus::kSolved) << "problem " << i;
     EXPECT_NEAR(search.cost(), pr.optimal_length, 1e-3) << "problem " << i;
     const auto path = search.path();
     ASSERT_FALSE(path.empty()) << "problem " << i;
@@ -85,17 +85,17 @@ TEST(DStarLite, ReplanningMatchesDijkstraWhileStartMovesAndCellsChange) {
           for (const GridCell& d : grid.setStaticBlocked(one, !now_blocked)) changed.push_back(d);
         }
         search.updateCells(changed);
-        const SearchStatus status = search.computeShortestPath();
+        const PlannerStatus status = search.computeShortestPath();
         const auto field = dijkstraCostField(grid, goal, moves);
         const double expected = field[grid.index(at)];
         if (expected < kInfiniteCost) {
-          ASSERT_EQ(status, SearchStatus::kFound);
+          ASSERT_EQ(status, PlannerStatus::kSolved);
           ASSERT_NEAR(search.cost(), expected, 1e-9) << "trial " << trial << " step " << step;
           at = search.nextCell();
           search.moveStart(at);
           ++moved;
         } else {
-          ASSERT_EQ(status, SearchStatus::kNoPath);
+          ASSERT_EQ(status, PlannerStatus::kNoPath);
           EXPECT_EQ(search.cost(), kInfiniteCost);
         }
       }
@@ -157,8 +157,8 @@ TEST(DStarLite, SweepLeavesAStateThatRepairsExactly) {
       DStarGoalField field(grid, goal, moves);
       DStarQueue frontier(starts.front(), 0.0);
       SearchStats stats;
-      const SearchStatus status = dstarSweepInitialize(field, starts, frontier, stats, {});
-      ASSERT_EQ(status, all_reached ? SearchStatus::kFound : SearchStatus::kNoPath) << "trial " << trial;
+      const PlannerStatus status = dstarSweepInitialize(field, starts, frontier, stats, {});
+      ASSERT_EQ(status, all_reached ? PlannerStatus::kSolved : PlannerStatus::kNoPath) << "trial " << trial;
       double farthest = 0.0;
       for (const GridCell& s : starts) {
         const double e = exact[grid.index(s)];
@@ -225,14 +225,14 @@ TEST(DStarLite, ReplanningExpandsFarFewerCellsThanPlanningAgain) {
   const GridCell start{5, 5}, goal{110, 110};
   grid.setStaticBlocked(std::vector<GridCell>{start, goal}, false);
   DStarLite search(grid, start, goal);
-  ASSERT_EQ(search.computeShortestPath(), SearchStatus::kFound);
+  ASSERT_EQ(search.computeShortestPath(), PlannerStatus::kSolved);
   const auto first = search.stats().expansions;
   // Block one cell on the current path, near the start.
   const auto path = search.path();
   ASSERT_GT(path.size(), 4u);
   const auto changed = grid.setStaticBlocked(std::vector<GridCell>{path[3]}, true);
   search.updateCells(changed);
-  ASSERT_EQ(search.computeShortestPath(), SearchStatus::kFound);
+  ASSERT_EQ(search.computeShortestPath(), PlannerStatus::kSolved);
   const auto repair = search.stats().expansions - first;
   EXPECT_NEAR(search.cost(), dijkstraCostField(grid, goal)[grid.index(start)], 1e-9);
   EXPECT_LT(repair, first / 2) << "repair " << repair << " first " << first;
@@ -241,15 +241,15 @@ TEST(DStarLite, ReplanningExpandsFarFewerCellsThanPlanningAgain) {
 TEST(DStarLite, InvalidEndpointsAndUnreachableGoal) {
   GridLayer grid(10, 10);
   grid.setStaticBlocked(std::vector<GridCell>{{3, 3}}, true);
-  EXPECT_EQ(DStarLite(grid, {3, 3}, {0, 0}).computeShortestPath(), SearchStatus::kInvalidStart);
-  EXPECT_EQ(DStarLite(grid, {0, 0}, {3, 3}).computeShortestPath(), SearchStatus::kInvalidGoal);
-  EXPECT_EQ(DStarLite(grid, {0, 0}, {20, 3}).computeShortestPath(), SearchStatus::kInvalidGoal);
+  EXPECT_EQ(DStarLite(grid, {3, 3}, {0, 0}).computeShortestPath(), PlannerStatus::kStartInvalid);
+  EXPECT_EQ(DStarLite(grid, {0, 0}, {3, 3}).computeShortestPath(), PlannerStatus::kGoalInvalid);
+  EXPECT_EQ(DStarLite(grid, {0, 0}, {20, 3}).computeShortestPath(), PlannerStatus::kGoalInvalid);
   // Wall off column 5 completely.
   std::vector<GridCell> wall;
   for (int y = 0; y < 10; ++y) wall.push_back({5, y});
   grid.setStaticBlocked(wall, true);
   DStarLite cut(grid, {0, 0}, {9, 9});
-  EXPECT_EQ(cut.computeShortestPath(), SearchStatus::kNoPath);
+  EXPECT_EQ(cut.computeShortestPath(), PlannerStatus::kNoPath);
   EXPECT_TRUE(cut.path().empty());
 }
 

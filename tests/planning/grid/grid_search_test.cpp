@@ -34,7 +34,7 @@ void checkScenario(const std::string& map_path, const std::string& scen_path, st
   for (std::size_t i = 0; i < scenario->problems.size(); i += stride) {
     const MovingAiProblem& pr = scenario->problems[i];
     const GridPath a = astarSearch(grid, pr.start, pr.goal);
-    ASSERT_EQ(a.status, SearchStatus::kFound) << "problem " << i;
+    ASSERT_EQ(a.status, PlannerStatus::kSolved) << "problem " << i;
     EXPECT_NEAR(a.cost, pr.optimal_length, 1e-3) << "A* problem " << i;
     expectValidPath(grid, a, GridMoves{});
     const GridPath d = dijkstraSearch(grid, pr.start, pr.goal);
@@ -68,7 +68,7 @@ TEST(GridSearch, NoCornerCutting) {
   // (0,0) -> (1,1) would cut the blocked corner (1,0): it must go round through (0,1).
   EXPECT_EQ(moveCost(grid, {0, 0}, {1, 1}, GridMoves{}), kInfiniteCost);
   const GridPath p = astarSearch(grid, {0, 0}, {1, 1});
-  ASSERT_EQ(p.status, SearchStatus::kFound);
+  ASSERT_EQ(p.status, PlannerStatus::kSolved);
   EXPECT_DOUBLE_EQ(p.cost, 2.0);
 }
 
@@ -81,9 +81,9 @@ TEST(GridSearch, CornerCuttingOptionOnlyNeedsBothEndsFree) {
   // Both orthogonal cells blocked: only the corner-cutting rule lets (0,0) reach (1,1) at all.
   EXPECT_EQ(moveCost(grid, {0, 0}, {1, 1}, GridMoves::paper()), kInfiniteCost);
   EXPECT_DOUBLE_EQ(moveCost(grid, {0, 0}, {1, 1}, cut), 1.4);
-  EXPECT_EQ(astarSearch(grid, {0, 0}, {2, 2}, GridMoves::paper()).status, SearchStatus::kNoPath);
+  EXPECT_EQ(astarSearch(grid, {0, 0}, {2, 2}, GridMoves::paper()).status, PlannerStatus::kNoPath);
   const GridPath p = astarSearch(grid, {0, 0}, {2, 2}, cut);
-  ASSERT_EQ(p.status, SearchStatus::kFound);
+  ASSERT_EQ(p.status, PlannerStatus::kSolved);
   EXPECT_NEAR(p.cost, 2.8, 1e-12);
   // A blocked end still forbids the move.
   EXPECT_EQ(moveCost(grid, {0, 0}, {1, 0}, cut), kInfiniteCost);
@@ -158,12 +158,12 @@ TEST(GridSearch, DijkstraFieldAgreesWithAStarOnRandomGrids) {
       const GridCell g{ux(rng), uy(rng)};
       const GridPath p = astarSearch(grid, s, g);
       if (grid.blocked(g)) {
-        EXPECT_EQ(p.status, SearchStatus::kInvalidGoal);
+        EXPECT_EQ(p.status, PlannerStatus::kGoalInvalid);
       } else if (field[grid.index(g)] < kInfiniteCost) {
-        ASSERT_EQ(p.status, SearchStatus::kFound);
+        ASSERT_EQ(p.status, PlannerStatus::kSolved);
         EXPECT_NEAR(p.cost, field[grid.index(g)], 1e-9);
       } else {
-        EXPECT_EQ(p.status, SearchStatus::kNoPath);
+        EXPECT_EQ(p.status, PlannerStatus::kNoPath);
       }
     }
   }
@@ -171,13 +171,13 @@ TEST(GridSearch, DijkstraFieldAgreesWithAStarOnRandomGrids) {
 
 TEST(GridSearch, BadEndpointsAndTermination) {
   GridLayer grid(5, 5);
-  EXPECT_EQ(astarSearch(grid, {-1, 0}, {2, 2}).status, SearchStatus::kInvalidStart);
-  EXPECT_EQ(astarSearch(grid, {0, 0}, {5, 2}).status, SearchStatus::kInvalidGoal);
+  EXPECT_EQ(astarSearch(grid, {-1, 0}, {2, 2}).status, PlannerStatus::kStartInvalid);
+  EXPECT_EQ(astarSearch(grid, {0, 0}, {5, 2}).status, PlannerStatus::kGoalInvalid);
   auto cancel = std::make_shared<std::atomic<bool>>(true);
   GridLayer big(300, 300);
   const GridPath p = dijkstraSearch(big, {0, 0}, {299, 299}, GridMoves{}, TerminationCondition().withCancelFlag(cancel));
-  EXPECT_EQ(p.status, SearchStatus::kStopped);
-  EXPECT_EQ(to_string(SearchStatus::kStopped), "stopped");
+  EXPECT_EQ(p.status, PlannerStatus::kCancelled);
+  EXPECT_EQ(to_string(PlannerStatus::kCancelled), "cancelled");
 }
 
 }  // namespace

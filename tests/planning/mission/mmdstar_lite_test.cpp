@@ -116,14 +116,14 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
       deferring.setFreshPlanFraction(0.05);
       deferring.setDeferGoalMaps(true);
       PairwiseDStarLite pairwise(grid, points, moves);
-      ASSERT_EQ(mmd.preplan(), SearchStatus::kFound);
-      ASSERT_EQ(threaded.preplan(), SearchStatus::kFound);
-      ASSERT_EQ(fresh.preplan(), SearchStatus::kFound);
-      ASSERT_EQ(swept.preplan(), SearchStatus::kFound);
-      ASSERT_EQ(deferring.preplan(), SearchStatus::kFound);
+      ASSERT_EQ(mmd.preplan(), PlannerStatus::kSolved);
+      ASSERT_EQ(threaded.preplan(), PlannerStatus::kSolved);
+      ASSERT_EQ(fresh.preplan(), PlannerStatus::kSolved);
+      ASSERT_EQ(swept.preplan(), PlannerStatus::kSolved);
+      ASSERT_EQ(deferring.preplan(), PlannerStatus::kSolved);
       expectMatrixMatchesDijkstra(swept, "sweep, preplanning");
       expectSameSearch(threaded, mmd, "preplanning");
-      ASSERT_EQ(pairwise.preplan(), SearchStatus::kFound);
+      ASSERT_EQ(pairwise.preplan(), PlannerStatus::kSolved);
       expectMatrixMatchesDijkstra(mmd, "preplanning");
       EXPECT_EQ(mmd.costMapCount(), static_cast<std::size_t>(n + 1));
       EXPECT_EQ(pairwise.costMapCount(), static_cast<std::size_t>(n * n + n));
@@ -165,16 +165,16 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
           const std::vector<GridCell> one{c};
           for (const GridCell& d : grid.setStaticBlocked(one, !grid.staticBlocked(c))) changed.push_back(d);
         }
-        ASSERT_EQ(mmd.applyChanges(changed), SearchStatus::kFound);
-        ASSERT_EQ(threaded.applyChanges(changed), SearchStatus::kFound);
-        ASSERT_EQ(fresh.applyChanges(changed), SearchStatus::kFound);
-        ASSERT_EQ(swept.applyChanges(changed), SearchStatus::kFound);
+        ASSERT_EQ(mmd.applyChanges(changed), PlannerStatus::kSolved);
+        ASSERT_EQ(threaded.applyChanges(changed), PlannerStatus::kSolved);
+        ASSERT_EQ(fresh.applyChanges(changed), PlannerStatus::kSolved);
+        ASSERT_EQ(swept.applyChanges(changed), PlannerStatus::kSolved);
         expectMatrixMatchesDijkstra(swept, "sweep, replanning step " + std::to_string(step));
-        ASSERT_EQ(deferring.applyChanges(changed), SearchStatus::kFound);
+        ASSERT_EQ(deferring.applyChanges(changed), PlannerStatus::kSolved);
         expectMatrixMatchesDijkstra(deferring, "deferring, replanning step " + std::to_string(step));
         expectPathsCostWhatTheMatrixSays(deferring, "deferring, replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(fresh, "fresh-plan rule, replanning step " + std::to_string(step));
-        ASSERT_EQ(pairwise.applyChanges(changed), SearchStatus::kFound);
+        ASSERT_EQ(pairwise.applyChanges(changed), PlannerStatus::kSolved);
         expectSameSearch(threaded, mmd, "replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(mmd, "replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(pairwise, "pairwise replanning step " + std::to_string(step));
@@ -216,7 +216,7 @@ TEST(MmdStarLite, PathsAreValidAndCostWhatTheMatrixSays) {
   GridLayer grid = randomGrid(40, 40, 0.25, rng);
   const auto points = connectedPoints(grid, 6, rng);
   MmdStarLite mmd(grid, points);
-  ASSERT_EQ(mmd.preplan(), SearchStatus::kFound);
+  ASSERT_EQ(mmd.preplan(), PlannerStatus::kSolved);
   for (int from = 0; from < mmd.pointCount(); ++from) {
     for (int to = 0; to < mmd.pointCount(); ++to) {
       if (!mmd.planned(from, to)) {
@@ -242,7 +242,7 @@ void expectScenarioOptima(const GridLayer& grid, const std::vector<MovingAiProbl
   for (std::size_t i = 0; i < problems.size(); ++i) {
     const MovingAiProblem& pr = problems[i];
     SharedGoalSearch search(grid, pr.goal);
-    ASSERT_EQ(search.solveFrom(pr.start), SearchStatus::kFound) << i;
+    ASSERT_EQ(search.solveFrom(pr.start), PlannerStatus::kSolved) << i;
     EXPECT_NEAR(search.cost(pr.start), pr.optimal_length, 1e-3) << "problem " << i;
   }
 }

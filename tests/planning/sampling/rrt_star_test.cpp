@@ -53,7 +53,7 @@ TEST_P(EveryRrtStar, FindsAValidPathRoundAWallNoShorterThanTheTautPath) {
   const double taut = testing::wallWorldTautLength(s, g);
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
     const RrtStarResult r = planOk(world, options(seed), s, g, TerminationCondition().withIterationBudget(3000));
-    ASSERT_EQ(r.status, RrtStarStatus::kExactSolution) << to_string(r.status);
+    ASSERT_EQ(r.status, PlannerStatus::kSolved) << to_string(r.status);
     ASSERT_GE(r.path_m.size(), 3u);
     EXPECT_EQ(r.path_m.front(), s);
     EXPECT_EQ(r.path_m.back(), g);
@@ -80,7 +80,7 @@ TEST_P(EveryRrtStar, PathsThroughASphereFieldAreCollisionFree) {
     const BoxWorld world = testing::sphereField(field, 40);
     const Eigen::Vector3d s(2, 2, 2), g(98, 98, 98);
     const RrtStarResult r = planOk(world, options(field), s, g, TerminationCondition().withIterationBudget(2000));
-    ASSERT_EQ(r.status, RrtStarStatus::kExactSolution) << "field " << field;
+    ASSERT_EQ(r.status, PlannerStatus::kSolved) << "field " << field;
     EXPECT_TRUE(world.denseCheck(r.path_m, 0.01)) << "field " << field;
     EXPECT_GE(r.length_m, (g - s).norm() - 1e-9);
   }
@@ -93,7 +93,7 @@ TEST_P(EveryRrtStar, MoreIterationsNeverLengthenTheSolution) {
   double previous = std::numeric_limits<double>::infinity();
   for (std::uint64_t budget : {500u, 1500u, 5000u}) {
     const RrtStarResult r = planOk(world, options(3), s, g, TerminationCondition().withIterationBudget(budget));
-    ASSERT_EQ(r.status, RrtStarStatus::kExactSolution);
+    ASSERT_EQ(r.status, PlannerStatus::kSolved);
     EXPECT_LE(r.length_m, previous + 1e-9) << "budget " << budget;
     previous = r.length_m;
   }
@@ -106,7 +106,7 @@ TEST_P(EveryRrtStar, SameSeedGivesBitIdenticalResults) {
   const RrtStarResult a = planOk(world, options(42), s, g, stop);
   const RrtStarResult b = planOk(world, options(42), s, g, stop);
   const RrtStarResult c = planOk(world, options(43), s, g, stop);
-  ASSERT_EQ(a.status, RrtStarStatus::kExactSolution);
+  ASSERT_EQ(a.status, PlannerStatus::kSolved);
   ASSERT_EQ(a.path_m.size(), b.path_m.size());
   for (std::size_t i = 0; i < a.path_m.size(); ++i) EXPECT_EQ(a.path_m[i], b.path_m[i]) << i;  // bitwise
   EXPECT_EQ(a.length_m, b.length_m);
@@ -122,14 +122,14 @@ TEST_P(EveryRrtStar, InvalidStartAndGoalAreReportedBeforeSearching) {
   const Eigen::Vector3d in_wall(50, 30, 10);
   const Eigen::Vector3d outside(-5, 30, 10);
   const auto stop = TerminationCondition().withIterationBudget(1000);
-  EXPECT_EQ(planOk(world, options(1), in_wall, free_point, stop).status, RrtStarStatus::kInvalidStart);
-  EXPECT_EQ(planOk(world, options(1), outside, free_point, stop).status, RrtStarStatus::kInvalidStart);
-  EXPECT_EQ(planOk(world, options(1), free_point, in_wall, stop).status, RrtStarStatus::kInvalidGoal);
+  EXPECT_EQ(planOk(world, options(1), in_wall, free_point, stop).status, PlannerStatus::kStartInvalid);
+  EXPECT_EQ(planOk(world, options(1), outside, free_point, stop).status, PlannerStatus::kStartInvalid);
+  EXPECT_EQ(planOk(world, options(1), free_point, in_wall, stop).status, PlannerStatus::kGoalInvalid);
   const RrtStarResult r = planOk(world, options(1), free_point, outside, stop);
-  EXPECT_EQ(r.status, RrtStarStatus::kInvalidGoal);
+  EXPECT_EQ(r.status, PlannerStatus::kGoalInvalid);
   EXPECT_EQ(r.iterations, 0u);
   EXPECT_TRUE(r.path_m.empty());
-  EXPECT_EQ(to_string(RrtStarStatus::kInvalidGoal), "invalid goal");
+  EXPECT_EQ(to_string(PlannerStatus::kGoalInvalid), "goal invalid");
 }
 
 // A goal sealed inside a closed shell of six boxes.
@@ -150,7 +150,7 @@ TEST_P(EveryRrtStar, UnreachableGoalEndsWithAClearStatusWithinTheBudget) {
   const Eigen::Vector3d s(10, 10, 10), g(70, 70, 70);
   // Deadline: timeout, close to the deadline (generous margin for sanitizer builds).
   const RrtStarResult by_time = planOk(world, options(1), s, g, TerminationCondition::afterMilliseconds(100));
-  EXPECT_EQ(by_time.status, RrtStarStatus::kTimeout);
+  EXPECT_EQ(by_time.status, PlannerStatus::kTimeout);
   EXPECT_EQ(by_time.stop_reason, TerminationCondition::Reason::kDeadline);
   // The deadline's clock starts when the condition is made, just before the planner's own clock,
   // so the planner's time can fall short of 100 ms by microseconds.
@@ -161,31 +161,31 @@ TEST_P(EveryRrtStar, UnreachableGoalEndsWithAClearStatusWithinTheBudget) {
   const auto cpu_before = TerminationCondition::threadCpuNow();
   const RrtStarResult by_cpu = planOk(world, options(1), s, g, TerminationCondition::afterThreadCpuMilliseconds(50));
   const auto cpu_spent = TerminationCondition::threadCpuNow() - cpu_before;
-  EXPECT_EQ(by_cpu.status, RrtStarStatus::kTimeout);
+  EXPECT_EQ(by_cpu.status, PlannerStatus::kTimeout);
   EXPECT_EQ(by_cpu.stop_reason, TerminationCondition::Reason::kDeadline);
   EXPECT_GE(cpu_spent, std::chrono::milliseconds(50));
   EXPECT_GT(by_cpu.iterations, 0u);
   // Iteration budget: no path.
   const RrtStarResult by_count = planOk(world, options(1), s, g, TerminationCondition().withIterationBudget(2000));
-  EXPECT_EQ(by_count.status, RrtStarStatus::kNoPath);
+  EXPECT_EQ(by_count.status, PlannerStatus::kBudgetExhausted);
   EXPECT_EQ(by_count.iterations, 2000u);
   // Node budget: no path, tree capped.
   RrtStarOptions capped = options(1);
   capped.max_nodes = 300;
   const RrtStarResult by_nodes = planOk(world, capped, s, g, TerminationCondition().withIterationBudget(100000));
-  EXPECT_EQ(by_nodes.status, RrtStarStatus::kNoPath);
+  EXPECT_EQ(by_nodes.status, PlannerStatus::kBudgetExhausted);
   EXPECT_TRUE(by_nodes.node_budget_reached);
   EXPECT_EQ(by_nodes.tree_size, 300u);
   // Cancel flag.
   auto cancel = std::make_shared<std::atomic<bool>>(true);
   const RrtStarResult cancelled = planOk(world, options(1), s, g, TerminationCondition::afterMilliseconds(10000).withCancelFlag(cancel));
-  EXPECT_EQ(cancelled.status, RrtStarStatus::kCancelled);
+  EXPECT_EQ(cancelled.status, PlannerStatus::kCancelled);
   EXPECT_LT(cancelled.time_s, 1.0);
   // Approximate: ends at the node nearest the goal, outside the shell, on a valid path.
   RrtStarOptions approx = options(1);
   approx.allow_approximate = true;
   const RrtStarResult a = planOk(world, approx, s, g, TerminationCondition().withIterationBudget(2000));
-  EXPECT_EQ(a.status, RrtStarStatus::kApproximateSolution);
+  EXPECT_EQ(a.status, PlannerStatus::kApproximate);
   ASSERT_GE(a.path_m.size(), 2u);
   EXPECT_TRUE(world.denseCheck(a.path_m, 0.01));
   EXPECT_GT(a.distance_to_goal_m, 10.0 - 1e-9);  // the shell keeps every node >= 10 m from its centre
@@ -198,12 +198,12 @@ TEST_P(EveryRrtStar, StraightLineWhenTheGoalIsInSight) {
   RrtStarOptions o = options(1);
   o.try_direct_first = false;
   const RrtStarResult r = planOk(world, o, s, g, TerminationCondition().withIterationBudget(3000));
-  ASSERT_EQ(r.status, RrtStarStatus::kExactSolution);
+  ASSERT_EQ(r.status, PlannerStatus::kSolved);
   EXPECT_TRUE(world.denseCheck(r.path_m, 0.01));
   EXPECT_LT(r.length_m, 1.05 * (g - s).norm());
   o.try_direct_first = true;
   const RrtStarResult d = planOk(world, o, s, g, TerminationCondition().withIterationBudget(3000));
-  ASSERT_EQ(d.status, RrtStarStatus::kExactSolution);
+  ASSERT_EQ(d.status, PlannerStatus::kSolved);
   EXPECT_EQ(d.path_m.size(), 2u);
   EXPECT_DOUBLE_EQ(d.length_m, (g - s).norm());
 }

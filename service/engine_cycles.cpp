@@ -1,0 +1,155 @@
+// The engine's threads: the planning workers that take queued requests, the replanning loop that
+// steps every active mission each cycle (t_ref, or at once after an obstacle update), and stop().
+#include <chrono>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "service/engine_state.hpp"
+
+namespace skyroute {
+
+using engine_detail::cancelledStatus;
+using engine_detail::fleetFailed;
+
+std::size_t Engine::replanCycle() {
+  const double now_s = static_cast<double>(clock_()) * 1e-9;
+  world()->expire(now_s);
+  throttle_.flush();
+  std::vector<std::shared_ptr<Mission>> missions;
+  {
+    std::lock_guard lock(mutex_);
+    if (!options_.replanning) return 0;
+    for (const auto& [vehicle, mission] : missions_) missions.push_back(mission);
+  }
+  std::size_t published = 0;
+  for (const std::shared_ptr<Mission>& mission : missions) {
+    if (stopping_) break;
+    std::unique_lock mission_lock(mission->mutex);
+    if (mission->ended) continue;
+    if (mission->plan.flight->finished(now_s)) {
+      mission->ended = true;
+      mission_lock.unlock();
+      std::lock_guard lock(mutex_);
+      if (auto it = missions_.find(mission->request.vehicle_id); it != missions_.end() && it->second == mission) {
+        missions_.erase(it);
+        spdlog::info("event=mission_completed request={} vehicle={} plan={}", mission->request.request_id,
+                     mission->request.vehicle_id, mission->plan_id);
+      }
+      continue;
+    }
+    const ReplanStep step = mission->plan.flight->step(now_s);
+    if (step.replanned) {
+      const TrajectoryData data = trajectoryOf(*mission);
+      sink_.publishTrajectory(data);
+      mission_lock.unlock();
+      ++replans_;
+      ++published;
+      spdlog::info("event=replanned request={} vehicle={} plan={} revision={} latency_ms={:.1f}",
+                   mission->request.request_id, mission->request.vehicle_id, mission->plan_id, data.revision,
+                   step.latency_ms);
+      status(mission->request, PlanState::kReplanned, step.latency_ms * 1e-3);
+    } else if (step.failure) {
+      // A blocked vehicle fails every cycle (10 Hz) until the obstacle moves: one line per window.
+      throttle_.warn("replan_failed:" + mission->request.vehicle_id + ":" + step.failure->field,
+                     fmt::format("event=replan_failed request={} vehicle={} field={} message=\"{}\"",
+                                 mission->request.request_id, mission->request.vehicle_id, step.failure->field,
+                                 step.failure->message));
+    }
+  }
+  return published;
+}
+
+void Engine::startWorkers(int count) {
+  while (running_workers_ < count) {
+    ++running_workers_;
+    workers_.emplace_back([this] { workerLoop(); });
+  }
+}
+
+void Engine::workerLoop() {
+  for (;;) {
+    std::unique_ptr<Job> job;
+    {
+      std::unique_lock lock(mutex_);
+      const auto retire = [&] { return running_workers_ > options_.planning_threads; };
+      work_cv_.wait(lock, [&] { return stopping_.load() || !queue_.empty() || retire(); });
+      if (stopping_) return;
+      if (retire()) {
+        --running_workers_;
+        retired_.push_back(std::this_thread::get_id());
+        return;
+      }
+      job = takeJobLocked();
+    }
+    planTaken(std::move(job));
+  }
+}
+
+void Engine::replanLoop() {
+  auto next = std::chrono::steady_clock::now();
+  while (!stopping_) {
+    replanCycle();
+    double period_s = 0.1;
+    {
+      std::lock_guard lock(mutex_);
+      period_s = options_.pipeline.replan.period_s;
+    }
+    next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(period_s));
+    const auto now = std::chrono::steady_clock::now();
+    if (next < now) next = now;  // a long cycle: start the next at once rather than catch up
+    std::unique_lock lock(mutex_);
+    replan_cv_.wait_until(lock, next, [&] { return stopping_.load() || replan_wake_; });
+    replan_wake_ = false;
+  }
+}
+
+void Engine::start() {
+  if (running_.exchange(true)) return;
+  stopping_ = false;
+  int threads = 0;
+  {
+    std::lock_guard lock(mutex_);
+    threads = options_.planning_threads;
+    startWorkers(threads);
+  }
+  replanner_ = std::thread([this] { replanLoop(); });
+  spdlog::info("event=engine_started planning_threads={}", threads);
+}
+
+void Engine::stop() {
+  std::vector<MissionRequestData> dropped;
+  std::vector<std::string> dropped_fleets;
+  std::vector<std::thread> workers;
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_ && !running_) return;
+    stopping_ = true;
+    for (Job* job : in_flight_) job->cancel->store(true);
+    for (const auto& [vehicle, mission] : missions_) mission->cancel->store(true);
+    for (const auto& job : queue_) {
+      if (job->fleet) {
+        dropped_fleets.push_back(job->fleet->request_id);
+      } else {
+        dropped.push_back(job->request);
+      }
+    }
+    queue_.clear();
+    workers = std::move(workers_);
+    workers_.clear();
+    running_workers_ = 0;
+    retired_.clear();
+  }
+  work_cv_.notify_all();
+  replan_cv_.notify_all();
+  for (std::thread& t : workers) t.join();
+  if (replanner_.joinable()) replanner_.join();
+  for (const MissionRequestData& r : dropped) finish(cancelledStatus(r, "the service stopped"));
+  for (const std::string& id : dropped_fleets) {
+    sink_.publishFleetStatus(fleetFailed(id, PlanError{PlanErrorCode::kCancelled, "", "the service stopped"}));
+  }
+  throttle_.flushAll();
+  if (running_.exchange(false)) spdlog::info("event=engine_stopped");
+}
+
+}  // namespace skyroute

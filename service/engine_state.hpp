@@ -1,0 +1,40 @@
+// The engine's private state, shared by its source files: engine.cpp (requests, cancels, obstacle
+// updates and planning one request), engine_fleet.cpp (fleet requests) and engine_cycles.cpp (the
+// planning workers, the replanning loop and stopping). Nothing outside the engine includes it.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "service/engine.hpp"
+
+namespace skyroute {
+
+struct Engine::Job {
+  MissionRequestData request;                // a mission (request.vehicle_id set), or
+  std::optional<FleetRequestData> fleet;     // a fleet (request left empty)
+  std::shared_ptr<std::atomic<bool>> cancel = std::make_shared<std::atomic<bool>>(false);
+};
+
+struct Engine::Mission {
+  MissionRequestData request;
+  std::shared_ptr<WorldModel> world_model;   // planned on (its frame turns ENU into WGS84)
+  std::string plan_id;
+  MissionPlan plan;                          // order, points and the flight being replanned
+  std::shared_ptr<std::atomic<bool>> cancel;
+  std::mutex mutex;                          // the flight and `ended`
+  bool ended = false;                        // cancelled or replaced: no more revisions
+};
+
+namespace engine_detail {
+
+// A request answered cancelled, saying why.
+PlanStatusData cancelledStatus(const MissionRequestData& r, const std::string& why);
+// A fleet request answered failed (or cancelled) with the error.
+FleetStatusData fleetFailed(const std::string& request_id, const PlanError& error);
+
+}  // namespace engine_detail
+}  // namespace skyroute
