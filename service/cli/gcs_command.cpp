@@ -13,6 +13,8 @@
 #include "service/cli/gcs_live_map.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/qgc_plan.hpp"
+#include "service/status_transitions.hpp"
+#include "service/number_text.hpp"
 #include "service/trajectory_export.hpp"
 
 namespace skyroute::cli {
@@ -43,6 +45,7 @@ void runGcs(const GcsOptions& o) {
   stopOnSignals(loop->waitsetHandle());
 
   std::map<std::string, TrajectoryData> latest;  // per vehicle
+  StatusTransitions printed_statuses;
   int received = 0;
   auto on_bad = [](const Error& e) { std::cerr << "skyroute gcs: skipped a bad sample: " << e.describe() << std::endl; };
   Status added = loop->add<TrajectoryData>(
@@ -60,6 +63,7 @@ void runGcs(const GcsOptions& o) {
       *statuses,
       [&](PlanStatusData&& s) {
         if (!o.vehicle.empty() && s.vehicle_id != o.vehicle) return;
+        if (!printed_statuses.firstTime(s)) return;
         std::cout << describe(s) << std::endl;
         if (live) live->state().onStatus(s);
       },
@@ -76,6 +80,13 @@ void runGcs(const GcsOptions& o) {
 
   auto outcome = loop->run(o.timeout_s > 0 ? std::optional<double>(o.timeout_s) : std::nullopt);
   if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
+  // An export with no trajectory in it would look like a result; nothing arrived is a timeout.
+  if (latest.empty()) {
+    fail(tool, kExitServiceUnavailable,
+         "no trajectory arrived on domain " + std::to_string(o.domain) +
+             (o.vehicle.empty() ? "" : " for vehicle " + o.vehicle) +
+             (o.timeout_s > 0 ? " within " + numberText(o.timeout_s) + " s" : "") + "; nothing written");
+  }
 
   std::vector<TrajectoryData> current;
   for (auto& [vehicle, t] : latest) current.push_back(t);
