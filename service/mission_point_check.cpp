@@ -85,28 +85,38 @@ std::string pointText(const MissionPointData& point) {
          numberText(point.enu_m.z(), 7) + " m ENU)";
 }
 
-std::optional<PlanError> checkPointOnTerrain(const Heightfield& terrain, const MissionPointData& point,
-                                             const std::string& name) {
+std::optional<std::string> offTerrainReason(const Heightfield& terrain, const MissionPointData& point) {
   const Eigen::Vector3d p_m = point.toEnu(terrain.frame());
-  if (!p_m.allFinite()) return pointError(PlanErrorCode::kInvalidArgument, name, point, "is not a finite position");
+  if (!p_m.allFinite()) return "is not a finite position";
   if (!onTerrain(terrain, p_m)) {
     if (point.frame == MissionPointData::Frame::kWgs84) {
       MissionPointData swapped = point;
       std::swap(swapped.geo.lat_deg, swapped.geo.lon_deg);
       if (std::abs(swapped.geo.lat_deg) <= 90.0 && onTerrain(terrain, swapped.toEnu(terrain.frame()))) {
-        return pointError(PlanErrorCode::kOutsideMap, name, point,
-                          "is outside the DEM, but inside it with latitude and longitude exchanged: latitude and "
-                          "longitude may be swapped (write LAT,LON,ALT)");
+        return std::string("is outside the DEM, but inside it with latitude and longitude exchanged: latitude and "
+                           "longitude may be swapped (write LAT,LON)");
       }
     }
-    return pointError(PlanErrorCode::kOutsideMap, name, point,
-                      "is outside the DEM (" + describe(terrainGeoBounds(terrain)) + ")");
+    return "is outside the DEM (" + describe(terrainGeoBounds(terrain)) + ")";
   }
   if (std::isnan(terrain.heightAt(p_m.x(), p_m.y()))) {
-    return pointError(PlanErrorCode::kOutsideMap, name, point,
-                      "lies on a DEM void: no elevation data here (the DEM has a nodata cell there)");
+    return std::string("lies on a DEM void: no elevation data here (the DEM has a nodata cell there)");
   }
   return std::nullopt;
+}
+
+std::optional<PlanError> checkPointOnTerrain(const Heightfield& terrain, const MissionPointData& point,
+                                             const std::string& name) {
+  const auto reason = offTerrainReason(terrain, point);
+  if (!reason) return std::nullopt;
+  const bool finite = point.toEnu(terrain.frame()).allFinite();
+  return pointError(finite ? PlanErrorCode::kOutsideMap : PlanErrorCode::kInvalidArgument, name, point, *reason);
+}
+
+std::optional<double> groundHeightAmslM(const Heightfield& terrain, double lat_deg, double lon_deg) {
+  const Eigen::Vector3d p_m = terrain.frame().toEnu(GeoPoint{lat_deg, lon_deg, 0.0});
+  if (!onTerrain(terrain, p_m) || std::isnan(terrain.heightAt(p_m.x(), p_m.y()))) return std::nullopt;
+  return groundAmslM(terrain, p_m);
 }
 
 std::optional<PlanError> checkMissionPoint(const CollisionWorld& world, const MissionPointData& point,

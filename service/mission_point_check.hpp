@@ -35,6 +35,13 @@ std::string describe(const GeoBoundsDeg& bounds);
 // The point as the user wrote it: "(44.2, -71.3, 1000 m AMSL)" or "(east 10, north 20, up 30 m ENU)".
 std::string pointText(const MissionPointData& point);
 
+// Why a point cannot lie on this terrain ("is outside the DEM (lat ..)", "... may be swapped",
+// "lies on a DEM void: no elevation data here"); nullopt when it is inside and over known ground.
+std::optional<std::string> offTerrainReason(const Heightfield& terrain, const MissionPointData& point);
+
+// The ground height AMSL at a WGS84 position; nullopt where offTerrainReason has a reason.
+std::optional<double> groundHeightAmslM(const Heightfield& terrain, double lat_deg, double lon_deg);
+
 // Inside the terrain and over known ground; otherwise kOutsideMap naming the point (`name`, e.g.
 // "begin" or "points[2]") and what is wrong.
 std::optional<PlanError> checkPointOnTerrain(const Heightfield& terrain, const MissionPointData& point,
