@@ -103,7 +103,9 @@ void runGcs(const GcsOptions& o) {
                   (o.timeout_s > 0 ? ", " + numberText(o.timeout_s - now_s, 3) + " s left" : " (Ctrl-C ends)"));
   }
   // An export with no trajectory in it would look like a result; nothing arrived is a timeout.
-  if (latest.empty()) {
+  // Serving the live map without exports, the page was the result, whatever it showed.
+  const bool exports_asked = !o.csv.empty() || !o.geojson.empty() || !o.kml.empty() || !o.plan_dir.empty();
+  if (latest.empty() && (exports_asked || !live)) {
     fail(tool, kExitServiceUnavailable,
          "no trajectory arrived on domain " + std::to_string(o.domain) +
              (o.vehicle.empty() ? "" : " for vehicle " + o.vehicle) +
@@ -146,7 +148,8 @@ void addGcsCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--timeout", options->timeout_s,
-                  "Stop after S seconds (0 = until Ctrl-C); no trajectory by then exits 4 and writes nothing")
+                  "Stop after S seconds (0 = until Ctrl-C); no trajectory by then exits 4 and writes nothing "
+                  "(with --serve and no export: exits 0)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--csv", options->csv, "Write the latest trajectory of each vehicle as CSV (default: none)");
