@@ -6,7 +6,8 @@
 // With ../shared/data, the one-vehicle obstacle case also runs on N44W072 with seed 003's vehicle
 // (V_ref 50 m/s) between the seed-003 scenario's start and goal. Prints p50/p90/p99/max (ms).
 // Compare with Cyclone's own round trip: ddsperf ping/pong (docs/benchmarks/dds.md).
-// Usage: e2e_latency_bench [--rounds N] [--config skyrouted.toml]
+// Usage: e2e_latency_bench [--rounds N] [--config skyrouted.toml] [--domain N] (DDS domains N and N+1, N+2
+// for the N44W072 row; default 150)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -161,6 +162,8 @@ int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; ++i) {
     if (std::strcmp(argv[i], "--rounds") == 0) rounds = std::atoi(argv[i + 1]);
     if (std::strcmp(argv[i], "--config") == 0) setup.config = argv[i + 1];  // passed to skyrouted
+    // The first of the two DDS domains the runs use (one per vehicle count; default 150).
+    if (std::strcmp(argv[i], "--domain") == 0) setup.domain = std::atoi(argv[i + 1]);
   }
   dds::useLoopbackOnly();
 

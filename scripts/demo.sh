@@ -6,7 +6,7 @@
 # new revisions. Everything stays on this machine (loopback), on DDS domain $SKYROUTE_DEMO_DOMAIN.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
+scripts/setup.sh --preset default --target skyroute skyrouted  # the two programs the demo runs, not the tests
 mkdir -p out
 skyroute=build/service/skyroute
 skyrouted=build/service/skyrouted

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian package the build, tests and benchmarks need (skipping what is there),
-# then configures and builds skyroute in ./build (or $SKYROUTE_BUILD_DIR).
-# Usage: scripts/setup.sh [--preset default|asan] [extra cmake --build args]
+# then configures (the first time) and builds skyroute in the preset's folder (build/, build-asan/).
+# Usage: scripts/setup.sh [--preset default|asan] [extra cmake --build args, e.g. --target skyroute]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -32,5 +32,13 @@ fi
 
 preset=default
 if [ "${1:-}" = "--preset" ]; then preset="$2"; shift 2; fi
-cmake --preset "$preset" >/dev/null
+case "$preset" in
+  default) build_dir=build ;;
+  *) build_dir="build-$preset" ;;
+esac
+# Configure once: afterwards the build itself re-runs CMake when a CMakeLists.txt changed, so a
+# second run neither reconfigures nor rebuilds what is up to date.
+if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+  cmake --preset "$preset" >/dev/null
+fi
 cmake --build --preset "$preset" -j "$(nproc)" "$@"

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "service/engine_state.hpp"
+#include "service/mission_point_check.hpp"
 #include "service/number_text.hpp"
 #include "service/trajectory_data.hpp"
 
@@ -37,9 +38,10 @@ std::optional<PlanError> checkRequestSize(const MissionRequestData& r, const Wor
   const std::vector<Eigen::Vector3d> points = enuPoints(r, world.frame());
   const int count = static_cast<int>(points.size());
   for (int i = 0; i < count; ++i) {
-    const Eigen::Vector3d& p = points[static_cast<std::size_t>(i)];
-    if (!world.terrain().inside(p.x(), p.y()) || !world.terrain().boundsEn().contains(p.head<2>())) {
-      return PlanError{PlanErrorCode::kOutsideMap, requestPointName(i, count), enuText(p) + " is outside the terrain"};
+    const MissionPointData& point = i == 0 ? r.begin : i == count - 1 ? r.end : r.points[static_cast<std::size_t>(i - 1)];
+    if (auto off = checkPointOnTerrain(world.terrain(), point, requestPointName(i, count))) {
+      off->point_index = i;
+      return off;
     }
   }
   const FootprintOptions footprint = footprintOptions(options);

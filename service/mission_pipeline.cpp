@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "service/mission_point_check.hpp"
+
 namespace skyroute {
 namespace {
 
@@ -149,11 +151,11 @@ Result<OrderedMission, PlanError> MissionPipeline::order(const MissionRequestDat
   ObstacleSnapshot snapshot;
   snapshot.time_s = start_world_s;
   for (int i = 0; i < count; ++i) {
-    if (Status ok = checkRoutePoint(*out.world, out.points_m[i], requestPointName(i, count), snapshot); !ok.ok()) {
-      PlanError e = toPlanError(ok.error());
-      e.stage = PlanStage::kValidate;
-      e.point_index = i;
-      return e;
+    const MissionPointData& point = i == 0 ? r.begin : i == count - 1 ? r.end : r.points[static_cast<std::size_t>(i - 1)];
+    if (auto bad = checkMissionPoint(*out.world, point, requestPointName(i, count), snapshot)) {
+      bad->stage = PlanStage::kValidate;
+      bad->point_index = i;
+      return *bad;
     }
   }
   auto ordering = orderMissionPoints(world_->terrain(), out.points_m, r.limits.min_clearance_agl_m,

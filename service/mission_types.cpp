@@ -154,7 +154,8 @@ std::optional<PlanError> checkPoint(const MissionPointData& p, const std::string
     if (auto e = checkFinite(p.geo.lon_deg, field + ".lon_deg")) return e;
     if (auto e = checkFinite(p.geo.alt_amsl_m, field + ".alt_amsl_m")) return e;
     if (std::abs(p.geo.lat_deg) > 90.0)
-      return problem(PlanErrorCode::kInvalidArgument, field + ".lat_deg", "must be within [-90, 90] (got " + numberText(p.geo.lat_deg) + ")");
+      return problem(PlanErrorCode::kInvalidArgument, field + ".lat_deg", "must be within [-90, 90] (got " + numberText(p.geo.lat_deg) +
+                         "): latitude and longitude may be swapped (write LAT,LON,ALT)");
     if (std::abs(p.geo.lon_deg) > 180.0)
       return problem(PlanErrorCode::kInvalidArgument, field + ".lon_deg", "must be within [-180, 180] (got " + numberText(p.geo.lon_deg) + ")");
     return std::nullopt;

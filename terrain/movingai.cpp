@@ -1,5 +1,7 @@
 #include "terrain/movingai.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -72,6 +74,8 @@ Result<std::vector<MovingAiProblem>> loadMovingAiScenario(const std::string& pat
 
 Result<std::vector<MovingAiProblem>> parseMovingAiScenario(std::istream& in, const std::string& path) {
   std::vector<MovingAiProblem> problems;
+  std::vector<int> decimals_of;  // per problem; -1 = printed without a decimal point
+  int most_decimals = -1;
   std::string line;
   int line_no = 0;
   while (std::getline(in, line)) {
@@ -83,11 +87,24 @@ Result<std::vector<MovingAiProblem>> parseMovingAiScenario(std::istream& in, con
     MovingAiProblem p;
     int map_width = 0;
     int map_height = 0;
+    std::string optimal_text;
     if (!(fields >> p.bucket >> p.map_name >> map_width >> map_height >> p.start.x >> p.start.y >> p.goal.x >>
-          p.goal.y >> p.optimal_length)) {
+          p.goal.y >> optimal_text)) {
       return parseError(path, line_no, "expected 9 fields: bucket map width height sx sy gx gy optimal");
     }
+    std::istringstream optimal_field(optimal_text);
+    if (!(optimal_field >> p.optimal_length) || !optimal_field.eof()) {
+      return parseError(path, line_no, "the optimal length '" + optimal_text + "' is not a number");
+    }
+    const std::size_t point = optimal_text.find('.');
+    const int decimals = point == std::string::npos ? -1 : static_cast<int>(optimal_text.size() - point - 1);
+    decimals_of.push_back(decimals);
+    most_decimals = std::max(most_decimals, decimals);
     problems.push_back(p);
+  }
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    const int decimals = decimals_of[i] >= 0 ? decimals_of[i] : std::max(most_decimals, 0);
+    problems[i].optimal_tolerance = std::pow(10.0, -decimals);
   }
   return problems;
 }

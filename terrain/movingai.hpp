@@ -23,6 +23,11 @@ struct MovingAiProblem {
   GridCell start;
   GridCell goal;
   double optimal_length = 0.0;  // 8-connected, diagonal sqrt(2), no corner cutting
+  // One unit in the last digit the file printed optimal_length with: a cost within this of
+  // optimal_length agrees with it to the printed digits (generators round or truncate, and some
+  // sum in single precision). A length printed without a decimal point counts with the most
+  // decimals any length of the file has (generators drop trailing zeros, not precision).
+  double optimal_tolerance = 0.0;
 };
 
 // Parses a `version 1` scenario file; a malformed line is an error naming its line number.

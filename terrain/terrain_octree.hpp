@@ -29,6 +29,11 @@ struct TerrainOctreeStats {
   std::size_t memory_bytes = 0;
 };
 
+// The peak memory building the octree of `terrain` at resolution_m takes, in bytes, before any of
+// it is allocated: a guard refuses a resolution the machine cannot hold instead of swapping for a
+// minute. An upper estimate, proportional to the number of resolution_m columns over the terrain.
+std::size_t estimateOctreePeakBytes(const Heightfield& terrain, double resolution_m);
+
 class TerrainOctree {
  public:
   static std::unique_ptr<TerrainOctree> build(std::shared_ptr<const Heightfield> terrain,

@@ -10,7 +10,7 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 Result<TerrainWorld> loadTerrainWorld(const std::string& dem_path, const CollisionWorldOptions& options,
-                                      const DemLoadOptions& dem_options) {
+                                      const DemLoadOptions& dem_options, const TerrainLoadObserver& observer) {
   TerrainWorld world;
   auto t0 = std::chrono::steady_clock::now();
   auto dem = Dem::load(dem_path, dem_options);
@@ -18,12 +18,18 @@ Result<TerrainWorld> loadTerrainWorld(const std::string& dem_path, const Collisi
   world.dem = dem.value();
   world.load_seconds = secondsSince(t0);
 
+  if (observer) {
+    if (Status go_on = observer("heightfield", world); !go_on.ok()) return go_on.error();
+  }
   t0 = std::chrono::steady_clock::now();
   auto heightfield = Heightfield::build(world.dem);
   if (!heightfield.ok()) return heightfield.error();
   world.heightfield = heightfield.value();
   world.heightfield_seconds = secondsSince(t0);
 
+  if (observer) {
+    if (Status go_on = observer("collision", world); !go_on.ok()) return go_on.error();
+  }
   t0 = std::chrono::steady_clock::now();
   auto collision = CollisionWorld::create(world.heightfield, options);
   if (!collision.ok()) return collision.error();

@@ -2,6 +2,7 @@
 // for the CLI tools, the engine and the benchmarks.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -20,7 +21,13 @@ struct TerrainWorld {
   double collision_seconds = 0.0;    // octree and FCL objects
 };
 
+// What a caller sees between the steps: `step` names the step about to start ("heightfield",
+// "collision"); returning an error stops the load there with that error (a memory guard refuses
+// an octree the machine cannot hold before it is built).
+using TerrainLoadObserver = std::function<Status(const std::string& step, const TerrainWorld& so_far)>;
+
 Result<TerrainWorld> loadTerrainWorld(const std::string& dem_path, const CollisionWorldOptions& options,
-                                      const DemLoadOptions& dem_options = {});
+                                      const DemLoadOptions& dem_options = {},
+                                      const TerrainLoadObserver& observer = {});
 
 }  // namespace skyroute

@@ -2,6 +2,8 @@
 // trajectory), prints trajectories and statuses as they arrive, and exports the latest trajectory
 // of each vehicle to CSV, GeoJSON, KML and QGroundControl plans when it stops (--count reached,
 // --timeout, or Ctrl-C). With --serve it also serves a live map page (gcs_live_map.hpp).
+#include <algorithm>
+#include <chrono>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -11,8 +13,11 @@
 #include "service/cli/dds_cli_common.hpp"
 #include "service/cli/dds_commands.hpp"
 #include "service/cli/gcs_live_map.hpp"
+#include "service/cli/progress.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/qgc_plan.hpp"
+#include "service/status_transitions.hpp"
+#include "service/number_text.hpp"
 #include "service/trajectory_export.hpp"
 
 namespace skyroute::cli {
@@ -28,7 +33,10 @@ struct GcsOptions {
   std::string plan_dir;  // one QGroundControl .plan per vehicle
   std::string serve;     // HOST:PORT of the live map ("" = none)
   std::string dem;       // the live map's terrain ("" = the embedded terrain)
+  bool progress = false; // show the waiting on stderr even when it is not a terminal
 };
+
+constexpr double kProgressEveryS = 5.0;  // how often a terminal hears that gcs is still waiting
 
 void runGcs(const GcsOptions& o) {
   const std::string tool = "gcs";
@@ -43,6 +51,7 @@ void runGcs(const GcsOptions& o) {
   stopOnSignals(loop->waitsetHandle());
 
   std::map<std::string, TrajectoryData> latest;  // per vehicle
+  StatusTransitions printed_statuses;
   int received = 0;
   auto on_bad = [](const Error& e) { std::cerr << "skyroute gcs: skipped a bad sample: " << e.describe() << std::endl; };
   Status added = loop->add<TrajectoryData>(
@@ -52,7 +61,8 @@ void runGcs(const GcsOptions& o) {
         std::cout << describe(t) << std::endl;
         if (live) live->state().onTrajectory(t);
         latest[t.vehicle_id] = std::move(t);
-        if (o.count > 0 && ++received >= o.count) loop->stop();
+        ++received;
+        if (o.count > 0 && received >= o.count) loop->stop();
       },
       on_bad);
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
@@ -60,6 +70,7 @@ void runGcs(const GcsOptions& o) {
       *statuses,
       [&](PlanStatusData&& s) {
         if (!o.vehicle.empty() && s.vehicle_id != o.vehicle) return;
+        if (!printed_statuses.firstTime(s)) return;
         std::cout << describe(s) << std::endl;
         if (live) live->state().onStatus(s);
       },
@@ -74,8 +85,32 @@ void runGcs(const GcsOptions& o) {
     if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
   }
 
-  auto outcome = loop->run(o.timeout_s > 0 ? std::optional<double>(o.timeout_s) : std::nullopt);
-  if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
+  // Waits in slices, so a terminal shows that it is waiting and for what.
+  const TerminalProgress progress(o.progress);
+  const auto started = std::chrono::steady_clock::now();
+  for (;;) {
+    const double waited_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    double slice_s = kProgressEveryS;
+    if (o.timeout_s > 0) slice_s = std::min(slice_s, o.timeout_s - waited_s);
+    if (slice_s <= 0.0) break;
+    auto outcome = loop->runOnce(slice_s);
+    if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
+    if (*outcome == dds::WaitLoop::Outcome::kStopped) break;
+    const double now_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    if (o.timeout_s > 0 && now_s >= o.timeout_s) break;
+    progress.step("waiting on domain " + std::to_string(o.domain) + ": " + std::to_string(latest.size()) +
+                  " vehicle(s), " + std::to_string(received) + " trajectories so far" +
+                  (o.timeout_s > 0 ? ", " + numberText(o.timeout_s - now_s, 3) + " s left" : " (Ctrl-C ends)"));
+  }
+  // An export with no trajectory in it would look like a result; nothing arrived is a timeout.
+  // Serving the live map without exports, the page was the result, whatever it showed.
+  const bool exports_asked = !o.csv.empty() || !o.geojson.empty() || !o.kml.empty() || !o.plan_dir.empty();
+  if (latest.empty() && (exports_asked || !live)) {
+    fail(tool, kExitServiceUnavailable,
+         "no trajectory arrived on domain " + std::to_string(o.domain) +
+             (o.vehicle.empty() ? "" : " for vehicle " + o.vehicle) +
+             (o.timeout_s > 0 ? " within " + numberText(o.timeout_s) + " s" : "") + "; nothing written");
+  }
 
   std::vector<TrajectoryData> current;
   for (auto& [vehicle, t] : latest) current.push_back(t);
@@ -108,20 +143,31 @@ void addGcsCommand(CLI::App& app) {
   auto options = std::make_shared<GcsOptions>();
   CLI::App* cmd = app.add_subcommand("gcs", "Ground-station view: print trajectories and statuses, export them");
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
-  cmd->add_option("--vehicle", options->vehicle, "Only this vehicle");
-  cmd->add_option("--count", options->count, "Stop after K trajectories (0 = no limit)")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--timeout", options->timeout_s, "Stop after S seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--csv", options->csv, "Write the latest trajectory of each vehicle as CSV");
-  cmd->add_option("--geojson", options->geojson, "Write them as GeoJSON (3D lines, WGS84, heights above the ellipsoid)");
-  cmd->add_option("--kml", options->kml, "Write them as KML (heights AMSL)");
-  cmd->add_option("--plan", options->plan_dir, "Write one QGroundControl .plan per vehicle into this folder");
+  cmd->add_option("--vehicle", options->vehicle, "Only this vehicle (default: every vehicle)");
+  cmd->add_option("--count", options->count, "Stop after K trajectories (0 = no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--timeout", options->timeout_s,
+                  "Stop after S seconds (0 = until Ctrl-C); no trajectory by then exits 4 and writes nothing "
+                  "(with --serve and no export: exits 0)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--csv", options->csv, "Write the latest trajectory of each vehicle as CSV (default: none)");
+  cmd->add_option("--geojson", options->geojson,
+                  "Write them as GeoJSON (3D lines, WGS84, heights above the ellipsoid; default: none)");
+  cmd->add_option("--kml", options->kml, "Write them as KML (heights AMSL; default: none)");
+  cmd->add_option("--plan", options->plan_dir, "Write one QGroundControl .plan per vehicle into this folder (default: none)");
+  cmd->add_flag("--progress", options->progress,
+                "Say every 5 s on stderr what has arrived while waiting, even when stderr is not a terminal")
+      ->capture_default_str();
   cmd->add_option("--serve", options->serve,
                   "Serve a live map page (terrain, trajectories, obstacles, altitude profile) on HOST:PORT, e.g. "
                   "127.0.0.1:8080 (port 0: a free port, printed at start). A malformed or foreign address exits 2, "
                   "a port in use exits 4")
       ->type_name("HOST:PORT");
   cmd->add_option("--dem", options->dem, "The live map's terrain: the DEM skyrouted plans on (default: the embedded terrain)");
-  cmd->footer(std::string(kExitCodeTable));
+  cmd->footer("Example: skyroute gcs --domain 77 --timeout 60 --csv out/fleet.csv --kml out/fleet.kml\n" +
+              std::string(kExitCodeTable));
   cmd->callback([options] { runGcs(*options); });
 }
 

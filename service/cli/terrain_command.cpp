@@ -1,6 +1,8 @@
-// skyroute terrain info | generate
+// skyroute terrain info | height | generate
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -9,8 +11,13 @@
 #include <nlohmann/json.hpp>
 #include <ogr_srs_api.h>
 
+#include "service/cli/cli_common.hpp"
 #include "service/cli/commands.hpp"
+#include "service/cli/progress.hpp"
 #include "service/map_image.hpp"
+#include "service/memory_guard.hpp"
+#include "service/mission_point_check.hpp"
+#include "service/number_text.hpp"
 #include "terrain/terrain_generator.hpp"
 #include "terrain/terrain_world.hpp"
 
@@ -22,24 +29,40 @@ struct InfoArgs {
   bool json = false;
   std::string png;
   double octree_resolution_m = 90.0;
+  bool progress = false;
+  double max_memory_mb = 0.0;  // 0 = half the machine's free memory
 };
 
-void runInfo(const InfoArgs& args) {
-  CollisionWorldOptions options;
-  options.octree_resolution_m = args.octree_resolution_m;
-  options.ceiling_m = 1.0e9;
-  if (!args.json) std::cerr << "loading " << args.dem << " ..." << std::endl;
-  auto world = loadTerrainWorld(args.dem, options);
-  if (!world.ok()) {
-    std::cerr << "skyroute terrain info: " << world.error().describe() << " [" << to_string(world.error().code)
-              << "]\n";
-    throw CLI::RuntimeError(2);
-  }
-  const Dem& dem = *world->dem;
-  const Heightfield& hf = *world->heightfield;
-  const TerrainOctree* octree = world->collision->octree();
+// Refuses an octree the machine cannot hold before it is built, and shows the steps of a load.
+TerrainLoadObserver guardedLoad(const InfoArgs& args, const TerminalProgress& progress) {
+  return [&args, &progress](const std::string& step, const TerrainWorld& so_far) -> Status {
+    if (step == "heightfield") {
+      progress.step("read " + args.dem + " in " + numberText(so_far.load_seconds, 3) + " s; building the heightfield");
+      return Status::success();
+    }
+    const std::size_t estimate = estimateOctreePeakBytes(*so_far.heightfield, args.octree_resolution_m);
+    std::size_t limit = static_cast<std::size_t>(args.max_memory_mb * 1024.0 * 1024.0);
+    std::string source = "--max-memory-mb";
+    if (args.max_memory_mb <= 0.0) {
+      const auto available = availableMemoryBytes();
+      if (!available) return Status::success();  // no /proc/meminfo: nothing to judge by
+      limit = *available / 2;
+      source = "half of MemAvailable " + bytesText(*available) + "; --max-memory-mb sets another limit";
+    }
+    const std::string what = "the octree at " + numberText(args.octree_resolution_m) + " m";
+    if (Status fits = checkMemoryEstimate(estimate, limit, source, "--octree-res", what); !fits.ok()) return fits;
+    progress.step("building " + what + " (about " + bytesText(estimate) + ")");
+    return Status::success();
+  };
+}
+
+nlohmann::json infoJson(const InfoArgs& args, const TerrainWorld& world) {
+  const Dem& dem = *world.dem;
+  const Heightfield& hf = *world.heightfield;
+  const TerrainOctree* octree = world.collision->octree();
   const auto& bounds = hf.boundsEn();
   const GeoPoint anchor = hf.frame().anchor();
+  const GeoBoundsDeg geo = terrainGeoBounds(hf);
   nlohmann::json j;
   j["file"] = args.dem;
   j["crs"] = dem.crsName();
@@ -49,6 +72,9 @@ void runInfo(const InfoArgs& args) {
   j["resolution_m"] = {dem.resolutionM().x(), dem.resolutionM().y()};
   j["min_height_m"] = dem.minHeightM();
   j["max_height_m"] = dem.maxHeightM();
+  j["bounds_wgs84"] = {{"south_deg", geo.south_deg}, {"north_deg", geo.north_deg},
+                       {"west_deg", geo.west_deg}, {"east_deg", geo.east_deg}};
+  j["heights_amsl_m"] = {{"min", dem.minHeightM()}, {"max", dem.maxHeightM()}};
   j["voids"] = {{"filled_cells", dem.filledVoidCells()}, {"unknown_cells", dem.unknownCells()}};
   j["frame_anchor"] = {{"lat_deg", anchor.lat_deg}, {"lon_deg", anchor.lon_deg}, {"alt_amsl_m", anchor.alt_amsl_m}};
   j["extent_enu_m"] = {{"east_min", bounds.min().x()}, {"east_max", bounds.max().x()},
@@ -59,39 +85,108 @@ void runInfo(const InfoArgs& args) {
                  {"memory_bytes", octree->stats().memory_bytes}};
   j["memory_bytes"] = {{"dem", dem.memoryBytes()}, {"heightfield", hf.memoryBytes()},
                        {"octree", octree->stats().memory_bytes}};
-  j["build_seconds"] = {{"load", world->load_seconds},
-                        {"heightfield", world->heightfield_seconds},
+  j["build_seconds"] = {{"load", world.load_seconds},
+                        {"heightfield", world.heightfield_seconds},
                         {"octree", octree->stats().build_seconds},
-                        {"collision_ready", world->load_seconds + world->heightfield_seconds + world->collision_seconds}};
-  if (!args.png.empty()) {
-    auto image = MapImage::hillshade(dem);
-    Status saved = image.ok() ? image->savePng(args.png) : Status(image.error());
-    if (!saved.ok()) {
-      std::cerr << "skyroute terrain info: --png " << saved.error().describe() << "\n";
-      throw CLI::RuntimeError(2);
-    }
-    j["png"] = args.png;
-  }
-  if (args.json) {
-    std::cout << j.dump() << std::endl;
-    return;
-  }
+                        {"collision_ready", world.load_seconds + world.heightfield_seconds + world.collision_seconds}};
+  return j;
+}
+
+void printInfoText(const InfoArgs& args, const TerrainWorld& world) {
+  const Dem& dem = *world.dem;
+  const Heightfield& hf = *world.heightfield;
+  const TerrainOctree* octree = world.collision->octree();
+  const auto& bounds = hf.boundsEn();
+  const GeoPoint anchor = hf.frame().anchor();
   std::printf("file          %s\n", args.dem.c_str());
   std::printf("crs           %s%s\n", dem.crsName().c_str(), dem.isGeographic() ? " (geographic)" : " (projected)");
   std::printf("size          %d x %d cells, %.1f x %.1f m per cell\n", dem.width(), dem.height(), dem.resolutionM().x(),
               dem.resolutionM().y());
+  std::printf("wgs84 bounds  %s\n", describe(terrainGeoBounds(hf)).c_str());
   std::printf("extent        %.1f x %.1f km (ENU, anchored at %.5f, %.5f)\n", bounds.sizes().x() / 1000.0,
               bounds.sizes().y() / 1000.0, anchor.lat_deg, anchor.lon_deg);
-  std::printf("heights       %.1f .. %.1f m\n", dem.minHeightM(), dem.maxHeightM());
+  std::printf("heights       %.1f .. %.1f m AMSL\n", dem.minHeightM(), dem.maxHeightM());
   std::printf("voids         %d cells filled, %d cells unknown\n", dem.filledVoidCells(), dem.unknownCells());
   std::printf("octree        %.0f m: %zu nodes, %zu leaves\n", args.octree_resolution_m, octree->stats().node_count,
               octree->stats().leaf_count);
   std::printf("memory        dem %.1f MiB, heightfield %.1f MiB, octree %.1f MiB\n", dem.memoryBytes() / 1048576.0,
               hf.memoryBytes() / 1048576.0, octree->stats().memory_bytes / 1048576.0);
   std::printf("build         load %.3f s, heightfield %.3f s, octree %.3f s; collision checks ready after %.3f s\n",
-              world->load_seconds, world->heightfield_seconds, octree->stats().build_seconds,
-              world->load_seconds + world->heightfield_seconds + world->collision_seconds);
+              world.load_seconds, world.heightfield_seconds, octree->stats().build_seconds,
+              world.load_seconds + world.heightfield_seconds + world.collision_seconds);
   if (!args.png.empty()) std::printf("hillshade     %s\n", args.png.c_str());
+}
+
+void runInfo(const InfoArgs& args) {
+  CollisionWorldOptions options;
+  options.octree_resolution_m = args.octree_resolution_m;
+  options.ceiling_m = 1.0e9;
+  const TerminalProgress progress(args.progress);
+  progress.step("loading " + args.dem);
+  auto world = loadTerrainWorld(args.dem, options, {}, guardedLoad(args, progress));
+  if (!world.ok()) {
+    const int code = world.error().field == "--octree-res" ? kExitUsage : kExitBadInput;
+    fail("terrain info", code, world.error().describe() + " [" + std::string(to_string(world.error().code)) + "]");
+  }
+  nlohmann::json j = infoJson(args, *world);
+  if (!args.png.empty()) {
+    auto image = MapImage::hillshade(*world->dem);
+    Status saved = image.ok() ? image->savePng(args.png) : Status(image.error());
+    if (!saved.ok()) fail("terrain info", kExitUsage, "--png " + saved.error().describe());
+    j["png"] = args.png;
+  }
+  if (args.json) {
+    std::cout << j.dump() << std::endl;
+    return;
+  }
+  printInfoText(args, *world);
+}
+
+struct HeightArgs {
+  std::string dem;
+  std::vector<std::string> points;  // "LAT,LON" as written
+  bool json = false;
+};
+
+// "LAT,LON" -> (lat, lon); the error names the point as written.
+std::pair<double, double> parseLatLon(const std::string& text) {
+  std::istringstream in(text);
+  double v[2];
+  char comma = 0;
+  std::string rest;
+  if (!(in >> v[0] >> comma >> v[1]) || comma != ',' || (in >> rest) || !std::isfinite(v[0]) || !std::isfinite(v[1])) {
+    fail("terrain height", kExitUsage, "point '" + text + "' must be LAT,LON (two numbers in degrees)");
+  }
+  return {v[0], v[1]};
+}
+
+void runHeight(const HeightArgs& args) {
+  auto dem = Dem::load(args.dem);
+  if (!dem.ok()) fail("terrain height", kExitBadInput, "--dem " + dem.error().describe());
+  auto terrain = Heightfield::build(*dem);
+  if (!terrain.ok()) fail("terrain height", kExitBadInput, "--dem " + terrain.error().describe());
+  nlohmann::json rows = nlohmann::json::array();
+  std::vector<std::string> lines;
+  for (const std::string& text : args.points) {
+    const auto [lat_deg, lon_deg] = parseLatLon(text);
+    if (std::abs(lat_deg) > 90.0) {
+      fail("terrain height", kExitUsage,
+           "point '" + text + "': latitude " + numberText(lat_deg) +
+               " is outside [-90, 90]: latitude and longitude may be swapped (write LAT,LON)");
+    }
+    const MissionPointData point = MissionPointData::wgs84(lat_deg, lon_deg, 0.0);
+    if (auto reason = offTerrainReason(**terrain, point)) fail("terrain height", kExitUsage, "point '" + text + "' " + *reason);
+    const double ground_m = *groundHeightAmslM(**terrain, lat_deg, lon_deg);
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.1f", ground_m);
+    lines.push_back(text + " " + buf + " m AMSL");
+    rows.push_back({{"point", text}, {"lat_deg", lat_deg}, {"lon_deg", lon_deg}, {"ground_amsl_m", ground_m}});
+  }
+  if (args.json) {
+    std::cout << rows.dump() << std::endl;
+    return;
+  }
+  for (const std::string& line : lines) std::cout << line << "\n";
 }
 
 struct GenerateArgs {
@@ -142,16 +237,35 @@ void runGenerate(const GenerateArgs& args) {
 void addTerrainCommands(CLI::App& app) {
   CLI::App* terrain = app.add_subcommand("terrain", "Inspect or generate terrain (DEM) files");
   terrain->require_subcommand(1);
+  terrain->footer("Example: skyroute terrain info data/default_terrain.tif\n" + std::string(kExitCodeTable));
 
   auto info_args = std::make_shared<InfoArgs>();
-  CLI::App* info = terrain->add_subcommand("info", "Summary of a DEM: CRS, size, heights, voids, memory, build times");
+  CLI::App* info = terrain->add_subcommand(
+      "info", "Summary of a DEM: CRS, size, WGS84 bounds, heights AMSL, voids, memory, build times");
   info->add_option("dem", info_args->dem, "DEM file (any raster GDAL opens)")->required();
-  info->add_flag("--json", info_args->json, "Print one JSON object");
-  info->add_option("--png", info_args->png, "Write a hillshade PNG to this file");
+  info->add_flag("--json", info_args->json, "Print one JSON object")->capture_default_str();
+  info->add_option("--png", info_args->png, "Write a hillshade PNG to this file (default: none)");
   info->add_option("--octree-res", info_args->octree_resolution_m, "Octree resolution in metres")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  info->add_option("--max-memory-mb", info_args->max_memory_mb,
+                   "Refuse an octree whose estimated build memory exceeds this (0 = half the machine's free memory)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  info->add_flag("--progress", info_args->progress, "Show the loading steps on stderr even when it is not a terminal")
+      ->capture_default_str();
+  info->footer("Example: skyroute terrain info data/default_terrain.tif --json --png hillshade.png\n" +
+               std::string(kExitCodeTable));
   info->callback([info_args] { runInfo(*info_args); });
+
+  auto height_args = std::make_shared<HeightArgs>();
+  CLI::App* height = terrain->add_subcommand("height", "Ground height AMSL at each point (LAT,LON in degrees)");
+  height->add_option("--dem", height_args->dem, "DEM file (any raster GDAL opens)")->required();
+  height->add_option("points", height_args->points, "Points as LAT,LON (degrees, WGS84)")->required();
+  height->add_flag("--json", height_args->json, "Print one JSON array")->capture_default_str();
+  height->footer("Example: skyroute terrain height --dem data/default_terrain.tif 46.93,15.1 46.96,15.12\n" +
+                 std::string(kExitCodeTable));
+  height->callback([height_args] { runHeight(*height_args); });
 
   auto gen_args = std::make_shared<GenerateArgs>();
   CLI::App* gen = terrain->add_subcommand("generate", "Write the seeded synthetic mountain DEM (the embedded default terrain)");
@@ -160,6 +274,7 @@ void addTerrainCommands(CLI::App& app) {
   gen->add_option("--width", gen_args->options.width, "Cells east-west")->check(CLI::Range(16, 4096))->capture_default_str();
   gen->add_option("--height", gen_args->options.height, "Cells north-south")->check(CLI::Range(16, 4096))->capture_default_str();
   gen->add_option("--cell", gen_args->options.cell_size_m, "Cell size in metres")->check(CLI::Range(1.0, 1000.0))->capture_default_str();
+  gen->footer("Example: skyroute terrain generate --out my_terrain.tif --seed 7\n" + std::string(kExitCodeTable));
   gen->callback([gen_args] { runGenerate(*gen_args); });
 }
 

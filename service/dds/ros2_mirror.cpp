@@ -63,8 +63,8 @@ Ros2Mirror::Writers* Ros2Mirror::writersOf(const std::string& vehicle_id, const 
   if (const dds_return_t rc = dds_write(vehicle.writers->origin_writer.get(), &origin); rc != DDS_RETCODE_OK) {
     spdlog::error("event=write_failed topic={} message=\"{}\"", originTopic(name), dds_strretcode(rc));
   }
-  spdlog::info("event=ros2_topics vehicle={} path={} origin={}{}", vehicle_id, pathTopic(name), originTopic(name),
-               name == vehicle_id ? "" : " (vehicle id sanitised to a ROS name)");
+  spdlog::info("event=ros2_topics vehicle={} path={} origin={} sanitised={}", vehicle_id, pathTopic(name),
+               originTopic(name), name != vehicle_id);  // sanitised: the vehicle id made into a ROS name
   return &*vehicle.writers;
 }
 

@@ -341,5 +341,23 @@ TEST(DdsCli, RequestWithoutServiceOrWithBadInputFailsClearly) {
   EXPECT_NE(err.find("/nonexistent/feed.jsonl"), std::string::npos) << err;
 }
 
+// Domain 220 belongs to this test: nobody publishes there. A ground station that received
+// nothing timed out: exit 4, and no export that would look like a result. With --progress it says
+// every 5 s what it is waiting for.
+TEST(DdsCli, GroundStationThatReceivedNothingTimesOutAndWritesNothing) {
+  ASSERT_TOOLS_REGISTERED();
+  const std::string csv = tempPath("nothing.csv"), kml = tempPath("nothing.kml");
+  std::filesystem::remove(csv);
+  std::filesystem::remove(kml);
+  std::string out, err;
+  EXPECT_EQ(run("gcs --domain 220 --timeout 6 --progress --csv " + csv + " --kml " + kml, "gcs_nothing", &out, &err), 4)
+      << err;
+  EXPECT_NE(err.find("no trajectory arrived on domain 220 within 6 s"), std::string::npos) << err;
+  EXPECT_NE(err.find("waiting on domain 220: 0 vehicle(s), 0 trajectories so far, "), std::string::npos) << err;
+  EXPECT_FALSE(std::filesystem::exists(csv));
+  EXPECT_FALSE(std::filesystem::exists(kml));
+  EXPECT_EQ(out.find("wrote"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace skyroute

@@ -66,6 +66,15 @@ TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
   }
   auto malformed = parseDaemonConfig("[planning\nseed = 1\n", "bad.toml");
   EXPECT_NE(malformed.error().message.find("bad.toml:1:"), std::string::npos) << malformed.error().message;
+  // Characters the TOML library mishandles are refused with their line and column (U+FE7F here);
+  // U+FEFF (a byte-order mark) and other non-ASCII text in comments and strings still parse.
+  auto odd = parseDaemonConfig("[planning]\nseed = 1\n \xEF\xB9\xBF\n", "odd.toml");
+  ASSERT_FALSE(odd.ok());
+  EXPECT_EQ(odd.error().code, ErrorCode::kParseError);
+  EXPECT_NE(odd.error().message.find("odd.toml:3:2: character U+FE7F"), std::string::npos) << odd.error().message;
+  auto fine = parseDaemonConfig("# h\xC3\xB6he \xEF\xBB\xBF\n[dds]\nservice_id = \"s\xC3\xBCd\"\n", "fine.toml");
+  ASSERT_TRUE(fine.ok()) << fine.error().describe();
+  EXPECT_EQ(fine->service_id, "s\xC3\xBCd");
   auto missing = loadDaemonConfig("/nonexistent/skyrouted.toml");
   ASSERT_FALSE(missing.ok());
   EXPECT_EQ(missing.error().code, ErrorCode::kFileNotFound);

@@ -1,6 +1,10 @@
 // The `skyroute grid solve` and `skyroute mission` commands, run as a user would: JSON lines checked
 // against the scenario's optimal lengths and against Dijkstra, and bad input giving a message that
 // names the point and a non-zero exit.
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -52,6 +56,56 @@ TEST(GridCli, SolveMatchesScenarioForEveryAlgorithm) {
     }
     EXPECT_EQ(lines.back()["problems"], 60);
     EXPECT_EQ(lines.back()["mismatches"], 0);
+  }
+}
+
+std::string writeFile(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  FILE* f = std::fopen(path.c_str(), "w");
+  std::fputs(text.c_str(), f);
+  std::fclose(f);
+  return path;
+}
+
+// A scenario that prints its optimal lengths with two decimals: the right costs agree to those
+// digits (sqrt(2) = 1.41421 against "1.41", an error of 0.0042, beyond the old absolute 1e-3) and
+// pass; a length wrong by more than a unit of the second decimal is still caught.
+TEST(GridCli, SolveComparesAtThePrecisionTheScenarioPrinted) {
+  const std::string map = writeFile("open4.map", "type octile\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\n");
+  const std::string right = writeFile("two_decimals.scen",
+                                      "version 1\n0\topen4.map\t4\t4\t0\t0\t1\t1\t1.41\n"
+                                      "0\topen4.map\t4\t4\t0\t0\t3\t1\t3.41\n"
+                                      "0\topen4.map\t4\t4\t0\t0\t3\t0\t3\n");
+  const Output ok = run("grid solve --map " + map + " --scen " + right);
+  ASSERT_EQ(ok.exit_code, 0) << ok.text;
+  const auto lines = jsonLines(ok.text);
+  ASSERT_EQ(lines.size(), 4u) << ok.text;
+  EXPECT_EQ(lines.back()["mismatches"], 0);
+  EXPECT_NEAR(lines.back()["max_abs_error"].get<double>(), std::sqrt(2.0) - 1.41, 1e-9);
+  EXPECT_NEAR(lines[0]["tolerance"].get<double>(), 0.01, 1e-12);
+  EXPECT_NEAR(lines[2]["tolerance"].get<double>(), 0.01, 1e-12);  // "3": the file's two decimals
+  EXPECT_NE(ok.text.find("largest error against the scenario's optimal lengths: 0.0042"), std::string::npos) << ok.text;
+
+  const std::string wrong = writeFile("wrong_second_decimal.scen", "version 1\n0\topen4.map\t4\t4\t0\t0\t1\t1\t1.40\n");
+  const Output bad = run("grid solve --map " + map + " --scen " + wrong);
+  EXPECT_EQ(bad.exit_code, 1) << bad.text;
+  EXPECT_EQ(jsonLines(bad.text).back()["mismatches"], 1);
+  EXPECT_NE(bad.text.find("1 costs differ beyond the printed digits, the first at problem 0"), std::string::npos)
+      << bad.text;
+}
+
+// The shared Moving AI scenarios (8room prints six significant digits, room-32 eight decimals):
+// every cost of the first 1000 problems agrees with the printed optimal lengths; exit 0.
+TEST(GridCli, SolveAgreesWithSharedScenariosToTheirPrintedDigits) {
+  SKYROUTE_REQUIRE_SHARED(room_map, "movingai/room-32-32-4.map");
+  SKYROUTE_REQUIRE_SHARED(room_scen, "movingai/room-32-32-4-random-1.scen");
+  SKYROUTE_REQUIRE_SHARED(rooms_map, "movingai/8room_000.map");
+  SKYROUTE_REQUIRE_SHARED(rooms_scen, "movingai/8room_000.map.scen");
+  for (const auto& [map, scen] : {std::pair{room_map, room_scen}, std::pair{rooms_map, rooms_scen}}) {
+    const Output out = run("grid solve --map " + map + " --scen " + scen + " --limit 1000");
+    EXPECT_EQ(out.exit_code, 0) << scen << "\n" << out.text.substr(out.text.rfind('{'));
+    EXPECT_EQ(jsonLines(out.text).back()["mismatches"], 0) << scen;
+    EXPECT_NE(out.text.find("every cost agrees to the printed digits"), std::string::npos) << scen;
   }
 }
 
