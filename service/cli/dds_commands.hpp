@@ -1,8 +1,14 @@
 // The DDS tools of `skyroute`, each in its own file; main.cpp registers them next to the others.
 #pragma once
 
+#include <string>
+
 namespace CLI {
 class App;
+}
+
+namespace skyroute {
+struct FleetRequestData;
 }
 
 namespace skyroute::cli {
@@ -11,5 +17,11 @@ void addGcsCommand(CLI::App& app);      // gcs: ground-station view and export  
 void addRequestCommand(CLI::App& app);  // request: publish a mission, await status (request_command.cpp)
 void addRecordCommand(CLI::App& app);   // record: obstacle updates to a feed file   (record_command.cpp)
 void addReplayCommand(CLI::App& app);   // replay: a feed file with its timing       (replay_command.cpp)
+
+// fleet --domain: publishes the fleet request, prints its statuses and, on success, the outcome
+// and each vehicle's trajectory (written to `out` when given); fails with the exit-code table's
+// codes (fleet_dds_command.cpp).
+void requestFleetOverDds(const std::string& tool, const FleetRequestData& request, int domain, double wait_s,
+                         const std::string& out);
 
 }  // namespace skyroute::cli
