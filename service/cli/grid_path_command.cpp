@@ -113,11 +113,11 @@ void addGridPathCommand(CLI::App& grid) {
   CLI::App* cmd = grid.add_subcommand("path", "One path on a Moving AI map: A*, Theta*, HAB-PP or Improved HAB-PP");
   cmd->add_option("--map", opts->map, "Moving AI .map file")->required();
   cmd->footer(helpFooter({"skyroute grid path --map room-32-32-4.map --from 1,1 --to 30,30 --algo theta --out path.json"}));
-  CLI::Option* from = cmd->add_option("--from", opts->from, "start cell X,Y (column, row from 0)");
-  CLI::Option* to = cmd->add_option("--to", opts->to, "goal cell X,Y");
+  cmd->add_option("--from", opts->from, "start cell X,Y (column, row from 0)");
+  cmd->add_option("--to", opts->to, "goal cell X,Y");
   // The names before --from and --to, kept for one release (hidden).
-  from->excludes(cmd->add_option("--start", opts->from, "old name of --from")->group(""));
-  to->excludes(cmd->add_option("--goal", opts->to, "old name of --to")->group(""));
+  cmd->add_option("--start", opts->from, "old name of --from")->group("");
+  cmd->add_option("--goal", opts->to, "old name of --to")->group("");
   cmd->add_option("--algo", opts->algo, "astar (8-connected), theta (Theta*), hab-pp, hab-pp-rrt (Improved HAB-PP)")
       ->required()
       ->check(CLI::IsMember({"astar", "theta", "hab-pp", "hab-pp-rrt"}));

@@ -155,13 +155,13 @@ void addTerrainCommands(CLI::App& app) {
   gen->add_option("--seed", gen_args->options.seed, "Random seed")->capture_default_str();
   gen->add_option("--width", gen_args->options.width, "Cells east-west")->check(CLI::Range(16, 4096))->capture_default_str();
   gen->add_option("--height", gen_args->options.height, "Cells north-south")->check(CLI::Range(16, 4096))->capture_default_str();
-  CLI::Option* cell = gen->add_option("--cell-size-m", gen_args->options.cell_size_m, "Cell size in metres")
-                          ->check(CLI::Range(1.0, 1000.0))
-                          ->capture_default_str();
+  gen->add_option("--cell-size-m", gen_args->options.cell_size_m, "Cell size in metres")
+      ->check(CLI::Range(1.0, 1000.0))
+      ->capture_default_str();
   // The name before --cell-size-m, kept for one release (hidden).
-  cell->excludes(gen->add_option("--cell", gen_args->options.cell_size_m, "old name of --cell-size-m")
-                     ->check(CLI::Range(1.0, 1000.0))
-                     ->group(""));
+  gen->add_option("--cell", gen_args->options.cell_size_m, "old name of --cell-size-m")
+      ->check(CLI::Range(1.0, 1000.0))
+      ->group("");
   gen->callback([gen_args] { runGenerate(*gen_args); });
 }
 
