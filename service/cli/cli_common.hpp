@@ -39,6 +39,21 @@ std::string numberText(double v);
 // The items of a list separated by ';', blanks around items trimmed, empty items dropped.
 std::vector<std::string> splitList(const std::string& text);
 
+// Each item of a ';'-separated list option through `parse`, named "option[i]" in errors; a bad
+// item fails with kExitUsage.
+template <class T>
+std::vector<T> parseListOption(const std::string& tool, const std::string& option, const std::string& text,
+                               Result<T> (*parse)(const std::string& item, const std::string& field)) {
+  std::vector<T> values;
+  const std::vector<std::string> items = splitList(text);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    auto value = parse(items[i], option + "[" + std::to_string(i) + "]");
+    if (!value) fail(tool, kExitUsage, value.error().message);
+    values.push_back(std::move(*value));
+  }
+  return values;
+}
+
 // The extension of a path, lower case, without the dot ("" when none).
 std::string lowerExtension(const std::string& path);
 // An output path, checked before any work: an extension among `formats` and a folder that exists.

@@ -10,17 +10,6 @@ namespace skyroute::cli {
 
 namespace {
 
-std::vector<MissionPointData> geoList(const std::string& tool, const std::string& option, const std::string& text) {
-  std::vector<MissionPointData> points;
-  const std::vector<std::string> items = splitList(text);
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    auto p = parseGeoTriple(items[i], option + "[" + std::to_string(i) + "]");
-    if (!p) fail(tool, kExitUsage, p.error().message);
-    points.push_back(*p);
-  }
-  return points;
-}
-
 // --vehicles: "ID@LAT,LON,ALT" items, or plain "LAT,LON,ALT" ones named uav-1 .. uav-N.
 void parseVehicles(const std::string& tool, const std::string& text, FleetRequestData& f) {
   const std::vector<std::string> items = splitList(text);
@@ -52,8 +41,8 @@ FleetRequestData buildFleetRequest(const std::string& tool, const FleetInputArgs
   } else {
     if (a.vehicles.empty() || a.tasks.empty()) fail(tool, kExitUsage, "give --file FLEET.json, or --vehicles and --tasks");
     parseVehicles(tool, a.vehicles, f);
-    f.tasks = geoList(tool, "--tasks", a.tasks);
-    f.ends = a.ends.empty() ? f.begins : geoList(tool, "--ends", a.ends);
+    f.tasks = parseListOption(tool, "--tasks", a.tasks, &parseGeoTriple);
+    f.ends = a.ends.empty() ? f.begins : parseListOption(tool, "--ends", a.ends, &parseGeoTriple);
   }
   applyVehicleLimits(a.limits, f.limits);
   if (!a.request_id.empty()) f.request_id = a.request_id;

@@ -21,13 +21,7 @@ namespace {
 const std::string kTool = "fleet";
 
 std::vector<GridCell> parseCells(const std::string& option, const std::string& text) {
-  std::vector<GridCell> cells;
-  const std::vector<std::string> items = splitList(text);
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    auto cell = parseGridCell(items[i], option + "[" + std::to_string(i) + "]");
-    if (!cell) fail(kTool, kExitUsage, cell.error().message);
-    cells.push_back(*cell);
-  }
+  std::vector<GridCell> cells = parseListOption(kTool, option, text, &parseGridCell);
   if (cells.empty()) fail(kTool, kExitUsage, option + ": no cells given (expected X,Y;X,Y;...)");
   return cells;
 }

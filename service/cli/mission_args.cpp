@@ -29,6 +29,9 @@ MissionRequestData buildMissionRequest(const std::string& tool, const MissionPoi
   return m;
 }
 
+namespace {
+
+// Whether a request field holds the mission file's value (no option overrode it).
 bool fieldFromFile(const MissionPointArgs& a, const std::string& field) {
   if (a.mission_file.empty()) return false;
   if (field == "begin") return a.from.empty();
@@ -37,6 +40,7 @@ bool fieldFromFile(const MissionPointArgs& a, const std::string& field) {
   return givenLimitOption(a.limits, field).empty();
 }
 
+// A request field as the user wrote it.
 std::string missionUserField(const MissionPointArgs& a, const std::string& field) {
   if (fieldFromFile(a, field)) return "--mission " + a.mission_file + ": " + field;
   if (field == "begin") return "--from";
@@ -49,6 +53,15 @@ std::string missionUserField(const MissionPointArgs& a, const std::string& field
 
 int validationExitCode(const MissionPointArgs& a, const std::string& field) {
   return fieldFromFile(a, field) ? kExitBadInput : kExitUsage;
+}
+
+}  // namespace
+
+void failPlanError(const std::string& tool, const MissionPointArgs& a, const PlanError& e) {
+  const int code = e.stage == PlanStage::kValidate ? validationExitCode(a, e.field) : kExitPlanningFailed;
+  fail(tool, code,
+       missionUserField(a, e.field) + ": " + e.message + " [" + std::string(to_string(e.code)) + ", stage " +
+           std::string(to_string(e.stage)) + "]");
 }
 
 }  // namespace skyroute::cli

@@ -25,13 +25,10 @@ struct MissionPointArgs {
 // required. Ids are left as the file has them.
 MissionRequestData buildMissionRequest(const std::string& tool, const MissionPointArgs& args);
 
-// Whether a request field holds the mission file's value (no option overrode it).
-bool fieldFromFile(const MissionPointArgs& args, const std::string& field);
-// A request field as the user wrote it: the mission file's field ("--mission F: points[1]"), or
-// the option that set it ("--via[1]", "--clearance-m").
-std::string missionUserField(const MissionPointArgs& args, const std::string& field);
-// The exit code of a request that the pipeline's validate stage refused because of `field`: an
-// invalid input file (kExitBadInput), or a bad option value (kExitUsage).
-int validationExitCode(const MissionPointArgs& args, const std::string& field);
+// Fails with a pipeline error: the field as the user wrote it (the mission file's field, or the
+// option that set it: "--via[1]", "--clearance-m"), the reason, the code and the stage. A request
+// the validate stage refused is the input's fault (kExitBadInput for the file's values, kExitUsage
+// for an option's), any later failure a failed plan.
+[[noreturn]] void failPlanError(const std::string& tool, const MissionPointArgs& args, const PlanError& error);
 
 }  // namespace skyroute::cli

@@ -197,13 +197,7 @@ void runGeoMission(const MissionCommandArgs& a) {
   if (!world.ok()) fail(kTool, kExitBadInput, (a.dem ? "--dem " : "terrain.dem ") + world.error().describe());
   const MissionPipeline pipeline(*world, p);
   auto ordered = pipeline.order(mission, static_cast<double>(utcNowNs()) * 1e-9);
-  if (!ordered.ok()) {
-    const PlanError& e = ordered.error();
-    const int code = e.stage == PlanStage::kValidate ? validationExitCode(a.points, e.field) : kExitPlanningFailed;
-    fail(kTool, code,
-         missionUserField(a.points, e.field) + ": " + e.message + " [" + std::string(to_string(e.code)) + ", stage " +
-             std::string(to_string(e.stage)) + "]");
-  }
+  if (!ordered.ok()) failPlanError(kTool, a.points, ordered.error());
   const std::vector<OrderedPoint> visited = visitedPoints(mission, *ordered, (*world)->frame());
   const std::vector<double> costs = legCosts(ordered->ordering, visited);
   const nlohmann::json j = orderJson(dem, mission, *ordered, visited, costs);

@@ -141,14 +141,7 @@ void runPlan(const PlanArgs& a) {
   auto progress = [](PlanStage, const std::string& what) { std::cerr << what << " ..." << std::endl; };
   auto planned = pipeline.plan(PipelineRequest{mission, std::nullopt, std::nullopt},
                                static_cast<double>(utcNowNs()) * 1e-9, {}, progress);
-  if (!planned.ok()) {
-    const PlanError& e = planned.error();
-    // A request that cannot be planned at all is the input's fault: the options', or the file's.
-    const int code = e.stage == PlanStage::kValidate ? validationExitCode(a.mission, e.field) : kExitPlanningFailed;
-    fail(kTool, code,
-         missionUserField(a.mission, e.field) + ": " + e.message + " [" + std::string(to_string(e.code)) + ", stage " +
-             std::string(to_string(e.stage)) + "]");
-  }
+  if (!planned.ok()) failPlanError(kTool, a.mission, planned.error());
   const MissionPlan& plan = *planned;
   auto data = pipeline.sample(plan, TrajectoryIdentity{mission.vehicle_id, mission.vehicle_id + "-plan", 0,
                                                        mission.request_id});

@@ -22,18 +22,9 @@ namespace skyroute {
 namespace {
 
 using testing::ChildProcess;
+using testing::readFile;
 
-std::string tempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("skyroute_cli_e2e_" + std::to_string(::getpid()) + "_" + name))
-      .string();
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string tempPath(const std::string& name) { return testing::tempPath("cli_e2e", name); }
 
 // Runs a program to its end (at most timeout_s): its exit code, stdout and stderr.
 struct Ran {
@@ -131,7 +122,7 @@ TEST_F(CliDaemonE2E, FleetFileGivesTheTrajectoriesTheDaemonPublishesAndFleetDoma
   EXPECT_NE(sent.out.find("makespan"), std::string::npos) << sent.out;
   ASSERT_EQ(gcs.wait(180.0), 0) << gcs.err();
 
-  const std::string a = slurp(local), b = slurp(gcs_csv);
+  const std::string a = readFile(local), b = readFile(gcs_csv);
   EXPECT_EQ(a.substr(0, a.find('\n')), b.substr(0, b.find('\n'))) << "different columns";
   const auto here = rowsByVehicle(a), there = rowsByVehicle(b);
   ASSERT_EQ(here.size(), 3u);
@@ -139,7 +130,7 @@ TEST_F(CliDaemonE2E, FleetFileGivesTheTrajectoriesTheDaemonPublishesAndFleetDoma
     EXPECT_GT(std::count(rows.begin(), rows.end(), '\n'), 1000) << vehicle;
     EXPECT_TRUE(there.count(vehicle) && there.at(vehicle) == rows) << vehicle << ": skyroute fleet and the daemon differ";
   }
-  EXPECT_TRUE(slurp(remote) == a) << "fleet --domain --out wrote other trajectories";
+  EXPECT_TRUE(readFile(remote) == a) << "fleet --domain --out wrote other trajectories";
 
   // A plan the daemon refuses (a task under the ground) is exit 1, its status printed.
   const Ran refused = run({SKYROUTE_CLI, "fleet", "--domain", "211", "--vehicles", "a@46.97,15.04,1000;b@46.91,15.13,1000",

@@ -34,6 +34,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
 struct CliRun {
   int code = -1;
   std::string out;
@@ -60,12 +67,6 @@ class FleetCli : public ::testing::Test {
     const int status = std::system(cmd.c_str());
     CliRun r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    auto slurp = [](const fs::path& p) {
-      std::ifstream f(p);
-      std::stringstream s;
-      s << f.rdbuf();
-      return s.str();
-    };
     r.out = slurp(out);
     r.err = slurp(err);
     return r;
@@ -194,13 +195,6 @@ TEST_F(FleetCli, OldGridOptionNamesStillWork) {
   const CliRun r = run("--map " + map() + " --vehicles '1,1;2,0' --tasks '4,1;4,3;2,3;2,4' --cell-size 50 --clearance 20");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("makespan 10"), std::string::npos) << r.out;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
 }
 
 const std::string kDemoFleet = skyroute::testing::projectDataPath("missions/demo_fleet.json");
