@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bench/latency_scenario.hpp"
+#include "bench/support/shared_data.hpp"
 #include "service/dds/loopback.hpp"
 #include "service/moving_obstacle_scenario.hpp"
 #include "terrain/terrain_world.hpp"
@@ -191,7 +192,7 @@ int main(int argc, char** argv) {
     Run r = measure(s3, 1, 1, rounds, [&](int, const std::string& id) { return bench::seed003Mission(scenario, id); });
     row("N44W072 seed-003 vehicle: obstacle -> revision", 1, r.obstacle_ms);
   } else {
-    std::printf("(N44W072 seed-003 case skipped: %s not found)\n", n44.c_str());
+    bench::skipCaseForMissingData("(N44W072 seed-003 case skipped: " + n44 + " not found)", n44 + " not found");
   }
   return 0;
 }

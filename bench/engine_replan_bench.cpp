@@ -17,6 +17,7 @@
 #include <spdlog/spdlog.h>
 
 #include "bench/latency_scenario.hpp"
+#include "bench/support/shared_data.hpp"
 #include "service/engine.hpp"
 #include "service/moving_obstacle_scenario.hpp"
 #include "terrain/terrain_world.hpp"
@@ -173,7 +174,7 @@ int main(int argc, char** argv) {
     const MissionRequestData m = bench::seed003Mission(seed003Table1Scenario(*real), "seed003");
     row("N44W072, seed-003 vehicle", run(real, m, rounds, switches));
   } else {
-    std::printf("(N44W072 case skipped: %s not found)\n", n44.c_str());
+    bench::skipCaseForMissingData("(N44W072 case skipped: " + n44 + " not found)", n44 + " not found");
   }
   return 0;
 }

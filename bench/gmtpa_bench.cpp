@@ -15,7 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "planning/fleet_planner.hpp"
+#include "bench/support/shared_data.hpp"
+#include "planning/fleet/fleet_planner.hpp"
 #include "terrain/movingai.hpp"
 
 using namespace skyroute;
@@ -178,7 +179,8 @@ void scaleRun(const std::string& map_name, int runs) {
   const std::string path = std::string(SKYROUTE_SHARED_DATA_DIR) + "/movingai/" + map_name;
   auto grid = loadMovingAiMap(path);
   if (!grid) {
-    std::printf("| %s | - | - | - | - | - | - | skipped: %s |\n", map_name.c_str(), grid.error().describe().c_str());
+    bench::skipCaseForMissingData("| " + map_name + " | - | - | - | - | - | - | skipped: " + grid.error().describe() + " |",
+                                  grid.error().describe());
     return;
   }
   // Places in the largest 4-connected region.

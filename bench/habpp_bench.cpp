@@ -5,7 +5,7 @@
 // Times are processor time (std::clock) of this single-threaded process, so other work on a shared
 // machine does not inflate them; the termination budget is wall time.
 //
-// Also RRT* with LOSPO (planning/rrt_star + planning/lospo through GridMotionValidator).
+// Also RRT* with LOSPO (planning/sampling/rrt_star + planning/sampling/lospo through GridMotionValidator).
 //
 //   habpp_bench [--runs N] [--map office|apartment|boston]... [--budget-s S] [--stable N]
 //               [--rrt-iterations N] [--no-hab] [--weights wL,wA,wP]
@@ -35,11 +35,12 @@
 #include <string>
 #include <vector>
 
-#include "planning/any_angle_search.hpp"
-#include "planning/grid_motion_validator.hpp"
-#include "planning/hab_pp.hpp"
-#include "planning/lospo.hpp"
-#include "planning/rrt_star.hpp"
+#include "bench/support/grid_motion_validator.hpp"
+#include "planning/colony/hab_pp.hpp"
+#include "planning/grid/any_angle_search.hpp"
+#include "planning/grid/grid_search.hpp"
+#include "planning/sampling/lospo.hpp"
+#include "planning/sampling/rrt_star.hpp"
 #include "terrain/movingai.hpp"
 
 namespace {
@@ -70,27 +71,6 @@ GridCell nearestWhere(const GridLayer& g, GridCell c, Ok ok) {
     }
   }
   return best;
-}
-
-// Cells 8-connected (no corner cutting) to `from`.
-std::vector<std::uint8_t> reachable(const GridLayer& g, GridCell from) {
-  std::vector<std::uint8_t> seen(g.cellCount(), 0);
-  std::vector<GridCell> stack{from};
-  seen[g.index(from)] = 1;
-  while (!stack.empty()) {
-    const GridCell c = stack.back();
-    stack.pop_back();
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        const GridCell n{c.x + dx, c.y + dy};
-        if (g.blocked(n) || seen[g.index(n)] != 0) continue;
-        if (dx != 0 && dy != 0 && (g.blocked(GridCell{c.x + dx, c.y}) || g.blocked(GridCell{c.x, c.y + dy}))) continue;
-        seen[g.index(n)] = 1;
-        stack.push_back(n);
-      }
-    }
-  }
-  return seen;
 }
 
 struct Stats {
@@ -130,7 +110,7 @@ double angleChange(const std::vector<Eigen::Vector3d>& p) {
   return sum;
 }
 
-// RRT* (planning/rrt_star, default options, seeded) on the grid through GridMotionValidator, its
+// RRT* (planning/sampling/rrt_star, default options, seeded) on the grid through GridMotionValidator, its
 // path flattened to z = 0 and shortened by LOSPO (1-cell spacing, up to 4 passes). An iteration
 // budget, not a deadline, stops it, so a seed repeats exactly; the first-path time is the processor
 // time of a second run of the same seed stopped at the iteration that found the first path (the
@@ -253,7 +233,7 @@ int main(int argc, char** argv) {
     if (c.width > 0) {  // corners of the crop
       c.start = nearestWhere(grid, GridCell{0, 0}, [&](GridCell q) { return grid.passable(q); });
       // The goal: the cell nearest the opposite corner that the start can reach.
-      const std::vector<std::uint8_t> reach = reachable(grid, c.start);
+      const std::vector<std::uint8_t> reach = reachableCells(grid, c.start);
       c.goal = nearestWhere(grid, GridCell{grid.width() - 1, grid.height() - 1},
                             [&](GridCell q) { return reach[grid.index(q)] != 0; });
     }

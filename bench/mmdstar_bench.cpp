@@ -1,8 +1,8 @@
 // MMD*L vs per-pair D* Lite: the experiment of section IV of the seed (Fig. 12), and a scale run
 // with 20 mission points on a 1000 x 1000 grid derived from a real DEM.
 //
-//   build-mmd/bench/mmdstar_bench [--runs 100] [--max-n 5] [--seed 1] [--moves paper|paper-cut|sqrt2]
-//                                 [--scale-only | --no-scale] [--dem PATH] [--threads N] [--fresh F] [--sweep C] [--defer 0|1] [--diag]
+//   build-bench/bench/mmdstar_bench [--runs 100] [--max-n 5] [--seed 1] [--moves paper|paper-cut|sqrt2]
+//                                   [--scale-only | --no-scale] [--dem PATH] [--threads N] [--fresh F] [--sweep C] [--defer 0|1] [--diag]
 //
 // Scale run configurations (default: the seed's planner on 1 thread, then the fast one on 1 and on
 // 2 threads; any of these options replaces them by one run with the fast configuration changed):
@@ -29,10 +29,11 @@
 #include <string>
 #include <vector>
 
-#include "planning/grid_search.hpp"
-#include "planning/mission_planner.hpp"
-#include "planning/mmdstar_lite.hpp"
-#include "planning/pairwise_dstar_lite.hpp"
+#include "bench/support/shared_data.hpp"
+#include "planning/grid/grid_search.hpp"
+#include "planning/mission/mission_planner.hpp"
+#include "planning/mission/mmdstar_lite.hpp"
+#include "planning/mission/pairwise_dstar_lite.hpp"
 #include "terrain/dem.hpp"
 #include "terrain/grid_from_terrain.hpp"
 #include "terrain/heightfield.hpp"
@@ -357,7 +358,7 @@ void scaleRun(const std::string& dem_path, std::uint32_t seed, const std::vector
   std::printf("## Scale: n = 20 mission points on a 1000 x 1000 grid from %s\n\n", dem_path.c_str());
   auto dem = Dem::load(dem_path);
   if (!dem.ok()) {
-    std::printf("skipped: %s\n", dem.error().describe().c_str());
+    bench::skipCaseForMissingData("skipped: " + dem.error().describe(), dem.error().describe());
     return;
   }
   auto hf = Heightfield::build(*dem);

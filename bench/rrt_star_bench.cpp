@@ -49,10 +49,10 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
-#include "planning/lospo.hpp"
-#include "planning/path_refinement.hpp"
-#include "planning/rrt_star.hpp"
-#include "planning/world_motion_validator.hpp"
+#include "bench/support/path_refinement.hpp"
+#include "planning/sampling/lospo.hpp"
+#include "planning/sampling/rrt_star.hpp"
+#include "planning/sampling/world_motion_validator.hpp"
 #include "terrain/terrain_world.hpp"
 
 namespace ob = ompl::base;
@@ -505,7 +505,7 @@ int main(int argc, char** argv) {
                   quantile(simplify_times[{n, b}], 0.5));
     }
   }
-  // The comparison: ours against InformedRRTstar + simplifier under the same protocol.
+  // The headline comparison: ours against InformedRRTstar + simplifier under the same protocol.
   std::printf("\nMedian post ratio to five places, ours against OMPL InformedRRTstar + simplifier:\n\n");
   std::printf("| protocol | budget ms | ours | InformedRRTstar | ours raw | InformedRRTstar raw |\n|---|---|---|---|---|---|\n");
   const std::vector<std::tuple<std::string, std::string, std::string>> protocols{

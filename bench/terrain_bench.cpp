@@ -2,7 +2,7 @@
 // RSS, point checks per second, and the median time of a 1 km swept-segment check, next to two
 // baselines run in the same process (dense sampling at 1 m, FCL capsule against the octree).
 //
-//   build/bench/terrain_bench [DEM]        (default ../shared/data/dem/N44W072.hgt)
+//   build-bench/bench/terrain_bench [DEM]  (default ../shared/data/dem/N44W072.hgt)
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>

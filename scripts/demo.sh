@@ -13,9 +13,10 @@ skyrouted=build/service/skyrouted
 domain=${SKYROUTE_DEMO_DOMAIN:-77}
 watch_s=${SKYROUTE_DEMO_SECONDS:-40}
 
-# Loopback only: `lo` has no multicast, so Cyclone finds its peers by unicast on 127.0.0.1.
+# Loopback only: `lo` has no multicast, so Cyclone finds its peers by unicast on 127.0.0.1, one
+# participant index per process: MaxAutoParticipantIndex 120 allows 121 processes per domain.
 if [[ -z "${CYCLONEDDS_URI:-}" ]]; then
-  export CYCLONEDDS_URI='<CycloneDDS><Domain id="any"><General><Interfaces><NetworkInterface name="lo"/></Interfaces><AllowMulticast>false</AllowMulticast></General><Discovery><ParticipantIndex>auto</ParticipantIndex><Peers><Peer address="127.0.0.1"/></Peers><MaxAutoParticipantIndex>32</MaxAutoParticipantIndex></Discovery></Domain></CycloneDDS>'
+  export CYCLONEDDS_URI='<CycloneDDS><Domain id="any"><General><Interfaces><NetworkInterface name="lo"/></Interfaces><AllowMulticast>false</AllowMulticast></General><Discovery><ParticipantIndex>auto</ParticipantIndex><Peers><Peer address="127.0.0.1"/></Peers><MaxAutoParticipantIndex>120</MaxAutoParticipantIndex></Discovery></Domain></CycloneDDS>'
 fi
 
 $skyroute terrain info data/default_terrain.tif --png out/default_terrain_hillshade.png

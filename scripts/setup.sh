@@ -13,6 +13,8 @@ PACKAGES=(
   libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libompl-dev
+  tshark  # the ROS 2 mirror's packet-capture test (tests/daemon/ros2_e2e_test.cpp)
+  libcpp-httplib-dev chromium chromium-driver
 )
 
 missing=()

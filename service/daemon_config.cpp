@@ -32,7 +32,8 @@ struct Key {
 // Integer fields are kept in these while parsing, then copied to their typed homes.
 struct IntegerShadow {
   std::int64_t domain, seed, threads, max_queue, max_points, leg_max_iterations, order_cells, grid_cells,
-      grid_window_segments, max_attempts, replan_leg_iterations;
+      grid_window_segments, max_attempts, replan_leg_iterations, max_stored_results, max_samples, fleet_vehicles,
+      fleet_tasks;
 };
 
 IntegerShadow shadowOf(const DaemonConfig& c) {
@@ -47,7 +48,11 @@ IntegerShadow shadowOf(const DaemonConfig& c) {
                        p.grid_legs.max_cells_per_axis,
                        p.grid_legs.output_window_segments,
                        p.replan.max_attempts,
-                       static_cast<std::int64_t>(p.replan.replan_leg_max_iterations)};
+                       static_cast<std::int64_t>(p.replan.replan_leg_max_iterations),
+                       static_cast<std::int64_t>(c.engine.max_stored_results),
+                       static_cast<std::int64_t>(p.bounds.trajectory.max_samples),
+                       static_cast<std::int64_t>(p.fleet.max_vehicles),
+                       static_cast<std::int64_t>(p.fleet.max_tasks)};
 }
 
 void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
@@ -63,6 +68,10 @@ void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
   p.grid_legs.output_window_segments = static_cast<int>(s.grid_window_segments);
   p.replan.max_attempts = static_cast<int>(s.max_attempts);
   p.replan.replan_leg_max_iterations = static_cast<std::uint64_t>(s.replan_leg_iterations);
+  c.engine.max_stored_results = static_cast<std::size_t>(s.max_stored_results);
+  p.bounds.trajectory.max_samples = static_cast<std::size_t>(s.max_samples);
+  p.fleet.max_vehicles = static_cast<std::size_t>(s.fleet_vehicles);
+  p.fleet.max_tasks = static_cast<std::size_t>(s.fleet_tasks);
 }
 
 std::vector<std::string> plannerChoices() {
@@ -73,6 +82,8 @@ std::vector<std::string> plannerChoices() {
 
 std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
   PipelineOptions& p = c.engine.pipeline;
+  EngineOptions& e = c.engine;
+  VehicleLimitBounds& b = p.bounds.limits;
   return {
       {"terrain", "dem", "DEM raster path (any GDAL raster); \"\" = the embedded default terrain", &c.dem_path},
       {"terrain", "vehicle_radius_m", "every vehicle's bounding sphere, metres", &c.world.vehicle_radius_m, 0.01, 1000},
@@ -83,8 +94,15 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"dds", "domain", "DDS domain id", &s.domain, 0, 232},
       {"dds", "service_id", "this daemon's key in the ServiceStatus heartbeat", &c.service_id},
       {"dds", "heartbeat_period_s", "ServiceStatus period, seconds", &c.heartbeat_period_s, 0.05, 3600},
-      {"dds", "flush_timeout_s", "on stop, how long writers wait for readers' acknowledgements, seconds",
+      {"dds", "flush_timeout_s", "on stop, how long the writers wait in all for readers' acknowledgements, seconds",
        &c.flush_timeout_s, 0, 10},
+      {"dds", "startup_probe_s",
+       "before serving, listen this long for another daemon with this service_id (then refuse to start); 0 serves at once, seconds",
+       &c.startup_probe_s, 0, 10},
+      {"ros2", "enabled",
+       "mirror each vehicle's current trajectory on ROS 2 topics rt/skyroute/<vehicle>/path (nav_msgs/Path) and "
+       "/origin (geographic_msgs/GeoPoint); docs/interop.md",
+       &c.ros2_enabled},
       {"planning", "default_planner", "route planner used when a request names none (skyroute planners lists them)",
        &p.default_planner, -kInf, kInf, plannerChoices()},
       {"planning", "seed", "seed of every plan (a run is reproducible from it)", &s.seed, 0, 9.0e18},
@@ -94,6 +112,12 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
        "wall-clock cap of one leg's search, seconds (0 = none); when it fires the status says so and the plan is "
        "no longer reproducible from the seed",
        &p.budget.leg_time_cap_s, 0, 3600},
+      {"planning", "memory_budget_mb",
+       "memory the planning threads share; a request whose estimate exceeds one thread's share is refused with "
+       "ERROR_TOO_LARGE (0 = no guard), MiB",
+       &e.memory_budget_mb, 0, 1e6},
+      {"planning", "max_stored_results", "finished requests remembered to answer a repeated request_id",
+       &s.max_stored_results, 0, 1000000},
       {"planning", "threads", "requests planned at once (skyrouted)", &s.threads, 1, 64},
       {"planning", "max_queue", "requests waiting beyond this are refused with ERROR_BUSY (skyrouted)", &s.max_queue, 1,
        100000},
@@ -127,8 +151,33 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"replanning", "budget_s",
        "wall-clock budget of one replan (the first candidate is always finished), seconds",
        &p.replan.replan_budget_ms, 0, 60, {}, 1e3},
+      {"bounds", "min_speed_mps", "a request's v_ref_mps and max_speed_mps at least, m/s", &b.min_speed_mps, 0.01, 1000},
+      {"bounds", "max_speed_mps", "any speed limit of a request at most, m/s", &b.max_speed_mps, 0.01, 1000},
+      {"bounds", "min_vertical_speed_mps", "a request's max_climb_rate_mps and max_descent_rate_mps at least, m/s",
+       &b.min_vertical_speed_mps, 0.001, 1000},
+      {"bounds", "min_accel_mps2", "a request's max_accel_mps2 at least, m/s^2", &b.min_accel_mps2, 0.001, 1000},
+      {"bounds", "max_accel_mps2", "a request's max_accel_mps2 at most, m/s^2", &b.max_accel_mps2, 0.001, 1000},
+      {"bounds", "max_turn_radius_m", "a request's min_turn_radius_m at most, metres", &b.max_turn_radius_m, 0, 1e6},
+      {"bounds", "max_clearance_m", "a request's min_clearance_agl_m at most, metres", &b.max_clearance_m, 0, 1e5},
+      {"bounds", "max_ceiling_amsl_m", "a request's ceiling_amsl_m at most, metres", &b.max_ceiling_amsl_m, 0, 1e5},
+      {"bounds", "max_trajectory_duration_s",
+       "longest trajectory the service makes; a longer one is refused with ERROR_TOO_LARGE before sampling, seconds",
+       &p.bounds.trajectory.max_duration_s, 1, 1e6},
+      {"bounds", "max_trajectory_samples",
+       "most samples in one published trajectory; more is refused with ERROR_TOO_LARGE before sampling",
+       &s.max_samples, 10, 10000000},
+      {"bounds", "max_fleet_vehicles", "vehicles in one fleet request at most", &s.fleet_vehicles, 1, 1000},
+      {"bounds", "max_fleet_tasks", "tasks in one fleet request at most", &s.fleet_tasks, 1, 10000},
+      {"obstacles", "max_speed_mps", "an obstacle's speed at most, m/s", &e.obstacles.max_speed_mps, 0, 10000},
+      {"obstacles", "extent_factor",
+       "an obstacle's size at most, and its position at most this far outside the DEM, in DEM longer sides",
+       &e.obstacles.extent_factor, 0.01, 100},
       {"log", "level", "log level", &c.log_level, -kInf, kInf, {"trace", "debug", "info", "warn", "error"}},
       {"log", "format", "text, or json (one object per line)", &c.log_format, -kInf, kInf, {"text", "json"}},
+      {"log", "repeat_window_s",
+       "a warning repeated for the same vehicle or input and reason is logged once per window, then with its count, "
+       "seconds",
+       &e.log_repeat_window_s, 0.1, 3600},
   };
 }
 
@@ -193,7 +242,7 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
         std::any_of(keys.begin(), keys.end(), [&](const Key& k) { return section == k.section; });
     if (!known_section) {
       return make_error(ErrorCode::kInvalidArgument, section,
-                        "unknown section [" + section + "] (known: terrain, dds, planning, replanning, log)");
+                        "unknown section [" + section + "] (known: terrain, dds, ros2, planning, replanning, bounds, obstacles, log)");
     }
     if (!table) return make_error(ErrorCode::kInvalidArgument, section, "must be a table [" + section + "]");
     for (const auto& [key_name, node] : *table) {
@@ -208,6 +257,16 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
     }
   }
   applyShadow(shadow, config);
+  const VehicleLimitBounds& b = config.engine.pipeline.bounds.limits;
+  if (b.min_speed_mps > b.max_speed_mps) {
+    return make_error(ErrorCode::kInvalidArgument, "bounds.min_speed_mps", "is above bounds.max_speed_mps");
+  }
+  if (b.min_accel_mps2 > b.max_accel_mps2) {
+    return make_error(ErrorCode::kInvalidArgument, "bounds.min_accel_mps2", "is above bounds.max_accel_mps2");
+  }
+  if (b.min_vertical_speed_mps > b.max_speed_mps) {
+    return make_error(ErrorCode::kInvalidArgument, "bounds.min_vertical_speed_mps", "is above bounds.max_speed_mps");
+  }
   if (auto bad = validatePipelineOptions(config.engine.pipeline)) {
     return make_error(ErrorCode::kInvalidArgument, bad->field, bad->message);
   }

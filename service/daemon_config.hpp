@@ -5,9 +5,9 @@
 
 #include <string>
 
+#include "planning/core/result.hpp"
 #include "service/engine.hpp"
 #include "service/world_model.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 
@@ -19,8 +19,11 @@ struct DaemonConfig {
   int domain = 0;
   std::string service_id = "skyrouted";
   double heartbeat_period_s = 1.0;      // ServiceStatus period
-  double flush_timeout_s = 0.5;         // on stop, writers wait this long for acknowledgements
-  // [planning] and [replanning]
+  double flush_timeout_s = 0.5;         // on stop, writers wait this long (in all) for acknowledgements
+  double startup_probe_s = 0.3;         // before serving, listen this long for another daemon with this service_id
+  // [ros2]
+  bool ros2_enabled = true;             // mirror trajectories on ROS 2 topics (dds/ros2_mirror.hpp)
+  // [planning], [replanning], [bounds] (engine.bounds) and [obstacles] (engine.obstacles)
   EngineOptions engine;
   // [log]
   std::string log_level = "info";       // trace, debug, info, warn, error

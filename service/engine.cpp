@@ -6,6 +6,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "service/number_text.hpp"
+#include "service/trajectory_data.hpp"
 
 namespace skyroute {
 
@@ -17,6 +19,7 @@ struct Engine::Job {
 
 struct Engine::Mission {
   MissionRequestData request;
+  std::shared_ptr<WorldModel> world_model;   // planned on (its frame turns ENU into WGS84)
   std::string plan_id;
   MissionPlan plan;                          // order, points and the flight being replanned
   std::shared_ptr<std::atomic<bool>> cancel;
@@ -30,29 +33,121 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// The request's points in ENU, begin first, end last.
+std::vector<Eigen::Vector3d> enuPoints(const MissionRequestData& r, const LocalFrame& frame) {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(r.points.size() + 2);
+  points.push_back(r.begin.toEnu(frame));
+  for (const MissionPointData& p : r.points) points.push_back(p.toEnu(frame));
+  points.push_back(r.end.toEnu(frame));
+  return points;
+}
+
+// Cheap checks on the request's points before anything is planned or estimated: inside the
+// terrain (a point far outside it would make every estimate meaningless), then the footprint.
+std::optional<PlanError> checkRequestSize(const MissionRequestData& r, const WorldModel& world,
+                                          const EngineOptions& options) {
+  const std::vector<Eigen::Vector3d> points = enuPoints(r, world.frame());
+  const int count = static_cast<int>(points.size());
+  for (int i = 0; i < count; ++i) {
+    const Eigen::Vector3d& p = points[static_cast<std::size_t>(i)];
+    if (!world.terrain().inside(p.x(), p.y()) || !world.terrain().boundsEn().contains(p.head<2>())) {
+      return PlanError{PlanErrorCode::kOutsideMap, requestPointName(i, count), enuText(p) + " is outside the terrain"};
+    }
+  }
+  const FootprintOptions footprint = footprintOptions(options);
+  return checkFootprint(estimateFootprint(points, r.fixed_order, r.limits.v_ref_mps, footprint), r.limits.v_ref_mps,
+                        footprint);
+}
+
+// What the order stage chose and what the budget did, in the log.
+void logPlanned(const MissionRequestData& r, const MissionPlan& plan) {
+  const MissionOrder& ordering = plan.mission.ordering;
+  if (!ordering.fallback_reason.empty()) {
+    spdlog::info("event=order_fallback request={} reason=\"{}\"", r.request_id, ordering.fallback_reason);
+  }
+  spdlog::info("event=order request={} method={} cost_m={:.0f} expansions={} time_ms={:.1f} planner={}", r.request_id,
+               ordering.method, ordering.cost_m, ordering.expansions, ordering.time_ms, plan.mission.planner->name);
+  for (const std::string& note : plan.notes) {
+    spdlog::warn("event=budget_capped request={} vehicle={} note=\"{}\"", r.request_id, r.vehicle_id, note);
+  }
+}
+
+PlanStatusData cancelledStatus(const MissionRequestData& r, const std::string& why) {
+  return PlanStatusData::failed(r, PlanError{PlanErrorCode::kCancelled, "", why}, 0.0);
+}
+
 }  // namespace
 
-Result<std::unique_ptr<Engine>> Engine::create(std::shared_ptr<WorldModel> world, const EngineOptions& options,
-                                               EngineSink& sink, Clock clock) {
-  if (!world) return make_error(ErrorCode::kInvalidArgument, "world", "no world model");
+FootprintOptions footprintOptions(const EngineOptions& o) {
+  const PipelineOptions& p = o.pipeline;
+  FootprintOptions f;
+  f.sample_dt_s = p.sample_dt_s;
+  f.trajectory = p.bounds.trajectory;
+  f.leg_max_iterations = p.budget.leg_max_iterations;
+  f.leg_budget_ms = p.budget.leg_time_cap_s * 1e3;
+  f.waypoint_spacing_m = p.replan.route.trajectory.waypoint_spacing_m;
+  f.order_cells_per_axis = p.order.max_cells_per_axis;
+  f.memory_share_bytes = o.memory_budget_mb * 1024.0 * 1024.0 / std::max(1, o.planning_threads);
+  return f;
+}
+
+Status validateEngineOptions(const EngineOptions& options) {
   if (options.planning_threads < 1) {
     return make_error(ErrorCode::kInvalidArgument, "planning.threads", "must be at least 1");
+  }
+  if (!(options.log_repeat_window_s > 0.0)) {
+    return make_error(ErrorCode::kInvalidArgument, "log.repeat_window_s", "must be positive");
   }
   if (auto bad = validatePipelineOptions(options.pipeline)) {
     return make_error(ErrorCode::kInvalidArgument, bad->field, bad->message);
   }
+  return Status::success();
+}
+
+Result<std::unique_ptr<Engine>> Engine::create(std::shared_ptr<WorldModel> world, const EngineOptions& options,
+                                               EngineSink& sink, Clock clock) {
+  if (!world) return make_error(ErrorCode::kInvalidArgument, "world", "no world model");
+  if (Status ok = validateEngineOptions(options); !ok.ok()) return ok.error();
   if (!clock) clock = utcNowNs;
   return std::unique_ptr<Engine>(new Engine(std::move(world), options, sink, std::move(clock)));
 }
 
 Engine::Engine(std::shared_ptr<WorldModel> world, const EngineOptions& options, EngineSink& sink, Clock clock)
-    : world_(std::move(world)), sink_(sink), clock_(std::move(clock)), options_(options) {}
+    : sink_(sink),
+      clock_(std::move(clock)),
+      world_(std::move(world)),
+      options_(options),
+      registry_(options.max_stored_results),
+      throttle_(options.log_repeat_window_s) {}
 
 Engine::~Engine() { stop(); }
 
-void Engine::setOptions(const EngineOptions& options) {
-  std::lock_guard lock(mutex_);
-  options_ = options;
+Status Engine::setOptions(const EngineOptions& options) {
+  if (Status ok = validateEngineOptions(options); !ok.ok()) return ok;
+  std::vector<std::thread> retired;
+  {
+    std::lock_guard lock(mutex_);
+    options_ = options;
+    registry_.setCapacity(options.max_stored_results);
+    throttle_.setWindowS(options.log_repeat_window_s);
+    if (running_ && !stopping_) {
+      startWorkers(options.planning_threads);
+      // Workers that retired from an earlier reload have ended: join them now.
+      for (auto it = workers_.begin(); it != workers_.end();) {
+        if (std::find(retired_.begin(), retired_.end(), it->get_id()) != retired_.end()) {
+          retired.push_back(std::move(*it));
+          it = workers_.erase(it);
+        } else {
+          ++it;
+        }
+      }
+      retired_.clear();
+    }
+  }
+  work_cv_.notify_all();  // workers beyond the new count retire after their current plan
+  for (std::thread& t : retired) t.join();
+  return Status::success();
 }
 
 EngineOptions Engine::options() const {
@@ -60,39 +155,107 @@ EngineOptions Engine::options() const {
   return options_;
 }
 
-void Engine::status(const MissionRequestData& request, PlanState state, double planning_time_s,
-                    std::string message) {
+std::shared_ptr<WorldModel> Engine::world() const {
+  std::lock_guard lock(mutex_);
+  return world_;
+}
+
+Status Engine::canReplaceWorld() const {
+  std::lock_guard lock(mutex_);
+  const std::size_t busy = missions_.size() + queue_.size() + in_flight_.size();
+  if (busy == 0) return Status::success();
+  return make_error(ErrorCode::kInvalidArgument, "terrain.dem",
+                    "a terrain change is refused while missions are active or requests are waiting (" +
+                        std::to_string(missions_.size()) + " active, " + std::to_string(queue_.size()) + " queued, " +
+                        std::to_string(in_flight_.size()) + " planning): their trajectories were checked on the "
+                        "terrain in force; cancel them or let them finish, then reload");
+}
+
+Status Engine::replaceWorld(std::shared_ptr<WorldModel> world) {
+  if (!world) return make_error(ErrorCode::kInvalidArgument, "terrain.dem", "no world model");
+  if (Status free = canReplaceWorld(); !free.ok()) return free;
+  // Under the lock that obstacle updates and new missions take: none is lost or planned on the
+  // old terrain between the check and the swap.
+  std::lock_guard lock(mutex_);
+  if (!missions_.empty() || !queue_.empty() || !in_flight_.empty()) {
+    return make_error(ErrorCode::kInvalidArgument, "terrain.dem", "a request arrived during the terrain change; retry");
+  }
+  world->adoptObstacles(*world_);
+  world_ = std::move(world);
+  return Status::success();
+}
+
+void Engine::status(const MissionRequestData& request, PlanState state, double planning_time_s) {
   PlanStatusData s;
   s.request_id = request.request_id;
   s.vehicle_id = request.vehicle_id;
   s.state = state;
   s.planning_time_s = planning_time_s;
-  s.message = std::move(message);
+  s.requester = request.requester;
   sink_.publishStatus(s);
+}
+
+void Engine::finish(const PlanStatusData& status) {
+  {
+    std::lock_guard lock(mutex_);
+    registry_.finish(status);
+  }
+  sink_.publishStatus(status);
+}
+
+std::optional<PlanError> Engine::queueRefusal() const {
+  if (stopping_) return PlanError{PlanErrorCode::kBusy, "", "the service is shutting down"};
+  if (queue_.size() >= options_.max_queue) {
+    return PlanError{PlanErrorCode::kBusy, "",
+                     "the planning queue is full (" + std::to_string(options_.max_queue) + " requests); retry later"};
+  }
+  return std::nullopt;
 }
 
 std::optional<PlanError> Engine::enqueue(std::unique_ptr<Job> job, const Validator& validate) {
   std::lock_guard lock(mutex_);
   std::optional<PlanError> problem = validate(options_);
-  if (!problem && stopping_) problem = PlanError{PlanErrorCode::kBusy, "", "the service is shutting down"};
-  if (!problem && queue_.size() >= options_.max_queue) {
-    problem = PlanError{PlanErrorCode::kBusy, "",
-                        "the planning queue is full (" + std::to_string(options_.max_queue) + " requests); retry later"};
-  }
+  if (!problem) problem = queueRefusal();
   if (!problem) queue_.push_back(std::move(job));
   return problem;
 }
 
 std::optional<PlanError> Engine::submit(MissionRequestData request) {
-  auto job = std::make_unique<Job>();
-  job->request = request;
-  const std::optional<PlanError> problem = enqueue(std::move(job), [&](const EngineOptions& o) {
-    if (auto bad = validateMissionRequest(request, o.pipeline.bounds)) return bad;
-    return request.planner.empty() ? std::nullopt : findRoutePlanner(request.planner, nullptr);
-  });
+  std::optional<PlanError> problem;
+  std::optional<PlanStatusData> stored;
+  {
+    std::lock_guard lock(mutex_);
+    if (registry_.inFlight(request.vehicle_id, request.request_id)) {
+      problem = PlanError{PlanErrorCode::kDuplicateRequest, "request_id",
+                          "request_id '" + request.request_id + "' is already queued or being planned for vehicle '" +
+                              request.vehicle_id + "': a request id names one plan; use a new id"};
+    } else if (!(stored = registry_.finished(request.vehicle_id, request.request_id))) {
+      problem = validateMissionRequest(request, options_.pipeline.bounds);
+      if (!problem && !request.planner.empty()) problem = findRoutePlanner(request.planner, nullptr);
+      if (!problem) problem = checkRequestSize(request, *world_, options_);
+      if (!problem) problem = queueRefusal();
+      if (!problem) {
+        registry_.begin(request.vehicle_id, request.request_id);
+        auto job = std::make_unique<Job>();
+        job->request = request;
+        queue_.push_back(std::move(job));
+      }
+    }
+  }
+  if (stored) {
+    // A finished request's id again: its stored answer, addressed to the new requester; no new plan.
+    spdlog::info("event=duplicate_request request={} vehicle={} answered=stored state={}", request.request_id,
+                 request.vehicle_id, to_string(stored->state));
+    stored->requester = request.requester;
+    sink_.publishStatus(*stored);
+    return std::nullopt;
+  }
   if (problem) {
-    spdlog::warn("event=request_rejected request={} vehicle={} code={} field={} message=\"{}\"", request.request_id,
-                 request.vehicle_id, to_string(problem->code), problem->field, problem->message);
+    throttle_.warn("request_rejected:" + request.vehicle_id + ":" + std::string(to_string(problem->code)) + ":" +
+                       problem->field,
+                   fmt::format("event=request_rejected request={} vehicle={} code={} field={} message=\"{}\"",
+                               request.request_id, request.vehicle_id, to_string(problem->code), problem->field,
+                               problem->message));
     sink_.publishStatus(PlanStatusData::failed(request, *problem, 0.0));
     return problem;
   }
@@ -127,10 +290,11 @@ std::optional<PlanError> Engine::submitFleet(FleetRequestData request) {
   auto job = std::make_unique<Job>();
   job->fleet = request;
   const std::optional<PlanError> problem = enqueue(
-      std::move(job), [&](const EngineOptions& o) { return validateFleetRequest(request, o.pipeline.fleet); });
+      std::move(job), [&](const EngineOptions& o) { return validateFleetRequest(request, fleetMissionOptions(o.pipeline)); });
   if (problem) {
-    spdlog::warn("event=fleet_rejected request={} code={} field={} message=\"{}\"", request.request_id,
-                 to_string(problem->code), problem->field, problem->message);
+    throttle_.warn("fleet_rejected:" + std::string(to_string(problem->code)) + ":" + problem->field,
+                   fmt::format("event=fleet_rejected request={} code={} field={} message=\"{}\"", request.request_id,
+                               to_string(problem->code), problem->field, problem->message));
     sink_.publishFleetStatus(fleetFailed(request.request_id, *problem));
     return problem;
   }
@@ -148,7 +312,7 @@ void Engine::planFleetJob(Job& job) {
     return;
   }
   sink_.publishFleetStatus(fleetStatus(r.request_id, PlanState::kPlanning));
-  const MissionPipeline pipeline(world_, options().pipeline);
+  const MissionPipeline pipeline(world(), options().pipeline);
   TerminationCondition stop;
   stop.withCancelFlag(job.cancel);
   const FleetPlanOutput out = pipeline.planFleet(r, clock_(), stop);
@@ -159,15 +323,23 @@ void Engine::planFleetJob(Job& job) {
     return;
   }
   // A vehicle's own mission ends: the fleet's trajectory replaces it (and is not replanned).
+  // Decided under the lock, so a stop that began meanwhile is answered cancelled, never succeeded.
   std::vector<std::shared_ptr<Mission>> replaced;
+  bool stopped = false;
   {
     std::lock_guard lock(mutex_);
+    stopped = job.cancel->load() || stopping_;
     for (const std::string& vehicle : r.vehicle_ids) {
+      if (stopped) break;
       if (auto it = missions_.find(vehicle); it != missions_.end()) {
         replaced.push_back(it->second);
         missions_.erase(it);
       }
     }
+  }
+  if (stopped) {
+    sink_.publishFleetStatus(fleetFailed(r.request_id, PlanError{PlanErrorCode::kCancelled, "", "cancelled during planning"}));
+    return;
   }
   for (const std::shared_ptr<Mission>& m : replaced) {
     m->cancel->store(true);
@@ -222,41 +394,70 @@ bool Engine::cancel(const CancelRequestData& request) {
     cancelled.push_back(ended->request);
     sink_.retractTrajectory(request.vehicle_id);
   }
-  for (const MissionRequestData& r : cancelled) {
-    PlanStatusData s = PlanStatusData::failed(r, PlanError{PlanErrorCode::kCancelled, "", "cancelled on request"}, 0.0);
-    s.state = PlanState::kCancelled;
-    sink_.publishStatus(s);
-  }
+  for (const MissionRequestData& r : cancelled) finish(cancelledStatus(r, "cancelled on request"));
   if (!cancelled.empty() || matched) {
     spdlog::info("event=cancel vehicle={} request={} cancelled={}", request.vehicle_id, request.request_id,
                  cancelled.size() + (matched ? 1 : 0));
+    return true;
   }
-  return matched || !cancelled.empty();
+  // Nothing to cancel: say so to the canceller (a finished request keeps its stored result).
+  const std::string what = request.request_id.empty() ? "no request" : "no request '" + request.request_id + "'";
+  const PlanError error{PlanErrorCode::kInvalidArgument, request.request_id.empty() ? "vehicle_id" : "request_id",
+                        "cancel refused: " + what + " of vehicle '" + request.vehicle_id +
+                            "' is queued, being planned or flying"};
+  throttle_.warn("cancel_unknown:" + request.vehicle_id + ":" + request.request_id,
+                 fmt::format("event=cancel_rejected vehicle={} request={} message=\"{}\"", request.vehicle_id,
+                             request.request_id, error.message));
+  MissionRequestData identity;
+  identity.request_id = request.request_id;
+  identity.vehicle_id = request.vehicle_id;
+  identity.requester = request.requester;
+  sink_.publishStatus(PlanStatusData::failed(identity, error, 0.0));
+  return false;
 }
 
 std::optional<PlanError> Engine::updateObstacle(const ObstacleUpdateData& update) {
+  const std::shared_ptr<WorldModel> world = this->world();
+  std::optional<PlanError> problem;
   if (!update.remove) {
-    if (auto problem = validateObstacleUpdate(update)) {
-      spdlog::warn("event=obstacle_rejected id={} field={} message=\"{}\"", update.obstacle.id, problem->field,
-                   problem->message);
-      return problem;
-    }
+    problem = validateObstacleUpdate(update);
+    if (!problem) problem = checkObstacleBounds(update, world->terrain(), options().obstacles);
   }
-  world_->apply(update);
-  spdlog::debug("event=obstacle_update id={} remove={} motion={}", update.obstacle.id, update.remove,
-                to_string(update.motionKind()));
+  if (problem) {
+    throttle_.warn("obstacle_rejected:" + std::to_string(update.obstacle.id) + ":" + problem->field,
+                   fmt::format("event=obstacle_rejected id={} code={} field={} message=\"{}\"", update.obstacle.id,
+                               to_string(problem->code), problem->field, problem->message));
+    return problem;
+  }
   {
-    std::lock_guard lock(mutex_);
+    std::lock_guard lock(mutex_);  // the world in force (a reload may be replacing it)
+    world_->apply(update);
     replan_wake_ = true;
   }
+  spdlog::debug("event=obstacle_update id={} remove={} motion={}", update.obstacle.id, update.remove,
+                to_string(update.motionKind()));
   replan_cv_.notify_one();
   return std::nullopt;
 }
 
-Result<TrajectoryData, PlanError> Engine::trajectoryOf(const Mission& mission) const {
-  const MissionPipeline pipeline(world_, options().pipeline);
+TrajectoryData Engine::trajectoryOf(const Mission& mission) const {
+  const MissionPipeline pipeline(mission.world_model, options().pipeline);
   return pipeline.sample(mission.plan, TrajectoryIdentity{mission.request.vehicle_id, mission.plan_id,
                                                           mission.plan.flight->revision(), mission.request.request_id});
+}
+
+std::vector<TrajectoryData> Engine::currentTrajectories() const {
+  std::vector<std::shared_ptr<Mission>> missions;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [vehicle, mission] : missions_) missions.push_back(mission);
+  }
+  std::vector<TrajectoryData> out;
+  for (const std::shared_ptr<Mission>& mission : missions) {
+    std::lock_guard mission_lock(mission->mutex);
+    if (!mission->ended) out.push_back(trajectoryOf(*mission));
+  }
+  return out;
 }
 
 void Engine::plan(Job& job) {
@@ -267,86 +468,96 @@ void Engine::plan(Job& job) {
   const auto started = std::chrono::steady_clock::now();
   const MissionRequestData& r = job.request;
   if (job.cancel->load()) {
-    PlanStatusData s = PlanStatusData::failed(r, PlanError{PlanErrorCode::kCancelled, "", "cancelled before planning"}, 0.0);
-    s.state = PlanState::kCancelled;
-    sink_.publishStatus(s);
+    finish(cancelledStatus(r, "cancelled before planning"));
     return;
   }
   status(r, PlanState::kPlanning);
-  const MissionPipeline pipeline(world_, options().pipeline);
-  TerminationCondition stop;
-  stop.withCancelFlag(job.cancel);
-  const double now_s = static_cast<double>(clock_()) * 1e-9;
-  auto planned = pipeline.plan(PipelineRequest{r, std::nullopt, std::nullopt}, now_s, stop);
-  std::shared_ptr<Mission> mission;
+  const EngineOptions options = this->options();
+  const std::shared_ptr<WorldModel> world_model = world();
   PlanError error;
-  if (planned.ok()) {
-    mission = std::make_shared<Mission>();
-    mission->request = r;
-    mission->plan = std::move(planned.value());
-    mission->cancel = job.cancel;
-    const OrderedMission& m = mission->plan.mission;
-    if (!m.ordering.fallback_reason.empty()) {
-      spdlog::info("event=order_fallback request={} reason=\"{}\"", r.request_id, m.ordering.fallback_reason);
-    }
-    spdlog::info("event=order request={} method={} cost_m={:.0f} expansions={} time_ms={:.1f} planner={}",
-                 r.request_id, m.ordering.method, m.ordering.cost_m, m.ordering.expansions, m.ordering.time_ms,
-                 m.planner->name);
-    for (const std::string& note : mission->plan.notes) {
-      spdlog::warn("event=budget_capped request={} vehicle={} note=\"{}\"", r.request_id, r.vehicle_id, note);
-    }
+  std::shared_ptr<Mission> mission;
+  // The memory guard, on the planner thread with the options in force now (a reload may have
+  // changed the thread count, and with it each thread's share).
+  if (auto too_large = checkRequestSize(r, *world_model, options)) {
+    error = *too_large;
   } else {
-    error = planned.error();
+    const MissionPipeline pipeline(world_model, options.pipeline);
+    TerminationCondition stop;
+    stop.withCancelFlag(job.cancel);
+    auto planned = pipeline.plan(PipelineRequest{r, std::nullopt, std::nullopt}, static_cast<double>(clock_()) * 1e-9,
+                                 stop);
+    if (planned.ok()) {
+      mission = std::make_shared<Mission>();
+      mission->request = r;
+      mission->world_model = world_model;
+      mission->plan = std::move(planned.value());
+      mission->cancel = job.cancel;
+      logPlanned(r, mission->plan);
+    } else {
+      error = planned.error();
+    }
   }
   const double planning_s = secondsSince(started);
-  if (mission && job.cancel->load()) {
-    mission.reset();
-    error = PlanError{PlanErrorCode::kCancelled, "", "cancelled during planning"};
-  }
   if (!mission) {
-    if (error.code == PlanErrorCode::kCancelled && job.cancel->load()) error.message = "cancelled during planning";
-    PlanStatusData s = PlanStatusData::failed(r, error, planning_s);
-    if (error.code == PlanErrorCode::kCancelled) s.state = PlanState::kCancelled;
-    spdlog::warn("event=plan_failed request={} vehicle={} code={} stage={} field={} message=\"{}\" time_s={:.3f}",
-                 r.request_id, r.vehicle_id, to_string(error.code), to_string(error.stage), error.field, error.message,
-                 planning_s);
-    sink_.publishStatus(s);
+    if (error.code == PlanErrorCode::kCancelled) {
+      // Where it stopped (e.g. "stopped while checking the trajectory") tells which stage heard it.
+      error.message = "cancelled during planning" + (error.message.empty() ? "" : ": " + error.message);
+      spdlog::info("event=plan_cancelled request={} vehicle={} field={} message=\"{}\" time_s={:.3f}", r.request_id,
+                   r.vehicle_id, error.field, error.message, planning_s);
+      finish(PlanStatusData::failed(r, error, planning_s));
+      return;
+    }
+    const PlanStatusData s = PlanStatusData::failed(r, error, planning_s);
+    throttle_.warn("plan_failed:" + r.vehicle_id + ":" + std::string(to_string(error.code)) + ":" + error.field,
+                   fmt::format("event=plan_failed request={} vehicle={} code={} stage={} field={} message=\"{}\" "
+                               "time_s={:.3f}",
+                               r.request_id, r.vehicle_id, to_string(error.code), to_string(error.stage), error.field,
+                               error.message, planning_s));
+    finish(s);
     return;
   }
   // Registered and published under the mission's lock, so the replanning loop cannot publish
-  // revision 1 before revision 0 is out.
+  // revision 1 before revision 0 is out. Registered under the engine's lock only when no cancel
+  // or stop came first: after stop() began, a plan is answered cancelled, never succeeded.
   std::unique_lock mission_lock(mission->mutex);
   std::shared_ptr<Mission> replaced;
+  bool registered = false;
   {
     std::lock_guard lock(mutex_);
-    mission->plan_id = r.vehicle_id + "-" + std::to_string(++plan_counter_);
-    if (auto it = missions_.find(r.vehicle_id); it != missions_.end()) replaced = it->second;
-    missions_[r.vehicle_id] = mission;
+    if (!job.cancel->load() && !stopping_) {
+      mission->plan_id = r.vehicle_id + "-" + std::to_string(++plan_counter_);
+      if (auto it = missions_.find(r.vehicle_id); it != missions_.end()) replaced = it->second;
+      missions_[r.vehicle_id] = mission;
+      registered = true;
+    }
+  }
+  if (!registered) {
+    mission_lock.unlock();
+    spdlog::info("event=plan_cancelled request={} vehicle={} time_s={:.3f}", r.request_id, r.vehicle_id, planning_s);
+    finish(cancelledStatus(r, "cancelled during planning"));
+    return;
   }
   if (replaced) {  // its replanning stops
     replaced->cancel->store(true);
     std::lock_guard old_lock(replaced->mutex);
     replaced->ended = true;
   }
-  auto data = trajectoryOf(*mission);
-  if (!data.ok()) {
-    mission->ended = true;
-    mission_lock.unlock();
-    {
-      std::lock_guard lock(mutex_);
-      if (auto it = missions_.find(r.vehicle_id); it != missions_.end() && it->second == mission) missions_.erase(it);
-    }
-    sink_.publishStatus(PlanStatusData::failed(r, data.error(), planning_s));
-    return;
-  }
-  sink_.publishTrajectory(*data);
+  const TrajectoryData data = trajectoryOf(*mission);
+  sink_.publishTrajectory(data);
   mission_lock.unlock();
-  std::string notes;
-  for (const std::string& note : mission->plan.notes) notes += (notes.empty() ? "" : "; ") + note;
   spdlog::info("event=plan_succeeded request={} vehicle={} plan={} duration_s={:.1f} samples={} time_s={:.3f}",
-               r.request_id, r.vehicle_id, data->plan_id, mission->plan.flight->route().built.trajectory.duration_s(),
-               data->samples.size(), planning_s);
-  status(r, PlanState::kSucceeded, planning_s, notes);
+               r.request_id, r.vehicle_id, data.plan_id, mission->plan.flight->route().built.trajectory.duration_s(),
+               data.samples.size(), planning_s);
+  PlanStatusData succeeded;
+  succeeded.request_id = r.request_id;
+  succeeded.vehicle_id = r.vehicle_id;
+  succeeded.state = PlanState::kSucceeded;
+  succeeded.planning_time_s = planning_s;
+  succeeded.requester = r.requester;
+  for (const std::string& note : mission->plan.notes) {
+    succeeded.message += (succeeded.message.empty() ? "" : "; ") + note;  // e.g. a fired wall-clock cap
+  }
+  finish(succeeded);
 }
 
 bool Engine::planNext() {
@@ -366,7 +577,8 @@ bool Engine::planNext() {
 
 std::size_t Engine::replanCycle() {
   const double now_s = static_cast<double>(clock_()) * 1e-9;
-  world_->expire(now_s);
+  world()->expire(now_s);
+  throttle_.flush();
   std::vector<std::shared_ptr<Mission>> missions;
   {
     std::lock_guard lock(mutex_);
@@ -391,26 +603,31 @@ std::size_t Engine::replanCycle() {
     }
     const ReplanStep step = mission->plan.flight->step(now_s);
     if (step.replanned) {
-      auto data = trajectoryOf(*mission);
-      if (!data.ok()) {
-        spdlog::warn("event=replan_failed request={} vehicle={} field={} message=\"{}\"", mission->request.request_id,
-                     mission->request.vehicle_id, data.error().field, data.error().message);
-        continue;
-      }
-      sink_.publishTrajectory(*data);
+      const TrajectoryData data = trajectoryOf(*mission);
+      sink_.publishTrajectory(data);
       mission_lock.unlock();
       ++replans_;
       ++published;
       spdlog::info("event=replanned request={} vehicle={} plan={} revision={} latency_ms={:.1f}",
-                   mission->request.request_id, mission->request.vehicle_id, mission->plan_id, data->revision,
+                   mission->request.request_id, mission->request.vehicle_id, mission->plan_id, data.revision,
                    step.latency_ms);
       status(mission->request, PlanState::kReplanned, step.latency_ms * 1e-3);
     } else if (step.failure) {
-      spdlog::warn("event=replan_failed request={} vehicle={} field={} message=\"{}\"", mission->request.request_id,
-                   mission->request.vehicle_id, step.failure->field, step.failure->message);
+      // A blocked vehicle fails every cycle (10 Hz) until the obstacle moves: one line per window.
+      throttle_.warn("replan_failed:" + mission->request.vehicle_id + ":" + step.failure->field,
+                     fmt::format("event=replan_failed request={} vehicle={} field={} message=\"{}\"",
+                                 mission->request.request_id, mission->request.vehicle_id, step.failure->field,
+                                 step.failure->message));
     }
   }
   return published;
+}
+
+void Engine::startWorkers(int count) {
+  while (running_workers_ < count) {
+    ++running_workers_;
+    workers_.emplace_back([this] { workerLoop(); });
+  }
 }
 
 void Engine::workerLoop() {
@@ -418,8 +635,14 @@ void Engine::workerLoop() {
     std::unique_ptr<Job> job;
     {
       std::unique_lock lock(mutex_);
-      work_cv_.wait(lock, [&] { return stopping_.load() || !queue_.empty(); });
+      const auto retire = [&] { return running_workers_ > options_.planning_threads; };
+      work_cv_.wait(lock, [&] { return stopping_.load() || !queue_.empty() || retire(); });
       if (stopping_) return;
+      if (retire()) {
+        --running_workers_;
+        retired_.push_back(std::this_thread::get_id());
+        return;
+      }
       job = std::move(queue_.front());
       queue_.pop_front();
       in_flight_.push_back(job.get());
@@ -451,8 +674,12 @@ void Engine::replanLoop() {
 void Engine::start() {
   if (running_.exchange(true)) return;
   stopping_ = false;
-  const int threads = options().planning_threads;
-  for (int i = 0; i < threads; ++i) workers_.emplace_back([this] { workerLoop(); });
+  int threads = 0;
+  {
+    std::lock_guard lock(mutex_);
+    threads = options_.planning_threads;
+    startWorkers(threads);
+  }
   replanner_ = std::thread([this] { replanLoop(); });
   spdlog::info("event=engine_started planning_threads={}", threads);
 }
@@ -460,6 +687,7 @@ void Engine::start() {
 void Engine::stop() {
   std::vector<MissionRequestData> dropped;
   std::vector<std::string> dropped_fleets;
+  std::vector<std::thread> workers;
   {
     std::lock_guard lock(mutex_);
     if (stopping_ && !running_) return;
@@ -474,20 +702,20 @@ void Engine::stop() {
       }
     }
     queue_.clear();
+    workers = std::move(workers_);
+    workers_.clear();
+    running_workers_ = 0;
+    retired_.clear();
   }
   work_cv_.notify_all();
   replan_cv_.notify_all();
-  for (std::thread& t : workers_) t.join();
-  workers_.clear();
+  for (std::thread& t : workers) t.join();
   if (replanner_.joinable()) replanner_.join();
-  for (const MissionRequestData& r : dropped) {
-    PlanStatusData s = PlanStatusData::failed(r, PlanError{PlanErrorCode::kCancelled, "", "the service stopped"}, 0.0);
-    s.state = PlanState::kCancelled;
-    sink_.publishStatus(s);
-  }
+  for (const MissionRequestData& r : dropped) finish(cancelledStatus(r, "the service stopped"));
   for (const std::string& id : dropped_fleets) {
     sink_.publishFleetStatus(fleetFailed(id, PlanError{PlanErrorCode::kCancelled, "", "the service stopped"}));
   }
+  throttle_.flushAll();
   if (running_.exchange(false)) spdlog::info("event=engine_stopped");
 }
 
@@ -506,12 +734,15 @@ ServiceStatusData Engine::status(const std::string& service_id) const {
   s.service_id = service_id;
   s.stamp_utc_ns = clock_();
   s.terrain_loaded = true;
-  s.terrain_name = world_->terrainName();
+  std::shared_ptr<WorldModel> world_model;
   {
     std::lock_guard lock(mutex_);
     s.vehicles = static_cast<std::uint32_t>(missions_.size());
     s.queue_length = static_cast<std::uint32_t>(queue_.size());
+    world_model = world_;
   }
+  s.terrain_name = world_model->terrainName();
+  s.obstacles = static_cast<std::uint32_t>(world_model->obstacleCount());
   s.replans = static_cast<std::uint32_t>(replans_.load());
   return s;
 }

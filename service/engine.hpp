@@ -5,6 +5,14 @@
 // Every replanning cycle (t_ref = 0.1 s, and at once after an obstacle update) each active mission
 // checks the obstacles ahead and, when one will meet it, publishes a new revision.
 //
+// Size: a request is refused (kTooLarge) when the lower bound of its trajectory's duration or
+// sample count, or its memory estimate, exceeds its bound (request_footprint.hpp), at submit and
+// again on the planner thread; the pipeline checks the built trajectory before it is sampled.
+// Request ids: (vehicle, request id) names one plan (request_registry.hpp).
+// Stopping: every long stage (ordering, legs, trajectory building and repair, sampling) checks
+// the job's cancel flag, which stop() sets; a plan that finishes after stop() began is answered
+// cancelled, never succeeded.
+//
 // Threads: submit(), cancel() and updateObstacle() only queue or flag and return at once, so the
 // DDS edge never plans on its own threads. start() runs planning workers and the replanning loop;
 // without start(), planNext() and replanCycle() do the same work on the caller's thread (tests).
@@ -25,8 +33,12 @@
 #include <thread>
 #include <vector>
 
+#include "service/log_throttle.hpp"
 #include "service/mission_pipeline.hpp"
 #include "service/mission_types.hpp"
+#include "service/obstacle_bounds.hpp"
+#include "service/request_footprint.hpp"
+#include "service/request_registry.hpp"
 #include "service/world_model.hpp"
 
 namespace skyroute {
@@ -36,7 +48,18 @@ struct EngineOptions {
   int planning_threads = 1;             // requests planned at once
   std::size_t max_queue = 64;           // requests waiting beyond this are refused (kBusy)
   bool replanning = true;               // run the replanning loop on active missions
+  // What the planning threads may use together; each has an equal share, and a request whose
+  // estimate exceeds it is refused (kTooLarge). 0 = no memory guard.
+  double memory_budget_mb = 2048.0;
+  std::size_t max_stored_results = 1024;  // finished requests remembered to answer duplicates
+  double log_repeat_window_s = 10.0;    // a repeated warning is logged once per window, with a count
+  ObstacleBounds obstacles;             // what an obstacle update may describe
 };
+
+// The footprint bounds and estimates of the engine's options (request_footprint.hpp).
+FootprintOptions footprintOptions(const EngineOptions& options);
+// kInvalidArgument naming the option (planning_threads, sample_dt_s, ...) when it is unusable.
+Status validateEngineOptions(const EngineOptions& options);
 
 // Where results go. Called from engine threads (never while an engine lock is held).
 class EngineSink {
@@ -71,7 +94,8 @@ class Engine {
   // of one of the vehicles ends, its trajectory replaced).
   std::optional<PlanError> submitFleet(FleetRequestData request);
   // Stops a queued or in-flight plan, or ends an active mission; answers with a cancelled status.
-  // Returns false when nothing matched.
+  // When nothing matches, answers with a failed status naming what was not found (addressed to
+  // the canceller) and returns false.
   bool cancel(const CancelRequestData& request);
   // Applies an obstacle update to the world and wakes the replanning loop. Bad updates are refused.
   std::optional<PlanError> updateObstacle(const ObstacleUpdateData& update);
@@ -84,15 +108,23 @@ class Engine {
   void stop();   // cancels in-flight plans, ends the threads (idempotent)
   bool running() const { return running_.load(); }
 
-  // Tunables for the requests that follow (the daemon's SIGHUP reload).
-  void setOptions(const EngineOptions& options);
+  // Tunables for the requests that follow (the daemon's SIGHUP reload); a new planning_threads
+  // starts or retires workers (a retiring worker finishes its plan first). Errors as create().
+  Status setOptions(const EngineOptions& options);
   EngineOptions options() const;
+  // A new terrain (the daemon's SIGHUP reload), refused (kInvalidArgument naming "terrain.dem")
+  // while a mission is active or a request is queued or being planned: their trajectories were
+  // planned and checked on the old terrain. The obstacles in force move over to it.
+  Status replaceWorld(std::shared_ptr<WorldModel> world);
+  Status canReplaceWorld() const;  // the refusal replaceWorld would give now, if any
+  // Every active mission's current trajectory, sampled again (to publish on a new DDS domain).
+  std::vector<TrajectoryData> currentTrajectories() const;
 
   ServiceStatusData status(const std::string& service_id) const;
   std::size_t activeMissions() const;
   std::size_t queueLength() const;
   std::uint64_t replans() const { return replans_.load(); }
-  const WorldModel& world() const { return *world_; }
+  std::shared_ptr<WorldModel> world() const;
 
  private:
   struct Job;
@@ -102,24 +134,31 @@ class Engine {
   // engine stops or the queue is full (kBusy), else queues the job. Returns the refusal.
   using Validator = std::function<std::optional<PlanError>(const EngineOptions&)>;
   std::optional<PlanError> enqueue(std::unique_ptr<Job> job, const Validator& validate);
+  std::optional<PlanError> queueRefusal() const;  // shutting down or queue full (under mutex_)
   void plan(Job& job);
   void planFleetJob(Job& job);
-  void status(const MissionRequestData& request, PlanState state, double planning_time_s = 0.0,
-              std::string message = {});
-  // The mission's current trajectory as published, or the sampling stage's error.
-  Result<TrajectoryData, PlanError> trajectoryOf(const Mission& mission) const;
+  void status(const MissionRequestData& request, PlanState state, double planning_time_s = 0.0);
+  // Publishes a request's final status and records it for duplicates of the request.
+  void finish(const PlanStatusData& status);
+  // The published form of a mission's current trajectory (the pipeline's sampling stage).
+  TrajectoryData trajectoryOf(const Mission& mission) const;
+  void startWorkers(int count);  // under mutex_
   void workerLoop();
   void replanLoop();
 
-  std::shared_ptr<WorldModel> world_;
   EngineSink& sink_;
   Clock clock_;
 
-  mutable std::mutex mutex_;  // options_, queue_, in_flight_, missions_
+  mutable std::mutex mutex_;  // world_, options_, queue_, in_flight_, missions_, registry_, workers
+  std::shared_ptr<WorldModel> world_;
   EngineOptions options_;
   std::deque<std::unique_ptr<Job>> queue_;
   std::vector<Job*> in_flight_;                                // jobs being planned
   std::map<std::string, std::shared_ptr<Mission>> missions_;   // vehicle id -> active mission
+  RequestRegistry registry_;
+  LogThrottle throttle_;                                       // repeated warnings
+  int running_workers_ = 0;                                    // workers not retired
+  std::vector<std::thread::id> retired_;                       // exited workers, to join
   std::condition_variable work_cv_;
   std::condition_variable replan_cv_;
   bool replan_wake_ = false;

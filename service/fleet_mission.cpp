@@ -8,7 +8,8 @@
 
 #include <spdlog/spdlog.h>
 
-#include "planning/fleet_planner.hpp"
+#include "planning/fleet/fleet_planner.hpp"
+#include "service/request_footprint.hpp"
 #include "service/trajectory_data.hpp"
 #include "terrain/grid_from_terrain.hpp"
 
@@ -294,12 +295,7 @@ std::optional<PlanError> validateFleetRequest(const FleetRequestData& r, const F
   for (std::size_t j = 0; j < r.tasks.size(); ++j) {
     if (auto e = checkPoint(r.tasks[j], indexed("tasks", j))) return e;
   }
-  if (Status ok = toVehicleLimits(r.limits).validate(); !ok.ok()) {
-    std::string field = ok.error().field;
-    if (field == "limits.max_climb_mps") field = "limits.max_climb_rate_mps";
-    if (field == "limits.max_descent_mps") field = "limits.max_descent_rate_mps";
-    return fail(PlanErrorCode::kLimitsOutOfRange, field, ok.error().message);
-  }
+  if (auto e = checkVehicleLimits(r.limits, options.limit_bounds)) return e;
   if (!r.planner.empty() && r.planner != kFleetPlannerGreedy) {
     return fail(PlanErrorCode::kUnknownPlanner, "planner",
                 "'" + r.planner + "' is not a fleet planner (\"\" or \"" + kFleetPlannerGreedy + "\")");
@@ -539,6 +535,15 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
     a.vehicle_id = r.vehicle_ids[i];
     for (int j : vp.tasks) a.tasks.push_back(static_cast<std::uint32_t>(j));
     out.status.allocation.push_back(std::move(a));
+  }
+
+  // Each trajectory's size against the caps, before the separation check samples them all.
+  for (std::size_t i = 0; i < nv; ++i) {
+    if (auto too_large = checkTrajectorySize(out.flown[i].duration_s(), o.sample_dt_s, o.trajectory_bounds)) {
+      too_large->field = indexed("vehicle_ids", i);
+      too_large->message = r.vehicle_ids[i] + ": " + too_large->message;
+      return too_large;
+    }
   }
 
   // Separation over continuous time, repaired by delaying starts (see the header).

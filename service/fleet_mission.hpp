@@ -39,7 +39,7 @@
 
 #include <Eigen/Core>
 
-#include "planning/termination.hpp"
+#include "planning/core/termination.hpp"
 #include "service/mission_types.hpp"
 #include "service/route_planner.hpp"
 #include "service/world_model.hpp"
@@ -61,6 +61,8 @@ struct FleetMissionOptions {
   std::size_t max_vehicles = 32;
   std::size_t max_tasks = 256;
   RouteOptions route;               // the trajectory stage (route.trajectory)
+  VehicleLimitBounds limit_bounds;  // what the shared limits may ask for
+  TrajectorySizeBounds trajectory_bounds;  // each vehicle's trajectory, checked before sampling
 };
 
 struct FleetPlanOutput {

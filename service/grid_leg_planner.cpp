@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "planning/hab_pp.hpp"
+#include "planning/colony/hab_pp.hpp"
 #include "terrain/grid_from_terrain.hpp"
 
 namespace skyroute {

@@ -13,8 +13,8 @@
 
 #include <Eigen/Core>
 
-#include "planning/hab_pp.hpp"
-#include "planning/termination.hpp"
+#include "planning/colony/hab_pp.hpp"
+#include "planning/core/termination.hpp"
 #include "service/route_planner.hpp"
 #include "terrain/collision_world.hpp"
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "terrain/local_frame.hpp"
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute {
 

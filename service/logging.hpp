@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute {
 

@@ -8,8 +8,8 @@
 
 #include <Eigen/Core>
 
+#include "planning/core/result.hpp"
 #include "terrain/heightfield.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "planning/core/result.hpp"
 #include "service/mission_types.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <numeric>
 
-#include "planning/mission_planner.hpp"
-#include "planning/open_tsp.hpp"
+#include "planning/mission/mission_planner.hpp"
+#include "planning/mission/open_tsp.hpp"
 #include "terrain/grid_from_terrain.hpp"
 
 namespace skyroute {

@@ -9,10 +9,10 @@
 
 #include <Eigen/Core>
 
-#include "planning/grid_search.hpp"
-#include "planning/termination.hpp"
+#include "planning/core/result.hpp"
+#include "planning/core/termination.hpp"
+#include "planning/grid/grid_search.hpp"
 #include "terrain/heightfield.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

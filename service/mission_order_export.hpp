@@ -14,7 +14,7 @@
 
 #include "service/height_datum.hpp"
 #include "terrain/local_frame.hpp"
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute {
 

@@ -12,13 +12,6 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// Request point index -> the request's field name.
-std::string pointName(int index, int count) {
-  if (index == 0) return "begin";
-  if (index == count - 1) return "end";
-  return "points[" + std::to_string(index - 1) + "]";
-}
-
 // The trajectory stage names its limits after VehicleLimits; the request after the IDL.
 std::string requestLimitField(const std::string& field) {
   if (field == "limits.max_climb_mps") return "limits.max_climb_rate_mps";
@@ -40,7 +33,28 @@ PlanStage routeStage(const Error& e) {
   return PlanStage::kLegs;
 }
 
+// Asks a shared cancel flag; for the trajectory stage's checks, which know no planning types.
+std::function<bool()> stopWhen(const std::shared_ptr<std::atomic<bool>>& cancel) {
+  if (!cancel) return {};
+  return [cancel] { return cancel->load(); };
+}
+
 }  // namespace
+
+std::string requestPointName(int index, int count) {
+  if (index == 0) return "begin";
+  if (index == count - 1) return "end";
+  return "points[" + std::to_string(index - 1) + "]";
+}
+
+FleetMissionOptions fleetMissionOptions(const PipelineOptions& o) {
+  FleetMissionOptions fleet = o.fleet;
+  fleet.sample_dt_s = o.sample_dt_s;
+  fleet.route.trajectory = o.replan.route.trajectory;
+  fleet.limit_bounds = o.bounds.limits;
+  fleet.trajectory_bounds = o.bounds.trajectory;
+  return fleet;
+}
 
 ReplanOptions PipelineOptions::defaultReplanOptions() {
   ReplanOptions o;
@@ -79,13 +93,13 @@ PlanError requestPlanError(const Error& e, const std::vector<int>& order, PlanSt
     return std::nullopt;
   };
   if (auto k = index("points[")) {
-    out.field = pointName(order[*k], count);
+    out.field = requestPointName(order[*k], count);
     out.point_index = order[*k];
   } else if (auto leg = index("legs[")) {
     out.leg_index = *leg;
     if (*leg + 1 < count) {
-      out.message += " (the leg from " + pointName(order[*leg], count) + " to " + pointName(order[*leg + 1], count) + ")";
-      out.field = pointName(order[*leg + 1], count);
+      out.message += " (the leg from " + requestPointName(order[*leg], count) + " to " + requestPointName(order[*leg + 1], count) + ")";
+      out.field = requestPointName(order[*leg + 1], count);
       out.point_index = order[*leg + 1];
     }
   }
@@ -127,7 +141,7 @@ Result<OrderedMission, PlanError> MissionPipeline::order(const MissionRequestDat
   ObstacleSnapshot snapshot;
   snapshot.time_s = start_world_s;
   for (int i = 0; i < count; ++i) {
-    if (Status ok = checkRoutePoint(*out.world, out.points_m[i], pointName(i, count), snapshot); !ok.ok()) {
+    if (Status ok = checkRoutePoint(*out.world, out.points_m[i], requestPointName(i, count), snapshot); !ok.ok()) {
       PlanError e = toPlanError(ok.error());
       e.stage = PlanStage::kValidate;
       e.point_index = i;
@@ -169,12 +183,21 @@ Result<MissionPlan, PlanError> MissionPipeline::plan(const PipelineRequest& requ
   replan.route.leg_max_iterations = budget.leg_max_iterations;
   replan.route.leg_budget_ms = budget.leg_time_cap_s * 1e3;
   replan.cancel = stop.sharedCancelFlag();  // the replanner keeps it for its later cycles too
+  // Building and repairing a trajectory checks it segment by segment: a cancel ends it there,
+  // first plan and every later replan of the mission alike.
+  replan.route.trajectory.feasibility.stop_requested = stopWhen(replan.cancel);
   const std::size_t legs = plan.mission.ordered_m.size() - 1;
   report(PlanStage::kLegs, "planning " + std::to_string(legs) + " leg" + (legs == 1 ? "" : "s") + " with " +
                                std::string(plan.mission.planner->name) + " and the trajectory through them");
   auto flight = FlightReplanner::start(plan.mission.world, plan.mission.ordered_m, plan.mission.limits, replan,
                                        start_world_s, legPathPlanner(plan.mission.planner->kind, options_.grid_legs));
   if (!flight.ok()) return requestPlanError(flight.error(), plan.mission.order, routeStage(flight.error()));
+  // The trajectory is built; before anything is sampled, its real size against the caps.
+  const double duration_s = (*flight)->route().built.trajectory.duration_s();
+  if (auto too_large = checkTrajectorySize(duration_s, options_.sample_dt_s, options_.bounds.trajectory)) {
+    too_large->stage = PlanStage::kSampling;
+    return *too_large;
+  }
   plan.flight = std::move(*flight);
   for (std::size_t i = 0; i < plan.flight->route().legs.size(); ++i) {
     const RouteLeg& leg = plan.flight->route().legs[i];
@@ -188,12 +211,18 @@ Result<MissionPlan, PlanError> MissionPipeline::plan(const PipelineRequest& requ
   return plan;
 }
 
-Result<TrajectoryData, PlanError> MissionPipeline::sample(const MissionPlan& plan,
-                                                          const TrajectoryIdentity& identity) const {
+TrajectoryData MissionPipeline::sample(const MissionPlan& plan, const TrajectoryIdentity& identity) const {
   const FlightReplanner& flight = *plan.flight;
   const OrderedMission& mission = plan.mission;
   const double start_s = flight.trajectoryStartWorldS();
-  TrajectoryData data = toTrajectoryData(flight.route().built.trajectory, world_->frame(), options_.sample_dt_s,
+  const Trajectory& trajectory = flight.route().built.trajectory;
+  // A replanned revision may have grown (a stretch flown slower): its samples stay within the cap.
+  double dt_s = options_.sample_dt_s;
+  const std::size_t max_samples = options_.bounds.trajectory.max_samples;
+  if (max_samples > 2 && sampleCount(trajectory.duration_s(), dt_s) > max_samples) {
+    dt_s = trajectory.duration_s() / static_cast<double>(max_samples - 2);
+  }
+  TrajectoryData data = toTrajectoryData(trajectory, world_->frame(), dt_s,
                                          static_cast<std::int64_t>(std::llround(start_s * 1e9)), identity);
   for (int index : mission.order) data.visiting_order.push_back(static_cast<std::uint32_t>(index));
   // The route's points: the first is where this revision starts (the begin point, or where the
@@ -224,9 +253,8 @@ Result<TrajectoryData, PlanError> MissionPipeline::sample(const MissionPlan& pla
 
 FleetPlanOutput MissionPipeline::planFleet(const FleetRequestData& request, std::int64_t start_utc_ns,
                                            const TerminationCondition& stop) const {
-  FleetMissionOptions fleet = options_.fleet;
-  fleet.sample_dt_s = options_.sample_dt_s;
-  fleet.route.trajectory = options_.replan.route.trajectory;
+  FleetMissionOptions fleet = fleetMissionOptions(options_);
+  fleet.route.trajectory.feasibility.stop_requested = stopWhen(stop.sharedCancelFlag());
   return planFleetMission(request, *world_, fleet, start_utc_ns, stop);
 }
 

@@ -26,13 +26,14 @@
 
 #include <Eigen/Core>
 
-#include "planning/termination.hpp"
+#include "planning/core/termination.hpp"
 #include "service/fleet_mission.hpp"
 #include "service/flight_replanner.hpp"
 #include "service/grid_leg_planner.hpp"
 #include "service/mission_order.hpp"
 #include "service/mission_types.hpp"
 #include "service/planner_registry.hpp"
+#include "service/request_footprint.hpp"
 #include "service/trajectory_data.hpp"
 #include "service/world_model.hpp"
 
@@ -111,8 +112,10 @@ class MissionPipeline {
                                       const TerminationCondition& stop = {},
                                       const PipelineProgress& progress = {}) const;
   // The sampling stage: the flight's current trajectory as the service publishes it (legs and
-  // visiting order in request numbering, absolute times from the flight's start).
-  Result<TrajectoryData, PlanError> sample(const MissionPlan& plan, const TrajectoryIdentity& identity) const;
+  // visiting order in request numbering, absolute times from the flight's start), at the
+  // configured spacing, or, for a replanned revision longer than the sample cap allows (plan()
+  // checked the first), at the spacing that keeps it within the cap.
+  TrajectoryData sample(const MissionPlan& plan, const TrajectoryIdentity& identity) const;
   // A fleet request (fleet_mission.hpp) with this pipeline's trajectory stage and sample spacing.
   FleetPlanOutput planFleet(const FleetRequestData& request, std::int64_t start_utc_ns,
                             const TerminationCondition& stop = {}) const;
@@ -121,6 +124,13 @@ class MissionPipeline {
   std::shared_ptr<WorldModel> world_;
   PipelineOptions options_;
 };
+
+// The fleet stage's options: the pipeline's fleet settings with its sample spacing, trajectory
+// stage and request bounds.
+FleetMissionOptions fleetMissionOptions(const PipelineOptions& options);
+
+// A request point's field name: 0 = "begin", count - 1 = "end", else "points[index - 1]".
+std::string requestPointName(int index, int count);
 
 // A route error (naming ordered points "points[k]" and legs "legs[k]") as the request's
 // (begin, points[i], end), with the stage and the leg and point indices filled in.

@@ -1,9 +1,10 @@
 #include "service/mission_types.hpp"
 
+#include "service/number_text.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 namespace skyroute {
 
@@ -62,6 +63,8 @@ std::string_view to_string(PlanErrorCode code) {
     case PlanErrorCode::kCancelled: return "cancelled";
     case PlanErrorCode::kBusy: return "busy";
     case PlanErrorCode::kInternal: return "internal";
+    case PlanErrorCode::kTooLarge: return "too_large";
+    case PlanErrorCode::kDuplicateRequest: return "duplicate_request";
   }
   return "unknown";
 }
@@ -129,6 +132,7 @@ PlanStatusData PlanStatusData::failed(const MissionRequestData& request, const P
   status.stage = error.stage;
   status.leg_index = error.leg_index;
   status.point_index = error.point_index;
+  status.requester = request.requester;
   return status;
 }
 
@@ -137,12 +141,6 @@ namespace {
 PlanError problem(PlanErrorCode code, std::string field, const std::string& reason) {
   std::string message = field + " " + reason;
   return PlanError{code, std::move(field), std::move(message)};
-}
-
-std::string numberText(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
 }
 
 std::optional<PlanError> checkFinite(double v, const std::string& field) {
@@ -185,6 +183,21 @@ std::optional<PlanError> checkFiniteVector(const Eigen::Vector3d& v, const std::
 
 }  // namespace
 
+std::optional<PlanError> checkVehicleLimits(const VehicleLimitsData& l, const VehicleLimitBounds& b) {
+  if (auto e = checkRange(l.max_speed_mps, b.min_speed_mps, b.max_speed_mps, false, "limits.max_speed_mps")) return e;
+  if (auto e = checkRange(l.v_ref_mps, b.min_speed_mps, l.max_speed_mps, false, "limits.v_ref_mps")) return e;
+  if (auto e = checkRange(l.max_accel_mps2, b.min_accel_mps2, b.max_accel_mps2, false, "limits.max_accel_mps2")) return e;
+  if (auto e = checkRange(l.max_climb_rate_mps, b.min_vertical_speed_mps, b.max_speed_mps, false, "limits.max_climb_rate_mps"))
+    return e;
+  if (auto e = checkRange(l.max_descent_rate_mps, b.min_vertical_speed_mps, b.max_speed_mps, false,
+                          "limits.max_descent_rate_mps"))
+    return e;
+  if (auto e = checkRange(l.min_turn_radius_m, 0.0, b.max_turn_radius_m, false, "limits.min_turn_radius_m")) return e;
+  if (auto e = checkRange(l.min_clearance_agl_m, 0.0, b.max_clearance_m, false, "limits.min_clearance_agl_m")) return e;
+  if (auto e = checkRange(l.ceiling_amsl_m, -500.0, b.max_ceiling_amsl_m, true, "limits.ceiling_amsl_m")) return e;
+  return std::nullopt;
+}
+
 std::optional<PlanError> validateMissionRequest(const MissionRequestData& request, const MissionRequestBounds& bounds) {
   if (request.request_id.empty()) return problem(PlanErrorCode::kInvalidArgument, "request_id", "is missing (empty)");
   if (request.vehicle_id.empty()) return problem(PlanErrorCode::kInvalidArgument, "vehicle_id", "is missing (empty)");
@@ -196,16 +209,7 @@ std::optional<PlanError> validateMissionRequest(const MissionRequestData& reques
     if (auto e = checkPoint(request.points[i], "points[" + std::to_string(i) + "]")) return e;
   if (auto e = checkPoint(request.end, "end")) return e;
 
-  const VehicleLimitsData& l = request.limits;
-  if (auto e = checkRange(l.max_speed_mps, 0.0, bounds.max_speed_limit_mps, true, "limits.max_speed_mps")) return e;
-  if (auto e = checkRange(l.v_ref_mps, 0.0, l.max_speed_mps, true, "limits.v_ref_mps")) return e;
-  if (auto e = checkRange(l.max_accel_mps2, 0.0, bounds.max_accel_limit_mps2, true, "limits.max_accel_mps2")) return e;
-  if (auto e = checkRange(l.max_climb_rate_mps, 0.0, bounds.max_speed_limit_mps, true, "limits.max_climb_rate_mps")) return e;
-  if (auto e = checkRange(l.max_descent_rate_mps, 0.0, bounds.max_speed_limit_mps, true, "limits.max_descent_rate_mps")) return e;
-  if (auto e = checkRange(l.min_turn_radius_m, 0.0, bounds.max_turn_radius_m, false, "limits.min_turn_radius_m")) return e;
-  if (auto e = checkRange(l.min_clearance_agl_m, 0.0, bounds.max_clearance_m, false, "limits.min_clearance_agl_m")) return e;
-  if (auto e = checkRange(l.ceiling_amsl_m, -500.0, bounds.max_ceiling_amsl_m, true, "limits.ceiling_amsl_m")) return e;
-  return std::nullopt;
+  return checkVehicleLimits(request.limits, bounds.limits);
 }
 
 std::string_view to_string(ObstacleMotionKind kind) {

@@ -12,9 +12,9 @@
 
 #include <Eigen/Core>
 
+#include "planning/core/result.hpp"
 #include "terrain/local_frame.hpp"
 #include "terrain/obstacle.hpp"
-#include "terrain/result.hpp"
 #include "trajectory/vehicle_limits.hpp"
 
 namespace skyroute {
@@ -35,7 +35,7 @@ struct MissionPointData {
   Eigen::Vector3d toEnu(const LocalFrame& frame) const;
 };
 
-// Vehicle limits (defaults are a small fixed-wing UAV; ranges in MissionRequestBounds).
+// Vehicle limits (defaults are a small fixed-wing UAV; ranges in VehicleLimitBounds).
 struct VehicleLimitsData {
   double v_ref_mps = 20.0;             // cruise speed for time allocation (V_ref)
   double max_speed_mps = 30.0;
@@ -59,6 +59,9 @@ struct MissionRequestData {
   VehicleLimitsData limits;
   std::string planner;       // "" = the daemon's default
   bool fixed_order = false;  // true: visit points in the given order; false: MMD*L orders them
+  // Not on the wire: the GUID of the writer the request came from (set by the service's DDS
+  // edge), so its statuses can be addressed to that client alone ("" = not known).
+  std::string requester = {};
 };
 
 // Point indices in a trajectory follow the request: 0 = begin, 1..N = points[0..N-1], N+1 = end.
@@ -109,6 +112,8 @@ enum class PlanErrorCode {
   kCancelled,
   kBusy,
   kInternal,
+  kTooLarge,          // the plan would exceed a size bound: duration, samples or memory share
+  kDuplicateRequest,  // the request_id is already queued or being planned for this vehicle
 };
 std::string_view to_string(PlanErrorCode code);
 
@@ -143,30 +148,56 @@ struct PlanStatusData {
   PlanStage stage = PlanStage::kNone;  // where a failure happened (PlanError)
   int leg_index = -1;
   int point_index = -1;
+  std::string requester = {};        // the request's writer (MissionRequestData::requester); "" = anyone
+  std::string service_instance = {}; // ServiceStatusData::instance_id of the daemon that answered
 
   static PlanStatusData failed(const MissionRequestData& request, const PlanError& error, double planning_time_s);
 };
 
-// Limits the service accepts for a request before any planning (cheap checks first, as Nav2).
-struct MissionRequestBounds {
-  std::size_t max_points = 64;                 // mission points between begin and end
-  double max_speed_limit_mps = 150.0;          // upper bound of any speed limit
-  double max_accel_limit_mps2 = 50.0;
+// The vehicle limits a request may ask for. The lower bounds are physical: a route flown slower
+// than min_speed_mps is a hover, and every second of it costs a trajectory sample, so a speed
+// near zero would ask for unbounded work.
+struct VehicleLimitBounds {
+  double min_speed_mps = 1.0;            // v_ref_mps and max_speed_mps at least
+  double max_speed_mps = 150.0;          // every speed limit at most
+  double min_vertical_speed_mps = 0.1;   // max_climb_rate_mps and max_descent_rate_mps at least
+  double min_accel_mps2 = 0.1;
+  double max_accel_mps2 = 50.0;
   double max_turn_radius_m = 20000.0;
   double max_clearance_m = 5000.0;
   double max_ceiling_amsl_m = 12000.0;
 };
 
+// Every limit within its bounds (v_ref_mps also at most max_speed_mps); kLimitsOutOfRange naming
+// the field, e.g. "limits.v_ref_mps", with the range and the value.
+std::optional<PlanError> checkVehicleLimits(const VehicleLimitsData& limits, const VehicleLimitBounds& bounds);
+
+// How big one published trajectory may be. Checked before anything is sampled: a request whose
+// trajectory would be longer or have more samples is refused with kTooLarge.
+struct TrajectorySizeBounds {
+  double max_duration_s = 7200.0;        // longest trajectory, seconds
+  std::size_t max_samples = 100000;      // most samples in one Trajectory message
+};
+
+// Limits the service accepts for a request before any planning (cheap checks first, as Nav2).
+struct MissionRequestBounds {
+  std::size_t max_points = 64;                 // mission points between begin and end
+  VehicleLimitBounds limits;
+  TrajectorySizeBounds trajectory;
+};
+
 // Structural checks of a request: ids present, every number finite, latitudes and longitudes in
-// range, mission not oversize (a plain begin -> end mission has no points), limits in range. The planner's name is the
-// registry's to check (planner_registry.hpp). Terrain checks
-// (outside the DEM, under the ground) are the engine's. Returns the first problem found.
+// range, mission not oversize (a plain begin -> end mission has no points), limits in range. The
+// planner's name is the registry's to check (planner_registry.hpp). Terrain checks (outside the
+// DEM, under the ground) and the size of the plan are the engine's. Returns the first problem
+// found.
 std::optional<PlanError> validateMissionRequest(const MissionRequestData& request,
                                                 const MissionRequestBounds& bounds = {});
 
 struct CancelRequestData {
   std::string request_id;  // "" = whatever the vehicle is doing
   std::string vehicle_id;
+  std::string requester = {};  // not on the wire: the cancel's writer, as MissionRequestData::requester
 };
 
 enum class ObstacleMotionKind { kStatic, kConstantVelocity, kBackAndForth };
@@ -203,6 +234,10 @@ struct ServiceStatusData {
   std::uint32_t queue_length = 0;
   std::string service_version;
   std::string idl_version;
+  std::string instance_id = {};     // unique per daemon process
+  std::int64_t started_utc_ns = 0;  // when the instance started
+  double heartbeat_period_s = 1.0;  // the next heartbeat is due this long after this one
+  std::uint32_t obstacles = 0;      // obstacles in force
 };
 
 struct FleetRequestData {

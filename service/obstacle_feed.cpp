@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/mission_json.hpp"
+#include "service/number_text.hpp"
 
 namespace skyroute {
 
@@ -27,6 +28,9 @@ Result<FeedEntry> parseEntry(const std::string& line) {
   if (!t->is_number() || !std::isfinite(t->get<double>()) || t->get<double>() < 0.0)
     return make_error(ErrorCode::kParseError, "t_s", "t_s must be a finite number >= 0");
   entry.t_s = t->get<double>();
+  if (entry.t_s > kFeedMaxTimeS)
+    return make_error(ErrorCode::kParseError, "t_s", "t_s " + numberText(entry.t_s) + " is beyond the feed's horizon of " +
+                                                         numberText(kFeedMaxTimeS) + " s (one week)");
   auto o = j.find("obstacle");
   if (o == j.end()) return make_error(ErrorCode::kParseError, "obstacle", "obstacle is missing");
   auto update = obstacleFromJson(*o, "obstacle");
@@ -36,11 +40,19 @@ Result<FeedEntry> parseEntry(const std::string& line) {
     if (!f->is_number() || !std::isfinite(f->get<double>()) || f->get<double>() < 0.0)
       return make_error(ErrorCode::kParseError, "valid_from_s", "valid_from_s must be a finite number >= 0");
     entry.valid_from_s = f->get<double>();
+    if (entry.valid_from_s > kFeedMaxTimeS)
+      return make_error(ErrorCode::kParseError, "valid_from_s", "valid_from_s " + numberText(entry.valid_from_s) +
+                                                                    " is beyond the feed's horizon of " +
+                                                                    numberText(kFeedMaxTimeS) + " s (one week)");
   }
   if (auto d = j.find("valid_for_s"); d != j.end() && !d->is_null()) {
     if (!d->is_number() || !std::isfinite(d->get<double>()) || !(d->get<double>() > 0.0))
       return make_error(ErrorCode::kParseError, "valid_for_s", "valid_for_s must be a positive number (or null)");
     entry.valid_for_s = d->get<double>();
+    if (*entry.valid_for_s > kFeedMaxValidityS)
+      return make_error(ErrorCode::kParseError, "valid_for_s", "valid_for_s " + numberText(*entry.valid_for_s) +
+                                                                   " is longer than a year (" +
+                                                                   numberText(kFeedMaxValidityS) + " s)");
   }
   return entry;
 }
@@ -112,8 +124,8 @@ Result<ObstacleFeed> parseObstacleFeed(std::istream& in, const std::string& sour
     }
     if (entry->t_s < last_t_s) {
       feed.skipped.push_back(FeedIssue{line_number, source_name + ":" + std::to_string(line_number) +
-                                                        ": t_s goes back in time (" + std::to_string(entry->t_s) +
-                                                        " after " + std::to_string(last_t_s) + ") (line skipped)"});
+                                                        ": t_s goes back in time (" + numberText(entry->t_s) +
+                                                        " after " + numberText(last_t_s) + ") (line skipped)"});
       continue;
     }
     last_t_s = entry->t_s;

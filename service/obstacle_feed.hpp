@@ -16,13 +16,18 @@
 #include <string>
 #include <vector>
 
+#include "planning/core/result.hpp"
 #include "service/mission_types.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 
 inline constexpr const char* kObstacleFeedFormat = "skyroute-obstacle-feed";
 inline constexpr int kObstacleFeedVersion = 1;
+// Times a feed may give, in seconds: publish offsets and delays up to a week (a replay that waits
+// longer is a mistake, and 1e12 s would wait 31,700 years), validity up to a year (and within
+// int64 nanoseconds). A line beyond them is reported with its number and skipped.
+inline constexpr double kFeedMaxTimeS = 7.0 * 24 * 3600;
+inline constexpr double kFeedMaxValidityS = 365.0 * 24 * 3600;
 
 struct FeedEntry {
   double t_s = 0.0;             // publish time, seconds after the feed start (non-decreasing)

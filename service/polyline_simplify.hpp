@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute {
 

@@ -15,7 +15,7 @@
 
 #include "service/mission_types.hpp"
 #include "terrain/local_frame.hpp"
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute {
 

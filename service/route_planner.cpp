@@ -2,48 +2,37 @@
 
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
-#include "trajectory/collision_recheck.hpp"
+#include <spdlog/spdlog.h>
+
+#include "service/number_text.hpp"
+#include "service/trajectory_world_check.hpp"
 
 namespace skyroute {
-namespace {
-
-std::string formatPoint(const Eigen::Vector3d& p) {
-  std::ostringstream out;
-  out.precision(1);
-  out << std::fixed << "(" << p.x() << ", " << p.y() << ", " << p.z() << ") m ENU";
-  return out.str();
-}
-
-}  // namespace
 
 Status checkRoutePoint(const CollisionWorld& world, const Eigen::Vector3d& p_m, const std::string& name,
                        std::optional<ObstacleSnapshot> snapshot) {
   if (!p_m.allFinite()) return make_error(ErrorCode::kInvalidArgument, name, "is not a finite position");
   const Heightfield& terrain = world.terrain();
   if (!terrain.inside(p_m.x(), p_m.y()) || !terrain.boundsEn().contains(p_m.head<2>())) {
-    return make_error(ErrorCode::kOutsideMap, name, formatPoint(p_m) + " is outside the terrain");
+    return make_error(ErrorCode::kOutsideMap, name, enuText(p_m) + " is outside the terrain");
   }
   const double ground = terrain.heightAt(p_m.x(), p_m.y());
   if (std::isnan(ground)) {
-    return make_error(ErrorCode::kOutsideMap, name, formatPoint(p_m) + " is over unknown terrain (a DEM void)");
+    return make_error(ErrorCode::kOutsideMap, name, enuText(p_m) + " is over unknown terrain (a DEM void)");
   }
   const auto& o = world.options();
   if (p_m.z() > o.ceiling_m) {
-    std::ostringstream m;
-    m << "altitude " << p_m.z() << " m is above the ceiling " << o.ceiling_m << " m";
-    return make_error(ErrorCode::kInvalidArgument, name, m.str());
+    return make_error(ErrorCode::kInvalidArgument, name,
+                      "altitude " + numberText(p_m.z(), 7) + " m is above the ceiling " + numberText(o.ceiling_m, 7) + " m");
   }
   if (!world.isTerrainValid(p_m)) {
-    std::ostringstream m;
-    m.precision(1);
-    m << std::fixed << "altitude " << p_m.z() << " m is under the ground plus clearance (ground " << ground
-      << " m + " << o.min_clearance_m << " m)";
-    return make_error(ErrorCode::kOccupied, name, m.str());
+    return make_error(ErrorCode::kOccupied, name,
+                      "altitude " + numberText(p_m.z(), 7) + " m is under the ground plus clearance (ground " +
+                          numberText(ground, 7) + " m + " + numberText(o.min_clearance_m) + " m)");
   }
   const bool clear = snapshot ? world.isPointValid(p_m, *snapshot) : world.isPointValid(p_m);
-  if (!clear) return make_error(ErrorCode::kOccupied, name, formatPoint(p_m) + " is inside an obstacle");
+  if (!clear) return make_error(ErrorCode::kOccupied, name, enuText(p_m) + " is inside an obstacle");
   return Status::success();
 }
 
@@ -96,10 +85,13 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
         return make_error(reason == TerminationCondition::Reason::kCancelled ? ErrorCode::kCancelled : ErrorCode::kTimeout,
                           leg_name, "stopped while planning this leg");
       }
+      // The leg is named by the error's field; the message says only what happened, so a caller
+      // that names the leg's points its own way never contradicts it.
+      const std::string why = rrt->status == RrtStarStatus::kTimeout ? "its time budget ran out"
+                              : rrt->status == RrtStarStatus::kNoPath ? "its iteration budget ran out"
+                                                                       : std::string(to_string(rrt->status));
       return make_error(ErrorCode::kUnreachable, leg_name,
-                        "no path from points[" + std::to_string(i) + "] to points[" + std::to_string(i + 1) +
-                            "] (RRT* " + std::string(to_string(rrt->status)) + " after " +
-                            std::to_string(rrt->iterations) + " iterations)");
+                        "no path found: RRT* drew " + std::to_string(rrt->iterations) + " samples before " + why);
     }
     auto shortened = lospo(validator, rrt->path_m, options.lospo, stop);
     if (!shortened.ok()) return shortened.error();
@@ -137,6 +129,7 @@ Status buildRouteTrajectory(std::shared_ptr<const CollisionWorld> world, const s
     leg_end += leg.path_m.size() - 1;  // leg 0 adds all its points, later legs all but their first
     trajectory_options.fixed_waypoints.push_back(leg_end);
   }
+  spdlog::debug("event=trajectory_build waypoints={} legs={}", route.waypoints_m.size(), route.legs.size());
   auto built = buildTrajectory(route.waypoints_m, limits, trajectory_options, &check);
   if (!built.ok()) return built.error();
   if (built->report.status == TrajectoryStatus::kInfeasible) {

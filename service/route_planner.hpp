@@ -11,10 +11,10 @@
 
 #include <Eigen/Core>
 
-#include "planning/lospo.hpp"
-#include "planning/rrt_star.hpp"
-#include "planning/termination.hpp"
-#include "planning/world_motion_validator.hpp"
+#include "planning/core/termination.hpp"
+#include "planning/sampling/lospo.hpp"
+#include "planning/sampling/rrt_star.hpp"
+#include "planning/sampling/world_motion_validator.hpp"
 #include "terrain/collision_world.hpp"
 #include "trajectory/trajectory_builder.hpp"
 

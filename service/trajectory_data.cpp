@@ -2,9 +2,17 @@
 
 #include <cmath>
 
-#include "trajectory/geo_samples.hpp"
+#include "service/geo_samples.hpp"
 
 namespace skyroute {
+
+std::size_t sampleCount(double duration_s, double dt_s) {
+  if (!(duration_s >= 0.0) || !(dt_s > 0.0)) return 1;
+  const double steps = std::floor(duration_s / dt_s + 1e-9);
+  // Saturates instead of overflowing: the caller compares it with a bound far below this.
+  if (!(steps < 1e15)) return static_cast<std::size_t>(1e15);
+  return static_cast<std::size_t>(steps) + 2;
+}
 
 TrajectoryData toTrajectoryData(const Trajectory& trajectory, const LocalFrame& frame, double dt_s,
                                 std::int64_t start_utc_ns, const TrajectoryIdentity& identity) {

@@ -19,6 +19,9 @@ struct TrajectoryIdentity {
   std::string request_id;
 };
 
+// Samples toTrajectoryData makes of a trajectory this long (at most; the last is the end).
+std::size_t sampleCount(double duration_s, double dt_s);
+
 TrajectoryData toTrajectoryData(const Trajectory& trajectory, const LocalFrame& frame, double dt_s,
                                 std::int64_t start_utc_ns, const TrajectoryIdentity& identity);
 

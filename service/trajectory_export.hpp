@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "planning/core/result.hpp"
+#include "service/geo_samples.hpp"
 #include "service/height_datum.hpp"
 #include "service/mission_types.hpp"
-#include "terrain/result.hpp"
-#include "trajectory/geo_samples.hpp"
 
 namespace skyroute {
 

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <limits>
 
+#include "service/number_text.hpp"
+
 namespace skyroute {
 
 Obstacle worldObstacle(const ObstacleUpdateData& update, double constant_velocity_horizon_s) {
@@ -56,7 +58,7 @@ Result<std::shared_ptr<WorldModel>> WorldModel::load(const std::string& dem_path
 Result<std::shared_ptr<const CollisionWorld>> WorldModel::worldFor(double min_clearance_m, double ceiling_m) {
   if (!(min_clearance_m >= options_.vehicle_radius_m)) {
     return make_error(ErrorCode::kInvalidArgument, "limits.min_clearance_agl_m",
-                      "must be at least the vehicle radius (" + std::to_string(options_.vehicle_radius_m) + " m)");
+                      "must be at least the vehicle radius (" + numberText(options_.vehicle_radius_m) + " m)");
   }
   std::lock_guard lock(mutex_);
   const auto key = std::make_pair(min_clearance_m, ceiling_m);
@@ -89,6 +91,7 @@ std::uint64_t WorldModel::apply(const ObstacleUpdateData& update) {
   ++version_;
   if (update.remove) {
     obstacles_.erase(id);
+    updates_.erase(id);
     for (auto& [key, world] : worlds_) world->removeObstacle(id);
     return id;
   }
@@ -96,8 +99,39 @@ std::uint64_t WorldModel::apply(const ObstacleUpdateData& update) {
   const double until_s = update.valid_until_utc_ns != 0 ? static_cast<double>(update.valid_until_utc_ns) * 1e-9
                                                         : std::numeric_limits<double>::infinity();
   obstacles_[id] = {o, until_s};
+  updates_[id] = update;
   for (auto& [key, world] : worlds_) world->upsertObstacle(o);
   return id;
+}
+
+std::vector<ObstacleUpdateData> WorldModel::obstacleUpdates() const {
+  std::lock_guard lock(mutex_);
+  std::vector<ObstacleUpdateData> out;
+  out.reserve(updates_.size());
+  for (const auto& [id, update] : updates_) out.push_back(update);
+  return out;
+}
+
+void WorldModel::adoptObstacles(const WorldModel& from) {
+  const LocalFrame& old_frame = from.frame();
+  const LocalFrame& new_frame = frame();
+  auto move = [&](const Eigen::Vector3d& p) { return new_frame.toEnu(old_frame.toGeo(p)); };
+  for (ObstacleUpdateData update : from.obstacleUpdates()) {
+    Obstacle& o = update.obstacle;
+    if (update.constant_velocity_enu_mps) {
+      // The velocity turns with the frame: carry its end point over too.
+      const Eigen::Vector3d ahead = move(o.center_m + *update.constant_velocity_enu_mps);
+      o.center_m = move(o.center_m);
+      update.constant_velocity_enu_mps = ahead - o.center_m;
+    } else {
+      o.center_m = move(o.center_m);
+    }
+    if (o.motion) {
+      o.motion->from_m = move(o.motion->from_m);
+      o.motion->to_m = move(o.motion->to_m);
+    }
+    apply(update);
+  }
 }
 
 std::size_t WorldModel::expire(double now_s) {
@@ -106,6 +140,7 @@ std::size_t WorldModel::expire(double now_s) {
   for (auto it = obstacles_.begin(); it != obstacles_.end();) {
     if (it->second.second <= now_s) {
       for (auto& [key, world] : worlds_) world->removeObstacle(it->first);
+      updates_.erase(it->first);
       it = obstacles_.erase(it);
       ++removed;
     } else {

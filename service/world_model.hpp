@@ -51,6 +51,11 @@ class WorldModel {
 
   // Applies an update (validated by the caller). Returns the obstacle's id.
   std::uint64_t apply(const ObstacleUpdateData& update);
+  // The updates in force, as applied (a world on another terrain takes them over).
+  std::vector<ObstacleUpdateData> obstacleUpdates() const;
+  // Applies `from`'s obstacles here; positions go through WGS84 when the two frames differ, so an
+  // obstacle stays where it is on the ground.
+  void adoptObstacles(const WorldModel& from);
   // Drops obstacles whose validity ended at or before now_s; returns how many.
   std::size_t expire(double now_s);
   std::size_t obstacleCount() const;
@@ -65,6 +70,7 @@ class WorldModel {
   mutable std::mutex mutex_;
   std::map<std::pair<double, double>, std::shared_ptr<CollisionWorld>> worlds_;
   std::map<std::uint64_t, std::pair<Obstacle, double>> obstacles_;  // id -> obstacle, valid until (s; inf)
+  std::map<std::uint64_t, ObstacleUpdateData> updates_;             // id -> the update it came from
   std::uint64_t version_ = 0;
 };
 

@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute {
 

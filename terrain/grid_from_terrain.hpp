@@ -6,9 +6,9 @@
 
 #include <atomic>
 
+#include "planning/core/result.hpp"
 #include "terrain/grid_layer.hpp"
 #include "terrain/heightfield.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

@@ -52,40 +52,33 @@ void GridLayer::refresh(std::size_t i, std::vector<GridCell>& changed) {
   }
 }
 
-std::vector<GridCell> GridLayer::setStaticBlocked(std::span<const GridCell> cells, bool blocked) {
+template <class Change>
+std::vector<GridCell> GridLayer::changeCells(std::span<const GridCell> cells, Change&& change) {
   std::vector<GridCell> changed;
   for (const GridCell& c : cells) {
     if (!inside(c)) continue;
     const std::size_t i = index(c);
-    static_blocked_[i] = blocked ? 1 : 0;
+    change(i);
     refresh(i, changed);
   }
   if (!changed.empty()) ++version_;
   return changed;
+}
+
+std::vector<GridCell> GridLayer::setStaticBlocked(std::span<const GridCell> cells, bool blocked) {
+  return changeCells(cells, [&](std::size_t i) { static_blocked_[i] = blocked ? 1 : 0; });
 }
 
 std::vector<GridCell> GridLayer::addObstacleCover(std::span<const GridCell> cells) {
-  std::vector<GridCell> changed;
-  for (const GridCell& c : cells) {
-    if (!inside(c)) continue;
-    const std::size_t i = index(c);
+  return changeCells(cells, [&](std::size_t i) {
     if (obstacle_count_[i] < UINT16_MAX) ++obstacle_count_[i];
-    refresh(i, changed);
-  }
-  if (!changed.empty()) ++version_;
-  return changed;
+  });
 }
 
 std::vector<GridCell> GridLayer::removeObstacleCover(std::span<const GridCell> cells) {
-  std::vector<GridCell> changed;
-  for (const GridCell& c : cells) {
-    if (!inside(c)) continue;
-    const std::size_t i = index(c);
+  return changeCells(cells, [&](std::size_t i) {
     if (obstacle_count_[i] > 0) --obstacle_count_[i];
-    refresh(i, changed);
-  }
-  if (!changed.empty()) ++version_;
-  return changed;
+  });
 }
 
 Eigen::Vector2d GridLayer::cellCenter(GridCell c) const {

@@ -8,6 +8,7 @@
 // incremental search (D* Lite) needs to repair its costs.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -23,6 +24,12 @@ struct GridCell {
   int y = 0;  // row (north, or the Moving AI y)
   friend bool operator==(const GridCell&, const GridCell&) = default;
 };
+
+// Euclidean distance between the centres of a and b, in cell edges (polylineLength of
+// planning/core/polyline.hpp finds it for paths of cells).
+inline double segmentLength(GridCell a, GridCell b) {
+  return std::hypot(static_cast<double>(b.x - a.x), static_cast<double>(b.y - a.y));
+}
 
 class GridLayer {
  public:
@@ -79,6 +86,10 @@ class GridLayer {
 
  private:
   void refresh(std::size_t i, std::vector<GridCell>& changed);
+  // Applies change(i) to each cell of `cells` inside the grid, then refreshes its blocked state;
+  // returns the cells whose blocked state changed (one version step when any did).
+  template <class Change>
+  std::vector<GridCell> changeCells(std::span<const GridCell> cells, Change&& change);
 
   int width_ = 0;
   int height_ = 0;

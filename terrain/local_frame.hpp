@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute {
 

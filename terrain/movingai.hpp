@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "planning/core/result.hpp"
 #include "terrain/grid_layer.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute {
 

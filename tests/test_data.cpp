@@ -1,11 +1,7 @@
 #include "tests/test_data.hpp"
 
+#include <cstdlib>
 #include <filesystem>
-
-#include <cpl_conv.h>
-#include <ogr_srs_api.h>
-
-#include "terrain/terrain_world.hpp"
 
 namespace skyroute::testing {
 
@@ -18,22 +14,15 @@ std::string projectDataPath(const std::string& relative) {
   return std::string(SKYROUTE_DATA_DIR) + "/" + relative;
 }
 
-std::string epsgWkt(int epsg) {
-  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-  OSRImportFromEPSG(srs, epsg);
-  char* wkt = nullptr;
-  OSRExportToWkt(srs, &wkt);
-  std::string out = wkt ? wkt : "";
-  CPLFree(wkt);
-  OSRDestroySpatialReference(srs);
-  return out;
+bool sharedDataRequired() {
+  const char* value = std::getenv("SKYROUTE_REQUIRE_DATA");
+  return value != nullptr && *value != '\0' && std::string(value) != "0";
 }
 
-std::shared_ptr<const Heightfield> defaultTerrainHeightfield() {
-  CollisionWorldOptions options;
-  options.build_octree = false;
-  auto loaded = loadTerrainWorld(projectDataPath("default_terrain.tif"), options);
-  return loaded.ok() ? loaded->heightfield : nullptr;
+std::string missingSharedData(const std::string& relative) {
+  return "shared data " + relative + " not found under " + SKYROUTE_SHARED_DATA_DIR +
+         (sharedDataRequired() ? " (SKYROUTE_REQUIRE_DATA is set: a missing file fails the test)"
+                               : " (../shared/data is absent in a fresh clone; SKYROUTE_REQUIRE_DATA=1 makes this a failure)");
 }
 
 }  // namespace skyroute::testing

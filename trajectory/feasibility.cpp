@@ -33,6 +33,10 @@ FeasibilityReport checkFeasibility(const Trajectory& trajectory, const VehicleLi
   constexpr std::size_t kKinds = 6;
 
   for (std::size_t s = 0; s < segments.size(); ++s) {
+    if (options.stop_requested && options.stop_requested()) {
+      report.stopped = true;
+      return report;
+    }
     const Segment& segment = segments[s];
     // Worst "excess" per kind in this segment: value (for turn radius the smallest radius).
     std::array<std::optional<Violation>, kKinds> worst;

@@ -18,7 +18,7 @@
 namespace skyroute {
 
 // Is the straight motion a -> b, flown from trajectory time t_a_s to t_b_s, clear of terrain and
-// obstacles? (collision_recheck.hpp makes one from a CollisionWorld.)
+// obstacles? (service/trajectory_world_check.hpp makes one from a CollisionWorld.)
 using MotionCheck =
     std::function<bool(const Eigen::Vector3d& a_m, double t_a_s, const Eigen::Vector3d& b_m, double t_b_s)>;
 
@@ -39,6 +39,9 @@ struct FeasibilityOptions {
   // between samples; a chord strays from the curve by at most |a| dt^2 / 8 (1.3 cm at 10 m/s^2).
   double dt_s = 0.1;
   double relative_tolerance = 1e-6;   // a value above limit * (1 + tolerance) is a violation
+  // Asked before each segment; when it says stop, the check ends with `stopped` set (a long
+  // trajectory's check can take seconds, and a service must be able to cancel it).
+  std::function<bool()> stop_requested;
 };
 
 struct FeasibilityReport {
@@ -50,8 +53,9 @@ struct FeasibilityReport {
   double min_turn_radius_m = std::numeric_limits<double>::infinity();  // where speed >= the check speed
   std::size_t samples = 0;
   std::size_t motions_checked = 0;
+  bool stopped = false;               // ended early by stop_requested: nothing is proven
 
-  bool ok() const { return violations.empty(); }
+  bool ok() const { return violations.empty() && !stopped; }
   bool has(ViolationKind kind) const;
 };
 

@@ -15,7 +15,7 @@
 
 #include <Eigen/Core>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 #include "trajectory/segment.hpp"
 
 namespace skyroute {

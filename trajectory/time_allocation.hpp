@@ -16,7 +16,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 #include "trajectory/vehicle_limits.hpp"
 
 namespace skyroute {

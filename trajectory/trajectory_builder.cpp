@@ -199,70 +199,113 @@ CornerRepair roundPathCorner(std::vector<PathVertex>& path, std::size_t i, int c
   return result;
 }
 
-}  // namespace
+// A corner to round, keyed by its path position (its first vertex): the radius it needs at least
+// (0: first rounding, from the options) and the violation that asks for it.
+struct CornerJob {
+  double radius_m = 0.0;
+  std::string cause;
+};
 
-Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits,
-                                        const TrajectoryOptions& options, const MotionCheck* collision) {
-  const auto started = std::chrono::steady_clock::now();
-  if (Status s = validateWaypoints(waypoints, options.min_waypoint_separation_m); !s) return s.error();
-  if (Status s = limits.validate(); !s) return s.error();
-  if (Status s = validateOptions(options, waypoints.size()); !s) return s.error();
+// The time and chord repairs one round asks for.
+struct SegmentRepairs {
+  std::set<std::size_t> to_split;
+  std::map<std::size_t, double> stretch;  // segment -> factor
+};
 
-  std::vector<PathVertex> path;
-  path.reserve(waypoints.size());
-  for (std::size_t i = 0; i < waypoints.size(); ++i)
-    path.push_back(PathVertex{waypoints[i], i == 0 || i + 1 == waypoints.size(), i, -1});
-  for (std::size_t index : options.fixed_waypoints) path[index].fixed = true;
+// buildTrajectory's solve-check-repair loop and the state its rounds share: the geometric path
+// (input waypoints, rounded corners replaced by their points), the knots and times laid out from
+// it, and what earlier rounds learnt (rounded corners, worst violations of the stretches).
+class RepairLoop {
+ public:
+  RepairLoop(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits, const TrajectoryOptions& options,
+             const MotionCheck* collision)
+      : limits_(limits), options_(options), collision_(collision), allocation_(options.time_allocation),
+        local_rounds_(options.max_repair_rounds / 2) {
+    path_.reserve(waypoints.size());
+    for (std::size_t i = 0; i < waypoints.size(); ++i)
+      path_.push_back(PathVertex{waypoints[i], i == 0 || i + 1 == waypoints.size(), i, -1});
+    for (std::size_t index : options.fixed_waypoints) path_[index].fixed = true;
+    allocation_.start_speed_mps = options.boundary.start.velocity_mps.norm();
+    allocation_.end_speed_mps = options.boundary.end.velocity_mps.norm();
+  }
 
-  TimeAllocationOptions allocation = options.time_allocation;
-  allocation.start_speed_mps = options.boundary.start.velocity_mps.norm();
-  allocation.end_speed_mps = options.boundary.end.velocity_mps.norm();
-  std::vector<Eigen::Vector3d> knots;
-  std::vector<double> durations;
-  std::vector<std::size_t> vertex_knot;  // knot index of each path vertex
-  std::vector<CornerRecord> corners;
   // Knots and times from the path: extra waypoints at the LOSPO spacing, then time allocation.
-  auto layOut = [&]() -> Status {
+  Status layOut() {
     std::vector<Eigen::Vector3d> points;
-    points.reserve(path.size());
-    for (const PathVertex& v : path) points.push_back(v.point);
-    DensifiedPath densified = densifyWaypoints(points, options.waypoint_spacing_m);
-    knots = std::move(densified.points);
-    vertex_knot = std::move(densified.original_indices);
-    Result<std::vector<double>> allocated = allocateTimes(knots, limits, allocation);
+    points.reserve(path_.size());
+    for (const PathVertex& v : path_) points.push_back(v.point);
+    DensifiedPath densified = densifyWaypoints(points, options_.waypoint_spacing_m);
+    knots_ = std::move(densified.points);
+    vertex_knot_ = std::move(densified.original_indices);
+    Result<std::vector<double>> allocated = allocateTimes(knots_, limits_, allocation_);
     if (!allocated) return allocated.error();
-    durations = std::move(allocated.value());
+    durations_ = std::move(allocated.value());
     return Status::success();
-  };
-  if (Status s = layOut(); !s) return s.error();
+  }
 
-  BuiltTrajectory built;
-  TrajectoryBuildReport& report = built.report;
-  report.input_waypoints = waypoints.size();
-  const int local_rounds = options.max_repair_rounds / 2;  // then stretch everything uniformly
-  int timing_from_round = 0;  // the round the current knots and times were laid out in
+  // Solves, checks and repairs until the trajectory is feasible, the rounds run out or a violation
+  // cannot be repaired (the report says which); an error only for a failed solve or layout.
+  Status run(BuiltTrajectory& built);
+
+ private:
+  // Turns tighter than the vehicle can fly: rounds (or widens) the corners they fly. Returns why
+  // it cannot, or "".
+  std::string repairTurns(const std::vector<Violation>& violations, const std::vector<double>& t,
+                          TrajectoryBuildReport& report);
+  std::string findCornerJobs(const std::vector<Violation>& violations, const std::vector<double>& t,
+                             std::map<std::size_t, CornerJob>& jobs);
+  std::string roundCorners(const std::map<std::size_t, CornerJob>& jobs, const std::vector<double>& t,
+                           TrajectoryBuildReport& report);
+  // Collisions to split and limits to stretch; why a collision cannot be repaired, or "".
+  std::string sortSegmentRepairs(const std::vector<Violation>& violations, const std::vector<double>& t,
+                                 SegmentRepairs& repairs) const;
+  // Stretches the segments over a limit, locally for the first rounds after a layout, then the
+  // whole trajectory; why stretching does not help, or "".
+  std::string stretchInTime(const std::map<std::size_t, double>& stretch, const std::vector<Violation>& violations,
+                            int round, TrajectoryBuildReport& report);
+  // Splits each segment at the middle of its chord, from the back.
+  void splitSegments(const std::set<std::size_t>& to_split, TrajectoryBuildReport& report);
+
+  const VehicleLimits& limits_;
+  const TrajectoryOptions& options_;
+  const MotionCheck* collision_;
+  TimeAllocationOptions allocation_;  // its start/end speeds taken from the boundary
+  std::vector<PathVertex> path_;
+  std::vector<Eigen::Vector3d> knots_;
+  std::vector<double> durations_;
+  std::vector<std::size_t> vertex_knot_;  // knot index of each path vertex
+  std::vector<CornerRecord> corners_;
+  const int local_rounds_;       // then stretch everything uniformly
+  int timing_from_round_ = 0;    // the round the current knots and times were laid out in
   // Worst violation / limit ratio before the last uniform stretch (it must keep falling).
-  double previous_uniform_worst = std::numeric_limits<double>::infinity();
-  double previous_local_worst = std::numeric_limits<double>::infinity();
-  int growing_rounds = 0;  // stretch rounds in a row whose worst violation grew
+  double previous_uniform_worst_ = std::numeric_limits<double>::infinity();
+  double previous_local_worst_ = std::numeric_limits<double>::infinity();
+  int growing_rounds_ = 0;  // stretch rounds in a row whose worst violation grew
+};
 
+Status RepairLoop::run(BuiltTrajectory& built) {
+  TrajectoryBuildReport& report = built.report;
   for (int round = 0;; ++round) {
-    Result<std::vector<Segment>> segments = solveMinimumSnapSpline(knots, durations, options.boundary);
+    Result<std::vector<Segment>> segments = solveMinimumSnapSpline(knots_, durations_, options_.boundary);
     if (!segments) return segments.error();
     built.trajectory = Trajectory(std::move(segments.value()));
-    report.final_check = checkFeasibility(built.trajectory, limits, options.feasibility, collision);
+    report.final_check = checkFeasibility(built.trajectory, limits_, options_.feasibility, collision_);
     report.repair_rounds = round;
+    if (report.final_check.stopped) {
+      return make_error(ErrorCode::kCancelled, "trajectory", "stopped while checking the trajectory (repair round " +
+                                                                 std::to_string(round) + ")");
+    }
     if (report.final_check.ok()) {
       report.status = round == 0 ? TrajectoryStatus::kFeasible : TrajectoryStatus::kRepaired;
       break;
     }
     report.status = TrajectoryStatus::kInfeasible;
     const std::vector<Violation>& violations = report.final_check.violations;
-    if (!options.repair) {
+    if (!options_.repair) {
       report.failure_reason = "repair disabled; first violation: " + describe(violations.front());
       break;
     }
-    if (round >= options.max_repair_rounds) {
+    if (round >= options_.max_repair_rounds) {
       report.failure_reason = "still infeasible after " + std::to_string(round) +
                               " repair rounds; first violation: " + describe(violations.front());
       break;
@@ -272,218 +315,244 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
     // Turns tighter than the vehicle can fly: a different path, so this comes first and the
     // knots and times are laid out again from the new path (time repairs of the old one are moot).
     if (report.final_check.has(ViolationKind::kTurnRadius)) {
-      std::string unrepairable;
-      // Corner to round, keyed by its path position (its first vertex): the radius it needs at least
-      // (0: first rounding, from the options) and the violation that asks for it.
-      struct Job {
-        double radius_m = 0.0;
-        std::string cause;
-      };
-      std::map<std::size_t, Job> jobs;
-      for (const Violation& v : violations) {
-        if (v.kind != ViolationKind::kTurnRadius) continue;
-        if (!options.round_corners) {
-          unrepairable = describe(v) +
-                         ": the path's corner is too sharp for this vehicle (stretching time does not widen a turn) "
-                         "and corner rounding is off; the path needs smoothing or replanning";
-          break;
-        }
-        // The turning vertex whose knot time is nearest the violation is the corner it flies.
-        std::size_t nearest = path.size();
-        double best = std::numeric_limits<double>::infinity();
-        for (std::size_t i = 1; i + 1 < path.size(); ++i) {
-          if (turnAt(path, i) < kTurningRad) continue;
-          const double gap = std::abs(t[vertex_knot[i]] - v.time_s);
-          if (gap < best) {
-            best = gap;
-            nearest = i;
-          }
-        }
-        if (nearest == path.size()) {
-          unrepairable = describe(v) + ": no corner of the path explains it (the curve wiggles on a straight path)";
-          break;
-        }
-        const int id = path[nearest].corner;
-        if (id < 0) {
-          jobs.emplace(nearest, Job{0.0, describe(v)});
-          continue;
-        }
-        // Already rounded, yet the curve through it turns too tightly: widen it by the shortfall.
-        CornerRecord& record = corners[static_cast<std::size_t>(id)];
-        if (record.widenings >= kMaxWidenings) {
-          unrepairable = describe(v) + ": the curve through the rounded corner at waypoint " +
-                         std::to_string(record.original.input_index) + " still turns too tightly after " +
-                         std::to_string(record.widenings) + " widenings; the path needs replanning";
-          break;
-        }
-        std::size_t first = nearest;
-        while (first > 0 && path[first - 1].corner == id) --first;
-        const double wider = record.radius_m * std::max(1.05, 1.05 * v.limit / std::max(v.value, 1e-9));
-        Job& job = jobs[first];
-        if (wider > job.radius_m) job = Job{wider, describe(v)};
-      }
-      if (unrepairable.empty()) {
-        std::vector<double> vertex_time(path.size());
-        for (std::size_t i = 0; i < path.size(); ++i) vertex_time[i] = t[vertex_knot[i]];
-        // From the back, so the positions in front stay valid as vertices are replaced.
-        for (auto it = jobs.rbegin(); it != jobs.rend(); ++it) {
-          const std::size_t at = it->first;
-          const int existing = path[at].corner;
-          double preferred = options.corner_rounding.radius_factor * limits.min_turn_radius_m;
-          double lowest = limits.min_turn_radius_m;
-          int id = static_cast<int>(corners.size());
-          if (existing >= 0) {
-            // Put the original corner back, then round it wider than before.
-            std::size_t last = at;
-            while (last + 1 < path.size() && path[last + 1].corner == existing) ++last;
-            path.erase(path.begin() + static_cast<std::ptrdiff_t>(at + 1),
-                       path.begin() + static_cast<std::ptrdiff_t>(last + 1));
-            path[at] = corners[static_cast<std::size_t>(existing)].original;
-            vertex_time.erase(vertex_time.begin() + static_cast<std::ptrdiff_t>(at + 1),
-                              vertex_time.begin() + static_cast<std::ptrdiff_t>(last + 1));
-            preferred = it->second.radius_m;
-            lowest = corners[static_cast<std::size_t>(existing)].radius_m * 1.01;
-            id = existing;
-          }
-          const PathVertex original = path[at];
-          CornerRepair repair = roundPathCorner(path, at, id, preferred, lowest, vertex_time, options.corner_rounding,
-                                                collision);
-          if (!repair.ok) {
-            unrepairable = it->second.cause + ": " +
-                           (existing >= 0 ? format("the curve through the %.1f m rounded corner still turns too "
-                                                   "tightly and a wider one fails: ",
-                                                   corners[static_cast<std::size_t>(existing)].radius_m)
-                                          : std::string()) +
-                           repair.line;
-            break;
-          }
-          vertex_time.insert(vertex_time.begin() + static_cast<std::ptrdiff_t>(at), repair.added, vertex_time[at]);
-          if (existing >= 0) {
-            CornerRecord& record = corners[static_cast<std::size_t>(existing)];
-            ++record.widenings;
-            report.repairs.push_back(format("widened (the curve dipped under the limit through the %.1f m one): ",
-                                            record.radius_m) +
-                                     repair.line);
-            record.radius_m = repair.radius_m;
-          } else {
-            corners.push_back(CornerRecord{original, repair.radius_m, 0});
-            ++report.corners_rounded;
-            report.repairs.push_back(repair.line);
-          }
-        }
-      }
-      if (!unrepairable.empty()) {
+      if (std::string unrepairable = repairTurns(violations, t, report); !unrepairable.empty()) {
         report.failure_reason = unrepairable;
         break;
       }
-      if (Status s = layOut(); !s) return s.error();
-      timing_from_round = round + 1;
-      previous_uniform_worst = std::numeric_limits<double>::infinity();
-      previous_local_worst = std::numeric_limits<double>::infinity();
-      growing_rounds = 0;
+      if (Status s = layOut(); !s) return s;
+      timing_from_round_ = round + 1;
+      previous_uniform_worst_ = std::numeric_limits<double>::infinity();
+      previous_local_worst_ = std::numeric_limits<double>::infinity();
+      growing_rounds_ = 0;
       continue;
     }
 
-    // Collisions: split the segment at the middle of its chord. Knots lie on the path (the input
-    // polyline, or a rounded corner's points, each checked clear when adopted) and no path vertex
-    // lies between two consecutive knots, so the chord is part of the checked path; if the chord
-    // itself is blocked no amount of splitting helps.
-    std::set<std::size_t> to_split;
-    std::map<std::size_t, double> stretch;  // segment -> factor
-    std::string unrepairable;
-    for (const Violation& v : violations) {
-      if (v.kind == ViolationKind::kCollision) {
-        const std::size_t s = v.segment;
-        if (collision && !(*collision)(knots[s], t[s], knots[s + 1], t[s + 1])) {
-          unrepairable = "the straight path between knots " + std::to_string(s) + " and " + std::to_string(s + 1) +
-                         format(" (t=%.2f..%.2f s) is itself blocked (terrain or obstacle): the path needs replanning",
-                                t[s], t[s + 1]);
-          break;
-        }
-        if ((knots[s + 1] - knots[s]).norm() < 2.0 * options.min_split_length_m) {
-          unrepairable = "the curve in segment " + std::to_string(s) +
-                         " still leaves the clear corridor after splitting it down to " +
-                         format("%.2f m", (knots[s + 1] - knots[s]).norm());
-          break;
-        }
-        to_split.insert(s);
-      } else {
-        stretch[v.segment] = std::max(stretch[v.segment], stretchFactor(v));
-      }
-    }
-    if (!unrepairable.empty()) {
+    SegmentRepairs repairs;
+    if (std::string unrepairable = sortSegmentRepairs(violations, t, repairs); !unrepairable.empty()) {
       report.failure_reason = unrepairable;
       break;
     }
-
     // Stretch first (indices refer to the current segments), then split from the back.
-    if (!stretch.empty()) {
-      double worst = 1.0;
-      for (const auto& [s, f] : stretch) worst = std::max(worst, f);
-      const double margin = 1.03;
-      // Stretching a segment whose start velocity is given makes the curve overshoot instead of
-      // easing it; when the worst violation grew two rounds running, more rounds only diverge
-      // (a replan once spent 0.5 s stretching its first segment to 500 s).
-      growing_rounds = worst > previous_local_worst ? growing_rounds + 1 : 0;
-      previous_local_worst = worst;
-      if (growing_rounds >= 2) {
-        report.failure_reason = "stretching in time makes the violation worse (" + format("%.2f", worst) +
-                                " x the limit; " + describe(violations.front()) + "); the end conditions or the path must change";
+    if (!repairs.stretch.empty()) {
+      if (std::string failed = stretchInTime(repairs.stretch, violations, round, report); !failed.empty()) {
+        report.failure_reason = failed;
         break;
       }
-      if (round - timing_from_round < local_rounds) {
-        std::vector<double> factor(durations.size(), 1.0);
-        for (const auto& [s, f] : stretch) {
-          const double k = std::min(4.0, f * margin);
-          factor[s] = std::max(factor[s], k);
-          // Neighbours share the joint's derivatives; stretch them part way so the joint eases too.
-          if (s > 0) factor[s - 1] = std::max(factor[s - 1], std::sqrt(k));
-          if (s + 1 < factor.size()) factor[s + 1] = std::max(factor[s + 1], std::sqrt(k));
-        }
-        for (std::size_t s = 0; s < durations.size(); ++s) durations[s] *= factor[s];
-        report.repairs.push_back("stretched " + std::to_string(stretch.size()) + " segment(s) in time by up to " +
-                                 format("%.1f%%", (std::min(4.0, worst * margin) - 1.0) * 100.0) + " (" +
-                                 describe(*std::find_if(violations.begin(), violations.end(), [](const Violation& v) {
-                                   return v.kind != ViolationKind::kCollision;
-                                 })) +
-                                 ")");
-      } else {
-        // A uniform stretch slows a rest-to-rest curve exactly, but with a given end velocity it
-        // can make things worse (the curve keeps the end's speed over a longer time, so it strays
-        // further and must come back faster): stop as soon as a stretch did not help, instead of
-        // stretching without end (a replan's curve once ran to 1e17 s and took minutes).
-        if (worst >= previous_uniform_worst) {
-          report.failure_reason = "stretching the whole trajectory in time does not reduce the violation (" +
-                                  format("%.2f", worst) + " x the limit, " + format("%.2f", previous_uniform_worst) +
-                                  " before; " + describe(violations.front()) +
-                                  "); the end conditions or the path must change";
-          break;
-        }
-        previous_uniform_worst = worst;
-        const double k = std::min(4.0, worst * margin);
-        for (double& d : durations) d *= k;
-        report.repairs.push_back("stretched the whole trajectory in time by " + format("%.1f%%", (k - 1.0) * 100.0));
+    }
+    if (!repairs.to_split.empty()) splitSegments(repairs.to_split, report);
+  }
+  built.knots = std::move(knots_);
+  return Status::success();
+}
+
+std::string RepairLoop::repairTurns(const std::vector<Violation>& violations, const std::vector<double>& t,
+                                    TrajectoryBuildReport& report) {
+  std::map<std::size_t, CornerJob> jobs;
+  if (std::string unrepairable = findCornerJobs(violations, t, jobs); !unrepairable.empty()) return unrepairable;
+  return roundCorners(jobs, t, report);
+}
+
+std::string RepairLoop::findCornerJobs(const std::vector<Violation>& violations, const std::vector<double>& t,
+                                       std::map<std::size_t, CornerJob>& jobs) {
+  for (const Violation& v : violations) {
+    if (v.kind != ViolationKind::kTurnRadius) continue;
+    if (!options_.round_corners) {
+      return describe(v) +
+             ": the path's corner is too sharp for this vehicle (stretching time does not widen a turn) "
+             "and corner rounding is off; the path needs smoothing or replanning";
+    }
+    // The turning vertex whose knot time is nearest the violation is the corner it flies.
+    std::size_t nearest = path_.size();
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 1; i + 1 < path_.size(); ++i) {
+      if (turnAt(path_, i) < kTurningRad) continue;
+      const double gap = std::abs(t[vertex_knot_[i]] - v.time_s);
+      if (gap < best) {
+        best = gap;
+        nearest = i;
       }
     }
-    if (!to_split.empty()) {
-      for (auto it = to_split.rbegin(); it != to_split.rend(); ++it) {
-        const std::size_t s = *it;
-        const Eigen::Vector3d middle = 0.5 * (knots[s] + knots[s + 1]);
-        const double half = 0.5 * durations[s];
-        knots.insert(knots.begin() + static_cast<std::ptrdiff_t>(s + 1), middle);
-        durations[s] = half;
-        durations.insert(durations.begin() + static_cast<std::ptrdiff_t>(s + 1), half);
-        for (std::size_t& k : vertex_knot)
-          if (k > s) ++k;
-      }
-      report.repairs.push_back("added " + std::to_string(to_split.size()) +
-                               " waypoint(s) on the checked path where the curve collided (first in segment " +
-                               std::to_string(*to_split.begin()) + ")");
+    if (nearest == path_.size()) {
+      return describe(v) + ": no corner of the path explains it (the curve wiggles on a straight path)";
+    }
+    const int id = path_[nearest].corner;
+    if (id < 0) {
+      jobs.emplace(nearest, CornerJob{0.0, describe(v)});
+      continue;
+    }
+    // Already rounded, yet the curve through it turns too tightly: widen it by the shortfall.
+    CornerRecord& record = corners_[static_cast<std::size_t>(id)];
+    if (record.widenings >= kMaxWidenings) {
+      return describe(v) + ": the curve through the rounded corner at waypoint " +
+             std::to_string(record.original.input_index) + " still turns too tightly after " +
+             std::to_string(record.widenings) + " widenings; the path needs replanning";
+    }
+    std::size_t first = nearest;
+    while (first > 0 && path_[first - 1].corner == id) --first;
+    const double wider = record.radius_m * std::max(1.05, 1.05 * v.limit / std::max(v.value, 1e-9));
+    CornerJob& job = jobs[first];
+    if (wider > job.radius_m) job = CornerJob{wider, describe(v)};
+  }
+  return std::string();
+}
+
+std::string RepairLoop::roundCorners(const std::map<std::size_t, CornerJob>& jobs, const std::vector<double>& t,
+                                     TrajectoryBuildReport& report) {
+  std::vector<double> vertex_time(path_.size());
+  for (std::size_t i = 0; i < path_.size(); ++i) vertex_time[i] = t[vertex_knot_[i]];
+  // From the back, so the positions in front stay valid as vertices are replaced.
+  for (auto it = jobs.rbegin(); it != jobs.rend(); ++it) {
+    const std::size_t at = it->first;
+    const int existing = path_[at].corner;
+    double preferred = options_.corner_rounding.radius_factor * limits_.min_turn_radius_m;
+    double lowest = limits_.min_turn_radius_m;
+    int id = static_cast<int>(corners_.size());
+    if (existing >= 0) {
+      // Put the original corner back, then round it wider than before.
+      std::size_t last = at;
+      while (last + 1 < path_.size() && path_[last + 1].corner == existing) ++last;
+      path_.erase(path_.begin() + static_cast<std::ptrdiff_t>(at + 1), path_.begin() + static_cast<std::ptrdiff_t>(last + 1));
+      path_[at] = corners_[static_cast<std::size_t>(existing)].original;
+      vertex_time.erase(vertex_time.begin() + static_cast<std::ptrdiff_t>(at + 1),
+                        vertex_time.begin() + static_cast<std::ptrdiff_t>(last + 1));
+      preferred = it->second.radius_m;
+      lowest = corners_[static_cast<std::size_t>(existing)].radius_m * 1.01;
+      id = existing;
+    }
+    const PathVertex original = path_[at];
+    CornerRepair repair =
+        roundPathCorner(path_, at, id, preferred, lowest, vertex_time, options_.corner_rounding, collision_);
+    if (!repair.ok) {
+      return it->second.cause + ": " +
+             (existing >= 0 ? format("the curve through the %.1f m rounded corner still turns too "
+                                     "tightly and a wider one fails: ",
+                                     corners_[static_cast<std::size_t>(existing)].radius_m)
+                            : std::string()) +
+             repair.line;
+    }
+    vertex_time.insert(vertex_time.begin() + static_cast<std::ptrdiff_t>(at), repair.added, vertex_time[at]);
+    if (existing >= 0) {
+      CornerRecord& record = corners_[static_cast<std::size_t>(existing)];
+      ++record.widenings;
+      report.repairs.push_back(
+          format("widened (the curve dipped under the limit through the %.1f m one): ", record.radius_m) + repair.line);
+      record.radius_m = repair.radius_m;
+    } else {
+      corners_.push_back(CornerRecord{original, repair.radius_m, 0});
+      ++report.corners_rounded;
+      report.repairs.push_back(repair.line);
     }
   }
-  built.knots = std::move(knots);
-  report.knots = built.knots.size();
-  report.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  return std::string();
+}
+
+std::string RepairLoop::sortSegmentRepairs(const std::vector<Violation>& violations, const std::vector<double>& t,
+                                           SegmentRepairs& repairs) const {
+  // Collisions: split the segment at the middle of its chord. Knots lie on the path (the input
+  // polyline, or a rounded corner's points, each checked clear when adopted) and no path vertex
+  // lies between two consecutive knots, so the chord is part of the checked path; if the chord
+  // itself is blocked no amount of splitting helps.
+  for (const Violation& v : violations) {
+    if (v.kind == ViolationKind::kCollision) {
+      const std::size_t s = v.segment;
+      if (collision_ && !(*collision_)(knots_[s], t[s], knots_[s + 1], t[s + 1])) {
+        return "the straight path between knots " + std::to_string(s) + " and " + std::to_string(s + 1) +
+               format(" (t=%.2f..%.2f s) is itself blocked (terrain or obstacle): the path needs replanning", t[s],
+                      t[s + 1]);
+      }
+      if ((knots_[s + 1] - knots_[s]).norm() < 2.0 * options_.min_split_length_m) {
+        return "the curve in segment " + std::to_string(s) + " still leaves the clear corridor after splitting it down to " +
+               format("%.2f m", (knots_[s + 1] - knots_[s]).norm());
+      }
+      repairs.to_split.insert(s);
+    } else {
+      repairs.stretch[v.segment] = std::max(repairs.stretch[v.segment], stretchFactor(v));
+    }
+  }
+  return std::string();
+}
+
+std::string RepairLoop::stretchInTime(const std::map<std::size_t, double>& stretch,
+                                      const std::vector<Violation>& violations, int round,
+                                      TrajectoryBuildReport& report) {
+  double worst = 1.0;
+  for (const auto& [s, f] : stretch) worst = std::max(worst, f);
+  const double margin = 1.03;
+  // Stretching a segment whose start velocity is given makes the curve overshoot instead of
+  // easing it; when the worst violation grew two rounds running, more rounds only diverge
+  // (a replan once spent 0.5 s stretching its first segment to 500 s).
+  growing_rounds_ = worst > previous_local_worst_ ? growing_rounds_ + 1 : 0;
+  previous_local_worst_ = worst;
+  if (growing_rounds_ >= 2) {
+    return "stretching in time makes the violation worse (" + format("%.2f", worst) + " x the limit; " +
+           describe(violations.front()) + "); the end conditions or the path must change";
+  }
+  if (round - timing_from_round_ < local_rounds_) {
+    std::vector<double> factor(durations_.size(), 1.0);
+    for (const auto& [s, f] : stretch) {
+      const double k = std::min(4.0, f * margin);
+      factor[s] = std::max(factor[s], k);
+      // Neighbours share the joint's derivatives; stretch them part way so the joint eases too.
+      if (s > 0) factor[s - 1] = std::max(factor[s - 1], std::sqrt(k));
+      if (s + 1 < factor.size()) factor[s + 1] = std::max(factor[s + 1], std::sqrt(k));
+    }
+    for (std::size_t s = 0; s < durations_.size(); ++s) durations_[s] *= factor[s];
+    report.repairs.push_back("stretched " + std::to_string(stretch.size()) + " segment(s) in time by up to " +
+                             format("%.1f%%", (std::min(4.0, worst * margin) - 1.0) * 100.0) + " (" +
+                             describe(*std::find_if(violations.begin(), violations.end(), [](const Violation& v) {
+                               return v.kind != ViolationKind::kCollision;
+                             })) +
+                             ")");
+    return std::string();
+  }
+  // A uniform stretch slows a rest-to-rest curve exactly, but with a given end velocity it can
+  // make things worse (the curve keeps the end's speed over a longer time, so it strays further
+  // and must come back faster): stop as soon as a stretch did not help, instead of stretching
+  // without end (a replan's curve once ran to 1e17 s and took minutes).
+  if (worst >= previous_uniform_worst_) {
+    return "stretching the whole trajectory in time does not reduce the violation (" + format("%.2f", worst) +
+           " x the limit, " + format("%.2f", previous_uniform_worst_) + " before; " + describe(violations.front()) +
+           "); the end conditions or the path must change";
+  }
+  previous_uniform_worst_ = worst;
+  const double k = std::min(4.0, worst * margin);
+  for (double& d : durations_) d *= k;
+  report.repairs.push_back("stretched the whole trajectory in time by " + format("%.1f%%", (k - 1.0) * 100.0));
+  return std::string();
+}
+
+void RepairLoop::splitSegments(const std::set<std::size_t>& to_split, TrajectoryBuildReport& report) {
+  for (auto it = to_split.rbegin(); it != to_split.rend(); ++it) {
+    const std::size_t s = *it;
+    const Eigen::Vector3d middle = 0.5 * (knots_[s] + knots_[s + 1]);
+    const double half = 0.5 * durations_[s];
+    knots_.insert(knots_.begin() + static_cast<std::ptrdiff_t>(s + 1), middle);
+    durations_[s] = half;
+    durations_.insert(durations_.begin() + static_cast<std::ptrdiff_t>(s + 1), half);
+    for (std::size_t& k : vertex_knot_)
+      if (k > s) ++k;
+  }
+  report.repairs.push_back("added " + std::to_string(to_split.size()) +
+                           " waypoint(s) on the checked path where the curve collided (first in segment " +
+                           std::to_string(*to_split.begin()) + ")");
+}
+
+}  // namespace
+
+Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits,
+                                        const TrajectoryOptions& options, const MotionCheck* collision) {
+  const auto started = std::chrono::steady_clock::now();
+  if (Status s = validateWaypoints(waypoints, options.min_waypoint_separation_m); !s) return s.error();
+  if (Status s = limits.validate(); !s) return s.error();
+  if (Status s = validateOptions(options, waypoints.size()); !s) return s.error();
+
+  RepairLoop loop(waypoints, limits, options, collision);
+  if (Status s = loop.layOut(); !s) return s.error();
+  BuiltTrajectory built;
+  built.report.input_waypoints = waypoints.size();
+  if (Status s = loop.run(built); !s) return s.error();
+  built.report.knots = built.knots.size();
+  built.report.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   return built;
 }
 

@@ -17,7 +17,7 @@
 
 #include <Eigen/Core>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 #include "trajectory/corner_rounding.hpp"
 #include "trajectory/feasibility.hpp"
 #include "trajectory/spline7.hpp"
@@ -76,7 +76,8 @@ struct BuiltTrajectory {
 // Errors (bad input only, naming the field): "waypoints", "waypoints[i]", "limits.*",
 // "options.*" (e.g. "options.fixed_waypoints" for an index out of range), "boundary.*". An
 // infeasible trajectory is not an error: it comes back with status kInfeasible so the caller can
-// decide (replan, relax limits).
+// decide (replan, relax limits). kCancelled ("trajectory") when options.feasibility.stop_requested
+// stopped a check.
 // collision: optional motion check (times are trajectory times from 0).
 Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits,
                                         const TrajectoryOptions& options = {}, const MotionCheck* collision = nullptr);

@@ -2,7 +2,7 @@
 // section 3-2) and the rest chosen for a fast fixed-wing-class UAV.
 #pragma once
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute {
 

@@ -4,10 +4,10 @@
 
 #include <string>
 
+#include "planning/core/result.hpp"
 #include "service/cli/cli_common.hpp"
 #include "service/dds/dds_entities.hpp"
 #include "service/mission_types.hpp"
-#include "terrain/result.hpp"
 
 namespace skyroute::cli {
 

@@ -17,6 +17,7 @@ void addGcsCommand(CLI::App& app);      // gcs: ground-station view and export  
 void addRequestCommand(CLI::App& app);  // request: publish a mission, await status (request_command.cpp)
 void addRecordCommand(CLI::App& app);   // record: obstacle updates to a feed file   (record_command.cpp)
 void addReplayCommand(CLI::App& app);   // replay: a feed file with its timing       (replay_command.cpp)
+void addPx4Command(CLI::App& app);      // px4: offboard setpoints for PX4           (px4_command.cpp)
 
 // fleet --domain: publishes the fleet request, prints its statuses and, on success, the outcome
 // and each vehicle's trajectory (written to `out` when given); fails with the exit-code table's

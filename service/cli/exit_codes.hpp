@@ -13,11 +13,13 @@ inline constexpr int kExitPlanningFailed = 1;      // planning failed, or the se
 inline constexpr int kExitUsage = 2;               // a bad option or option value
 inline constexpr int kExitBadInput = 3;            // an input file unreadable or invalid
 inline constexpr int kExitServiceUnavailable = 4;  // the service is unavailable, or an answer timed out
+inline constexpr int kExitServiceLost = 5;         // the service that took the request went away, or
+                                                   // (skyrouted) another daemon owns its service id
 
 // The table as --help footers and the README print it.
 inline constexpr std::string_view kExitCodeTable =
     "Exit codes: 0 success, 1 planning failed, 2 usage, 3 an input file unreadable or invalid, "
-    "4 the service unavailable or timed out.";
+    "4 the service unavailable or timed out, 5 the service lost while waiting for it.";
 
 // Prints "skyroute <tool>: <message>" on stderr and throws CLI::RuntimeError(code), which main
 // turns into the exit code.

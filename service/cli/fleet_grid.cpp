@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "planning/fleet_planner.hpp"
+#include "planning/fleet/fleet_planner.hpp"
 #include "service/cli/fleet_common.hpp"
 #include "service/map_image.hpp"
 #include "terrain/dem.hpp"

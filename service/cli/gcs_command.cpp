@@ -1,7 +1,7 @@
 // skyroute gcs: subscribes as a ground station would (late joiners get every vehicle's current
 // trajectory), prints trajectories and statuses as they arrive, and exports the latest trajectory
 // of each vehicle to CSV, GeoJSON, KML and QGroundControl plans when it stops (--count reached,
-// --timeout, or Ctrl-C).
+// --timeout, or Ctrl-C). With --serve it also serves a live map page (gcs_live_map.hpp).
 #include <iostream>
 #include <map>
 #include <optional>
@@ -10,6 +10,7 @@
 
 #include "service/cli/dds_cli_common.hpp"
 #include "service/cli/dds_commands.hpp"
+#include "service/cli/gcs_live_map.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/qgc_plan.hpp"
 #include "service/trajectory_export.hpp"
@@ -25,10 +26,13 @@ struct GcsOptions {
   double timeout_s = 0;  // stop after this long (0 = until Ctrl-C)
   std::string csv, geojson, kml;
   std::string plan_dir;  // one QGroundControl .plan per vehicle
+  std::string serve;     // HOST:PORT of the live map ("" = none)
+  std::string dem;       // the live map's terrain ("" = the embedded terrain)
 };
 
 void runGcs(const GcsOptions& o) {
   const std::string tool = "gcs";
+  std::unique_ptr<GcsLiveMap> live = o.serve.empty() ? nullptr : GcsLiveMap::start(tool, o.serve, o.dem);
   dds::Entity participant = openParticipant(tool, o.domain);
   auto trajectories = dds::Reader<TrajectoryData>::create(participant.get());
   if (!trajectories) fail(tool, kExitServiceUnavailable, trajectories.error().describe());
@@ -46,6 +50,7 @@ void runGcs(const GcsOptions& o) {
       [&](TrajectoryData&& t) {
         if (!o.vehicle.empty() && t.vehicle_id != o.vehicle) return;
         std::cout << describe(t) << std::endl;
+        if (live) live->state().onTrajectory(t);
         latest[t.vehicle_id] = std::move(t);
         if (o.count > 0 && ++received >= o.count) loop->stop();
       },
@@ -56,9 +61,18 @@ void runGcs(const GcsOptions& o) {
       [&](PlanStatusData&& s) {
         if (!o.vehicle.empty() && s.vehicle_id != o.vehicle) return;
         std::cout << describe(s) << std::endl;
+        if (live) live->state().onStatus(s);
       },
       on_bad);
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
+  std::optional<dds::Reader<ObstacleUpdateData>> obstacles;  // only the map shows them
+  if (live) {
+    auto reader = dds::Reader<ObstacleUpdateData>::create(participant.get());
+    if (!reader) fail(tool, kExitServiceUnavailable, reader.error().describe());
+    obstacles.emplace(std::move(*reader));
+    added = loop->add<ObstacleUpdateData>(*obstacles, [&](ObstacleUpdateData&& u) { live->state().onObstacle(u); }, on_bad);
+    if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
+  }
 
   auto outcome = loop->run(o.timeout_s > 0 ? std::optional<double>(o.timeout_s) : std::nullopt);
   if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
@@ -101,6 +115,13 @@ void addGcsCommand(CLI::App& app) {
   cmd->add_option("--geojson", options->geojson, "Write them as GeoJSON (3D lines, WGS84, heights above the ellipsoid)");
   cmd->add_option("--kml", options->kml, "Write them as KML (heights AMSL)");
   cmd->add_option("--plan", options->plan_dir, "Write one QGroundControl .plan per vehicle into this folder");
+  cmd->add_option("--serve", options->serve,
+                  "Serve a live map page (terrain, trajectories, obstacles, altitude profile) on HOST:PORT, e.g. "
+                  "127.0.0.1:8080 (port 0: a free port, printed at start). A malformed or foreign address exits 2, "
+                  "a port in use exits 4")
+      ->type_name("HOST:PORT");
+  cmd->add_option("--dem", options->dem, "The live map's terrain: the DEM skyrouted plans on (default: the embedded terrain)");
+  cmd->footer(std::string(kExitCodeTable));
   cmd->callback([options] { runGcs(*options); });
 }
 

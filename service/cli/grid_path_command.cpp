@@ -12,9 +12,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "planning/any_angle_search.hpp"
-#include "planning/hab_pp.hpp"
-#include "service/cli/cli_common.hpp"
+#include "planning/colony/hab_pp.hpp"
+#include "planning/grid/any_angle_search.hpp"
+#include "service/cli/cli_parse.hpp"
 #include "service/cli/commands.hpp"
 #include "terrain/movingai.hpp"
 

@@ -12,10 +12,10 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "planning/dstar_lite.hpp"
-#include "planning/grid_search.hpp"
-#include "planning/mmdstar_lite.hpp"
-#include "service/cli/cli_common.hpp"
+#include "planning/grid/dstar_lite.hpp"
+#include "planning/grid/grid_search.hpp"
+#include "planning/mission/mmdstar_lite.hpp"
+#include "service/cli/cli_parse.hpp"
 #include "service/cli/commands.hpp"
 #include "terrain/movingai.hpp"
 

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   skyroute::cli::addRequestCommand(app);
   skyroute::cli::addRecordCommand(app);
   skyroute::cli::addReplayCommand(app);
+  skyroute::cli::addPx4Command(app);
 
   try {
     app.parse(argc, argv);

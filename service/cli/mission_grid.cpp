@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "planning/mission_planner.hpp"
-#include "service/cli/cli_common.hpp"
+#include "planning/mission/mission_planner.hpp"
+#include "service/cli/cli_parse.hpp"
 #include "terrain/dem.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/movingai.hpp"

@@ -143,30 +143,29 @@ void runPlan(const PlanArgs& a) {
                                static_cast<double>(utcNowNs()) * 1e-9, {}, progress);
   if (!planned.ok()) failPlanError(kTool, a.mission, planned.error());
   const MissionPlan& plan = *planned;
-  auto data = pipeline.sample(plan, TrajectoryIdentity{mission.vehicle_id, mission.vehicle_id + "-plan", 0,
-                                                       mission.request_id});
-  if (!data.ok()) fail(kTool, kExitPlanningFailed, data.error().describe());
-  printSummary(plan, *data);
+  const TrajectoryData data = pipeline.sample(
+      plan, TrajectoryIdentity{mission.vehicle_id, mission.vehicle_id + "-plan", 0, mission.request_id});
+  printSummary(plan, data);
 
   if (!a.out.empty()) {
     const std::string ext = lowerExtension(a.out);
     Status written = Status::success();
     if (ext == "csv") {
-      written = writeTrajectoriesCsv(a.out, {*data});
+      written = writeTrajectoriesCsv(a.out, {data});
     } else if (ext == "geojson") {
-      written = writeTrajectoriesOgr(a.out, "GeoJSON", {*data});
+      written = writeTrajectoriesOgr(a.out, "GeoJSON", {data});
     } else if (ext == "plan" || ext == "waypoints") {
-      auto qgc = qgcMissionFromTrajectory(*data);
+      auto qgc = qgcMissionFromTrajectory(data);
       if (!qgc.ok()) fail(kTool, kExitPlanningFailed, "--out " + qgc.error().describe());
       written = ext == "plan" ? writeQgcPlan(a.out, *qgc) : writeQgcWaypoints(a.out, *qgc);
     } else {
-      writeJson(a.out, plan, *data);
+      writeJson(a.out, plan, data);
     }
     if (!written.ok()) fail(kTool, kExitUsage, "--out " + written.error().describe());
-    std::printf("wrote %zu samples to %s\n", data->samples.size(), a.out.c_str());
+    std::printf("wrote %zu samples to %s\n", data.samples.size(), a.out.c_str());
   }
   if (!a.png.empty()) {
-    writePng(a.png, **world, plan, *data);
+    writePng(a.png, **world, plan, data);
     std::printf("wrote %s\n", a.png.c_str());
   }
 }

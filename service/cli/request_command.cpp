@@ -1,9 +1,18 @@
 // skyroute request: publishes one mission and prints the statuses the service sends for it;
-// exit 0 only when the plan succeeded (1 failed or cancelled, 2 bad input, 3 no answer in time).
+// exit 0 only when the plan succeeded (1 failed or cancelled, 2 bad input, 3 no answer in time,
+// 5 the service that accepted the request was lost).
+// Before publishing it waits until every live planning service (the daemons behind the heartbeat
+// writers it discovers) reads requests and writes statuses, so which daemon plans it is never a
+// matter of discovery timing. It takes only the statuses addressed to its own writer (another
+// client may use the same request id), and watches the heartbeat of the daemon that accepted
+// the request: silence for 2.5 heartbeat periods means that daemon is gone.
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include <unistd.h>
@@ -13,8 +22,10 @@
 
 #include "service/cli/dds_cli_common.hpp"
 #include "service/cli/dds_commands.hpp"
+#include "service/dds/service_instance.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/mission_json.hpp"
+#include "service/number_text.hpp"
 
 namespace skyroute::cli {
 
@@ -66,6 +77,18 @@ MissionRequestData buildMission(const RequestOptions& o) {
   return m;
 }
 
+using Clock = std::chrono::steady_clock;
+
+// A service is lost when it has been silent this many heartbeat periods (one lost best-effort
+// heartbeat is tolerated), and never sooner than kMinLostAfterS.
+constexpr double kLostAfterPeriods = 2.5;
+constexpr double kMinLostAfterS = 0.5;
+
+struct Heard {
+  Clock::time_point at;
+  double period_s = 1.0;
+};
+
 void runRequest(const RequestOptions& o) {
   const std::string tool = "request";
   const MissionRequestData mission = buildMission(o);
@@ -73,32 +96,88 @@ void runRequest(const RequestOptions& o) {
   // The status reader exists before the request is written, so no reply can be missed.
   auto statuses = dds::Reader<PlanStatusData>::create(participant.get());
   if (!statuses) fail(tool, kExitServiceUnavailable, statuses.error().describe());
+  auto heartbeats = dds::Reader<ServiceStatusData>::create(participant.get());
+  if (!heartbeats) fail(tool, kExitServiceUnavailable, heartbeats.error().describe());
   auto writer = dds::Writer<MissionRequestData>::create(participant.get());
   if (!writer) fail(tool, kExitServiceUnavailable, writer.error().describe());
   auto loop = dds::WaitLoop::create(participant.get());
   if (!loop) fail(tool, kExitServiceUnavailable, loop.error().describe());
-  stopOnSignals(loop->waitsetHandle());
+  const std::string me = dds::entityGuid(writer->handle());
 
-  const auto start = std::chrono::steady_clock::now();
-  auto left_s = [&] { return o.wait_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  Status matched = writer->waitForReaders(1, o.wait_s);
-  if (!matched)
-    fail(tool, kExitServiceUnavailable, "no planning service is listening on domain " + std::to_string(o.domain) + " (waited " +
-                                   std::to_string(o.wait_s) + " s)");
-  // The service's status writer must also have matched our reader, or its first reply could be lost.
-  Status replies = statuses->waitForWriters(1, std::max(0.0, left_s()));
-  if (!replies) fail(tool, kExitServiceUnavailable, "the planning service has no status writer on domain " + std::to_string(o.domain));
+  const auto start = Clock::now();
+  auto left_s = [&] { return o.wait_s - std::chrono::duration<double>(Clock::now() - start).count(); };
+  // Every live service, from discovery: the daemons among the participants (known first), and
+  // the heartbeat writers they serve by. Each must read our requests and write statuses to us
+  // before the request goes out; the counts must then hold for a moment (another daemon's
+  // participant may be a little behind the first one's endpoints).
+  auto daemons = dds::createParticipantReader(participant.get());
+  if (!daemons) fail(tool, kExitServiceUnavailable, daemons.error().describe());
+  auto discovery = dds::WaitLoop::create(participant.get());
+  if (!discovery) fail(tool, kExitServiceUnavailable, discovery.error().describe());
+  for (auto [entity, mask] : {std::pair{writer->handle(), DDS_PUBLICATION_MATCHED_STATUS},
+                              std::pair{statuses->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS},
+                              std::pair{heartbeats->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS},
+                              std::pair{daemons->get(), DDS_DATA_AVAILABLE_STATUS}}) {
+    if (Status watched = discovery->addStatus(entity, mask, [] {}); !watched)
+      fail(tool, kExitServiceUnavailable, watched.error().describe());
+  }
+  stopOnSignals(discovery->waitsetHandle());
+  constexpr double kSettleS = 0.1;
+  std::set<std::string> services;
+  std::map<std::string, double> periods_s;  // instance id -> heartbeat period it announced
+  bool settled = false;  // the counts held since settled_since
+  Clock::time_point settled_since;
+  for (;;) {
+    std::set<std::string> reached;
+    for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats->handle())) {
+      reached.insert(s.instance_id);
+      periods_s[s.instance_id] = s.heartbeat_period_s;
+    }
+    services = reached;
+    for (const dds::ServiceInstance& s : dds::discoveredInstances(daemons->get())) services.insert(s.instance_id);
+    const auto n = static_cast<uint32_t>(services.size());
+    const bool all = n > 0 && reached.size() == services.size() && dds::matchedReaders(writer->handle()) >= n &&
+                     dds::matchedWriters(statuses->handle()) >= n;
+    if (!all) {
+      settled = false;
+    } else if (!settled) {
+      settled = true;
+      settled_since = Clock::now();
+    } else if (std::chrono::duration<double>(Clock::now() - settled_since).count() >= kSettleS) {
+      break;
+    }
+    if (left_s() <= 0.0) {
+      if (n == 0)
+        fail(tool, kExitServiceUnavailable, "no planning service is listening on domain " + std::to_string(o.domain) +
+                                       " (waited " + numberText(o.wait_s) + " s)");
+      fail(tool, kExitServiceUnavailable, std::to_string(n) + " planning services are live on domain " + std::to_string(o.domain) +
+                                     " but not all of them matched this client within " + numberText(o.wait_s) + " s");
+    }
+    const double wait_s = settled ? 0.02 : std::max(0.01, left_s());
+    auto outcome = discovery->runOnce(std::min(wait_s, std::max(0.01, left_s())));
+    if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
+    if (*outcome == dds::WaitLoop::Outcome::kStopped) fail(tool, kExitPlanningFailed, "interrupted before the request was sent");
+  }
+  stopOnSignals(loop->waitsetHandle());
   Status written = writer->write(mission);
   if (!written) fail(tool, kExitServiceUnavailable, written.error().describe());
   std::cout << "sent request=" << mission.request_id << " vehicle=" << mission.vehicle_id
-            << " points=" << mission.points.size() << std::endl;
+            << " points=" << mission.points.size() << " services=" << services.size() << std::endl;
 
+  std::map<std::string, Heard> heard;           // instance id -> its last heartbeat
+  std::set<std::string> accepted_by;            // instances answering this request
   std::optional<PlanStatusData> final_status;
   Status added = loop->add<PlanStatusData>(
       *statuses,
       [&](PlanStatusData&& s) {
         if (s.request_id != mission.request_id) return;
+        if (!s.requester.empty() && s.requester != me) return;  // another client's request with this id
         std::cout << describe(s) << std::endl;
+        // Until its next heartbeat, a service is timed from its answer, with the period it announced.
+        if (!s.service_instance.empty() && accepted_by.insert(s.service_instance).second &&
+            heard.count(s.service_instance) == 0 && periods_s.count(s.service_instance) > 0) {
+          heard[s.service_instance] = Heard{Clock::now(), periods_s[s.service_instance]};
+        }
         if (isTerminal(s.state)) {
           final_status = std::move(s);
           loop->stop();
@@ -106,10 +185,42 @@ void runRequest(const RequestOptions& o) {
       },
       [](const Error& e) { std::cerr << "skyroute request: skipped a bad status: " << e.describe() << std::endl; });
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
-  auto outcome = loop->run(std::max(0.01, left_s()));
-  if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
+  added = loop->add<ServiceStatusData>(
+      *heartbeats,
+      [&](ServiceStatusData&& s) {
+        if (!s.instance_id.empty()) heard[s.instance_id] = Heard{Clock::now(), s.heartbeat_period_s};
+      },
+      [](const Error&) {});
+  if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
+  while (!final_status && left_s() > 0.0) {
+    auto outcome = loop->runOnce(std::min(0.1, std::max(0.01, left_s())));
+    if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
+    if (*outcome == dds::WaitLoop::Outcome::kStopped) break;
+    // Every service that answered this request must still be alive: heartbeats on time, and
+    // (before its first heartbeat reached us) still discovered.
+    if (accepted_by.empty()) continue;
+    std::set<std::string> discovered;
+    for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats->handle())) discovered.insert(s.instance_id);
+    for (const std::string& instance : accepted_by) {
+      std::string why;
+      if (auto h = heard.find(instance); h != heard.end()) {
+        const double silent_s = std::chrono::duration<double>(Clock::now() - h->second.at).count();
+        if (silent_s > std::max(kMinLostAfterS, kLostAfterPeriods * h->second.period_s)) {
+          why = "sent no heartbeat for " + numberText(silent_s, 3) + " s (its period is " +
+                numberText(h->second.period_s) + " s)";
+        }
+      } else if (discovered.count(instance) == 0) {
+        why = "is no longer discovered on the domain";
+      }
+      if (!why.empty()) {
+        fail(tool, kExitServiceLost, "service lost: the planning service (instance " + instance +
+                                         ") that accepted request " + mission.request_id + " " + why +
+                                         "; the request is lost");
+      }
+    }
+  }
   if (!final_status)
-    fail(tool, kExitServiceUnavailable, "no final status for request " + mission.request_id + " within " + std::to_string(o.wait_s) + " s");
+    fail(tool, kExitServiceUnavailable, "no final status for request " + mission.request_id + " within " + numberText(o.wait_s) + " s");
   if (final_status->state != PlanState::kSucceeded)
     fail(tool, kExitPlanningFailed, "request " + mission.request_id + " " + std::string(to_string(final_status->state)) + ": " +
                                  std::string(to_string(final_status->error_code)) +

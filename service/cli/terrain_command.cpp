@@ -9,7 +9,6 @@
 #include <nlohmann/json.hpp>
 #include <ogr_srs_api.h>
 
-#include "service/cli/cli_common.hpp"
 #include "service/cli/commands.hpp"
 #include "service/map_image.hpp"
 #include "terrain/terrain_generator.hpp"
@@ -26,14 +25,16 @@ struct InfoArgs {
 };
 
 void runInfo(const InfoArgs& args) {
-  const std::string tool = "terrain info";
-  checkOutputPath(tool, "--png", args.png, {"png"});
   CollisionWorldOptions options;
   options.octree_resolution_m = args.octree_resolution_m;
   options.ceiling_m = 1.0e9;
   if (!args.json) std::cerr << "loading " << args.dem << " ..." << std::endl;
   auto world = loadTerrainWorld(args.dem, options);
-  if (!world.ok()) fail(tool, kExitBadInput, world.error().describe() + " [" + std::string(to_string(world.error().code)) + "]");
+  if (!world.ok()) {
+    std::cerr << "skyroute terrain info: " << world.error().describe() << " [" << to_string(world.error().code)
+              << "]\n";
+    throw CLI::RuntimeError(2);
+  }
   const Dem& dem = *world->dem;
   const Heightfield& hf = *world->heightfield;
   const TerrainOctree* octree = world->collision->octree();
@@ -65,7 +66,10 @@ void runInfo(const InfoArgs& args) {
   if (!args.png.empty()) {
     auto image = MapImage::hillshade(dem);
     Status saved = image.ok() ? image->savePng(args.png) : Status(image.error());
-    if (!saved.ok()) fail(tool, kExitUsage, "--png " + saved.error().describe());
+    if (!saved.ok()) {
+      std::cerr << "skyroute terrain info: --png " << saved.error().describe() << "\n";
+      throw CLI::RuntimeError(2);
+    }
     j["png"] = args.png;
   }
   if (args.json) {
@@ -96,8 +100,6 @@ struct GenerateArgs {
 };
 
 void runGenerate(const GenerateArgs& args) {
-  const std::string tool = "terrain generate";
-  checkOutputPath(tool, "--out", args.out, {"tif", "tiff"});
   const auto& o = args.options;
   const std::vector<float> heights = generateTerrainHeights(o);
   GDALDriverH gtiff = GDALGetDriverByName("GTiff");
@@ -106,7 +108,10 @@ void runGenerate(const GenerateArgs& args) {
   create_options.AddNameValue("PREDICTOR", "2");
   create_options.AddNameValue("ZLEVEL", "9");
   GDALDatasetH ds = GDALCreate(gtiff, args.out.c_str(), o.width, o.height, 1, GDT_Int16, create_options.List());
-  if (!ds) fail(tool, kExitUsage, "--out " + args.out + ": cannot create (" + CPLGetLastErrorMsg() + ")");
+  if (!ds) {
+    std::cerr << "skyroute terrain generate: --out " << args.out << ": cannot create (" << CPLGetLastErrorMsg() << ")\n";
+    throw CLI::RuntimeError(2);
+  }
   double gt[6] = {o.origin_easting_m, o.cell_size_m, 0.0, o.origin_northing_m, 0.0, -o.cell_size_m};
   GDALSetGeoTransform(ds, gt);
   OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
@@ -124,7 +129,10 @@ void runGenerate(const GenerateArgs& args) {
   GDALSetMetadataItem(ds, "SKYROUTE_GENERATOR",
                       ("skyroute terrain generate --seed " + std::to_string(o.seed)).c_str(), nullptr);
   GDALClose(ds);
-  if (err != CE_None) fail(tool, kExitUsage, "--out " + args.out + ": write failed");
+  if (err != CE_None) {
+    std::cerr << "skyroute terrain generate: --out " << args.out << ": write failed\n";
+    throw CLI::RuntimeError(2);
+  }
   std::printf("wrote %s: %d x %d cells of %.0f m, EPSG:%d, seed %u\n", args.out.c_str(), o.width, o.height,
               o.cell_size_m, o.epsg, o.seed);
 }
@@ -134,12 +142,9 @@ void runGenerate(const GenerateArgs& args) {
 void addTerrainCommands(CLI::App& app) {
   CLI::App* terrain = app.add_subcommand("terrain", "Inspect or generate terrain (DEM) files");
   terrain->require_subcommand(1);
-  terrain->footer(helpFooter({"skyroute terrain info data/default_terrain.tif --png out/hillshade.png",
-                              "skyroute terrain generate --out out/terrain.tif --seed 7"}));
 
   auto info_args = std::make_shared<InfoArgs>();
   CLI::App* info = terrain->add_subcommand("info", "Summary of a DEM: CRS, size, heights, voids, memory, build times");
-  info->footer(helpFooter({"skyroute terrain info data/default_terrain.tif --json --png out/hillshade.png"}));
   info->add_option("dem", info_args->dem, "DEM file (any raster GDAL opens)")->required();
   info->add_flag("--json", info_args->json, "Print one JSON object");
   info->add_option("--png", info_args->png, "Write a hillshade PNG to this file");
@@ -150,18 +155,11 @@ void addTerrainCommands(CLI::App& app) {
 
   auto gen_args = std::make_shared<GenerateArgs>();
   CLI::App* gen = terrain->add_subcommand("generate", "Write the seeded synthetic mountain DEM (the embedded default terrain)");
-  gen->footer(helpFooter({"skyroute terrain generate --out out/terrain.tif --seed 7 --width 512 --height 512"}));
-  gen->add_option("--out", gen_args->out, "Output GeoTIFF (.tif)")->required();
+  gen->add_option("--out", gen_args->out, "Output GeoTIFF")->required();
   gen->add_option("--seed", gen_args->options.seed, "Random seed")->capture_default_str();
   gen->add_option("--width", gen_args->options.width, "Cells east-west")->check(CLI::Range(16, 4096))->capture_default_str();
   gen->add_option("--height", gen_args->options.height, "Cells north-south")->check(CLI::Range(16, 4096))->capture_default_str();
-  gen->add_option("--cell-size-m", gen_args->options.cell_size_m, "Cell size in metres")
-      ->check(CLI::Range(1.0, 1000.0))
-      ->capture_default_str();
-  // The name before --cell-size-m, kept for one release (hidden).
-  gen->add_option("--cell", gen_args->options.cell_size_m, "old name of --cell-size-m")
-      ->check(CLI::Range(1.0, 1000.0))
-      ->group("");
+  gen->add_option("--cell", gen_args->options.cell_size_m, "Cell size in metres")->check(CLI::Range(1.0, 1000.0))->capture_default_str();
   gen->callback([gen_args] { runGenerate(*gen_args); });
 }
 

@@ -1,11 +1,19 @@
 // skyrouted: the planning daemon. Configuration from --config (TOML) with command-line overrides;
 // the node goes configure -> activate, then the main thread waits for signals: SIGINT or SIGTERM
-// deactivate it (the waitset is triggered, in-flight plans are cancelled, writers flushed) and
-// clean it up; SIGHUP reloads the configuration file. The signals are blocked in every thread and
-// taken with sigwait here, so no handler runs inside Cyclone's or the engine's threads.
+// deactivate it (in-flight plans are cancelled and answered, the waitset is triggered, writers
+// flushed) and clean it up; SIGHUP reloads the configuration file (a reload that fails changes
+// nothing and is logged); SIGUSR1 comes from the node itself when an older daemon serves the same
+// service_id. The signals are blocked in every thread and taken with sigwait here, so no handler
+// runs inside Cyclone's or the engine's threads.
+// Exit codes: 0 stopped by a signal, 2 bad configuration, 3 could not start, 5 another daemon
+// serves this service_id on the domain (refused to start, or stopped for it).
+#include <signal.h>
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -39,6 +47,8 @@ skyroute::Result<skyroute::DaemonConfig> buildConfig(const Overrides& o) {
   if (o.seed) config.engine.pipeline.seed = *o.seed;
   return config;
 }
+
+constexpr int kExitConflict = 5;
 
 int fail(const skyroute::Error& e, int code) {
   spdlog::critical("event=fatal field={} message=\"{}\"", e.field, e.message);
@@ -78,6 +88,7 @@ int main(int argc, char** argv) {
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGHUP);
+  sigaddset(&signals, SIGUSR1);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   auto config = buildConfig(overrides);
@@ -97,9 +108,23 @@ int main(int argc, char** argv) {
   spdlog::info("event=starting version={} dem={} domain={}", SKYROUTE_VERSION, config->dem_path, config->domain);
 
   skyroute::dds::MissionService service;
+  std::string conflict;  // why the node must stop for another daemon (written before SIGUSR1)
+  std::mutex conflict_mutex;
+  service.onConflict([&](const std::string& message) {
+    {
+      std::lock_guard lock(conflict_mutex);
+      conflict = message;
+    }
+    ::kill(::getpid(), SIGUSR1);  // taken by sigwait below
+  });
   if (skyroute::Status s = service.configure(*config); !s.ok()) return fail(s.error(), 3);
-  if (skyroute::Status s = service.activate(); !s.ok()) return fail(s.error(), 3);
-  spdlog::info("event=ready domain={} service_id={}", config->domain, config->service_id);
+  if (skyroute::Status s = service.activate(); !s.ok()) {
+    (void)service.cleanup();
+    return fail(s.error(), s.error().field == "dds.service_id" ? kExitConflict : 3);
+  }
+  spdlog::info("event=ready domain={} service_id={} instance={}", config->domain, config->service_id,
+               service.instance().instance_id);
+  int exit_code = 0;
 
   for (;;) {
     int signal_number = 0;
@@ -113,12 +138,24 @@ int main(int argc, char** argv) {
         spdlog::error("event=reload_failed field={} message=\"{}\"", reloaded.error().field, reloaded.error().message);
         continue;
       }
-      if (skyroute::Status s = skyroute::setupLogging(reloaded->log_level, reloaded->log_format); !s.ok()) {
+      // A reload that fails (a missing DEM, an unusable domain, a terrain change while missions
+      // fly) leaves the service exactly as it was.
+      if (skyroute::Status s = service.reload(*reloaded); !s.ok()) {
         spdlog::error("event=reload_failed field={} message=\"{}\"", s.error().field, s.error().message);
         continue;
       }
-      if (skyroute::Status s = service.reload(*reloaded); !s.ok()) return fail(s.error(), 3);
+      if (skyroute::Status s = skyroute::setupLogging(reloaded->log_level, reloaded->log_format); !s.ok()) {
+        spdlog::error("event=reload_failed field={} message=\"{}\"", s.error().field, s.error().message);
+      }
       continue;
+    }
+    if (signal_number == SIGUSR1) {
+      std::lock_guard lock(conflict_mutex);
+      if (conflict.empty()) continue;  // not from the node
+      std::cerr << "skyrouted: " << conflict << std::endl;
+      exit_code = kExitConflict;
+      spdlog::info("event=stopping reason=service_conflict");
+      break;
     }
     spdlog::info("event=stopping signal={}", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
     break;
@@ -126,5 +163,5 @@ int main(int argc, char** argv) {
   (void)service.deactivate();
   (void)service.cleanup();
   spdlog::info("event=stopped");
-  return 0;
+  return exit_code;
 }

@@ -1,8 +1,9 @@
 #include "service/dds/conversions.hpp"
 
+#include "service/number_text.hpp"
+
 #include <cmath>
 #include <cstring>
-#include <sstream>
 #include <string>
 #include <type_traits>
 
@@ -65,12 +66,6 @@ Error invalid(const std::string& field, const std::string& reason) {
   return make_error(ErrorCode::kInvalidArgument, field, field + " " + reason);
 }
 
-std::string numberText(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
-}
-
 std::optional<Error> finite(double v, const std::string& field) {
   if (std::isfinite(v)) return std::nullopt;
   return invalid(field, "is not a finite number (" + numberText(v) + ")");
@@ -99,11 +94,18 @@ int rawEnumValue(const Enum& v) {
   return static_cast<int>(raw);
 }
 
+std::optional<Error> valueInRange(int value, int last, const std::string& field) {
+  if (value >= 0 && value <= last) return std::nullopt;
+  return invalid(field, "has an unknown value " + std::to_string(value));
+}
+
 template <class Enum>
 std::optional<Error> enumInRange(const Enum& v, int last, const std::string& field) {
-  const int i = rawEnumValue(v);
-  if (i >= 0 && i <= last) return std::nullopt;
-  return invalid(field, "has an unknown value " + std::to_string(i));
+  if constexpr (std::is_enum_v<Enum>) {
+    return valueInRange(rawEnumValue(v), last, field);
+  } else {
+    return valueInRange(static_cast<int>(v), last, field);  // an enum sent as int32 (see the IDL)
+  }
 }
 
 Result<MissionPointData> pointFromWire(const skyroute_msgs_MissionPoint& in, const std::string& field) {
@@ -279,24 +281,31 @@ void toWire(const PlanStatusData& in, skyroute_msgs_PlanStatus& out) {
   out.stage = static_cast<skyroute_msgs_PlanStage>(static_cast<int>(in.stage));
   out.leg_index = in.leg_index;
   out.point_index = in.point_index;
+  out.requester = dup(in.requester);
+  out.service_instance = dup(in.service_instance);
 }
 
 // The plain enums list their values in the IDL's order; these pin that down at compile time.
 static_assert(static_cast<int>(PlanState::kReplanned) == skyroute_msgs_STATE_REPLANNED);
 static_assert(static_cast<int>(PlanErrorCode::kInternal) == skyroute_msgs_ERROR_INTERNAL);
+static_assert(static_cast<int>(PlanErrorCode::kTooLarge) == skyroute_msgs_ERROR_TOO_LARGE);
+static_assert(static_cast<int>(PlanErrorCode::kDuplicateRequest) == skyroute_msgs_ERROR_DUPLICATE_REQUEST);
 static_assert(static_cast<int>(PlanErrorCode::kUnderGround) == skyroute_msgs_ERROR_UNDER_GROUND);
 static_assert(static_cast<int>(PlanStage::kReplan) == skyroute_msgs_STAGE_REPLAN);
 static_assert(static_cast<int>(ObstacleShape::kCylinder) == skyroute_msgs_SHAPE_CYLINDER);
 static_assert(static_cast<int>(ObstacleMotionKind::kBackAndForth) == skyroute_msgs_MOTION_BACK_AND_FORTH);
 
 Result<PlanStatusData> fromWire(const skyroute_msgs_PlanStatus& in) {
-  if (auto e = required(in.request_id, "request_id")) return *e;
+  // A refused vehicle-wide cancel has no request id: the vehicle id then names what it answers.
+  if (text(in.request_id).empty() && text(in.vehicle_id).empty()) {
+    return invalid("request_id", "and vehicle_id are both missing (empty)");
+  }
   if (auto e = enumInRange(in.state, skyroute_msgs_STATE_REPLANNED, "state")) return *e;
-  if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_INTERNAL, "error_code")) return *e;
+  if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_DUPLICATE_REQUEST, "error_code")) return *e;
   if (auto e = enumInRange(in.stage, skyroute_msgs_STAGE_REPLAN, "stage")) return *e;
   if (auto e = finite(in.planning_time_s, "planning_time_s")) return *e;
   PlanStatusData out;
-  out.request_id = in.request_id;
+  out.request_id = text(in.request_id);
   out.vehicle_id = text(in.vehicle_id);
   out.state = static_cast<PlanState>(static_cast<int>(in.state));
   out.error_code = static_cast<PlanErrorCode>(static_cast<int>(in.error_code));
@@ -306,16 +315,18 @@ Result<PlanStatusData> fromWire(const skyroute_msgs_PlanStatus& in) {
   out.stage = static_cast<PlanStage>(static_cast<int>(in.stage));
   out.leg_index = in.leg_index;
   out.point_index = in.point_index;
+  out.requester = text(in.requester);
+  out.service_instance = text(in.service_instance);
   return out;
 }
 
 void toWire(const ObstacleUpdateData& in, skyroute_msgs_ObstacleUpdate& out) {
   const Obstacle& o = in.obstacle;
   out.obstacle_id = o.id;
-  out.shape = static_cast<skyroute_msgs_ObstacleShapeKind>(static_cast<int>(o.shape));
+  out.shape = static_cast<int32_t>(o.shape);
   out.size_m = vec(o.size_m);
   out.position_enu_m = vec(o.center_m);
-  out.motion = static_cast<skyroute_msgs_ObstacleMotionKind>(static_cast<int>(in.motionKind()));
+  out.motion = static_cast<int32_t>(in.motionKind());
   out.velocity_enu_mps = vec(in.constant_velocity_enu_mps.value_or(Eigen::Vector3d::Zero()));
   if (o.motion) {
     out.from_enu_m = vec(o.motion->from_m);
@@ -374,26 +385,35 @@ Result<CancelRequestData> fromWire(const skyroute_msgs_CancelRequest& in) {
 
 void toWire(const ServiceStatusData& in, skyroute_msgs_ServiceStatus& out) {
   out.service_id = dup(in.service_id);
+  out.instance_id = dup(in.instance_id);
+  out.started_utc_ns = in.started_utc_ns;
+  out.heartbeat_period_s = in.heartbeat_period_s;
   out.stamp_utc_ns = in.stamp_utc_ns;
   out.terrain_loaded = in.terrain_loaded;
   out.terrain_name = dup(in.terrain_name);
   out.vehicles = in.vehicles;
   out.replans = in.replans;
   out.queue_length = in.queue_length;
+  out.obstacles = in.obstacles;
   out.service_version = dup(in.service_version);
   out.idl_version = dup(in.idl_version);
 }
 
 Result<ServiceStatusData> fromWire(const skyroute_msgs_ServiceStatus& in) {
   if (auto e = required(in.service_id, "service_id")) return *e;
+  if (auto e = finite(in.heartbeat_period_s, "heartbeat_period_s")) return *e;
   ServiceStatusData out;
   out.service_id = in.service_id;
+  out.instance_id = text(in.instance_id);
+  out.started_utc_ns = in.started_utc_ns;
+  out.heartbeat_period_s = in.heartbeat_period_s;
   out.stamp_utc_ns = in.stamp_utc_ns;
   out.terrain_loaded = in.terrain_loaded;
   out.terrain_name = text(in.terrain_name);
   out.vehicles = in.vehicles;
   out.replans = in.replans;
   out.queue_length = in.queue_length;
+  out.obstacles = in.obstacles;
   out.service_version = text(in.service_version);
   out.idl_version = text(in.idl_version);
   return out;
@@ -481,7 +501,7 @@ void toWire(const FleetStatusData& in, skyroute_msgs_FleetStatus& out) {
 Result<FleetStatusData> fromWire(const skyroute_msgs_FleetStatus& in) {
   if (auto e = required(in.request_id, "request_id")) return *e;
   if (auto e = enumInRange(in.state, skyroute_msgs_STATE_REPLANNED, "state")) return *e;
-  if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_INTERNAL, "error_code")) return *e;
+  if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_DUPLICATE_REQUEST, "error_code")) return *e;
   if (auto e = finite(in.makespan_s, "makespan_s")) return *e;
   if (auto e = finite(in.min_separation_m, "min_separation_m")) return *e;
   if (auto e = finite(in.achieved_separation_m, "achieved_separation_m")) return *e;

@@ -6,6 +6,18 @@ Error ddsError(dds_return_t rc, const std::string& operation) {
   return make_error(ErrorCode::kInternal, operation, operation + " failed: " + dds_strretcode(rc));
 }
 
+void EndpointDeleter::operator()(dds_builtintopic_endpoint_t* endpoint) const {
+  if (endpoint == nullptr) return;
+  dds_delete_qos(endpoint->qos);
+  dds_free(endpoint->topic_name);
+  dds_free(endpoint->type_name);
+  dds_free(endpoint);
+}
+
+Endpoint matchedPublication(dds_entity_t reader, dds_instance_handle_t publication) {
+  return Endpoint(dds_get_matched_publication_data(reader, publication));
+}
+
 void Entity::reset() {
   if (handle_ > 0) {
     // An entity already deleted with its parent reports "already deleted": nothing left to do.
@@ -23,8 +35,16 @@ Result<Entity> owned(dds_entity_t handle, const char* operation) {
 
 }  // namespace
 
-Result<Entity> createParticipant(dds_domainid_t domain) {
-  return owned(dds_create_participant(domain, nullptr, nullptr), "dds_create_participant");
+Result<Entity> createParticipant(dds_domainid_t domain, const std::string& user_data) {
+  if (user_data.empty()) return owned(dds_create_participant(domain, nullptr, nullptr), "dds_create_participant");
+  Qos qos(dds_create_qos());
+  dds_qset_userdata(qos.get(), user_data.data(), user_data.size());
+  return owned(dds_create_participant(domain, qos.get(), nullptr), "dds_create_participant");
+}
+
+Result<Entity> createParticipantReader(dds_entity_t participant) {
+  return owned(dds_create_reader(participant, DDS_BUILTIN_TOPIC_DCPSPARTICIPANT, nullptr, nullptr),
+               "dds_create_reader(DCPSParticipant)");
 }
 
 Result<Entity> createTopic(dds_entity_t participant, const dds_topic_descriptor_t* descriptor,

@@ -10,7 +10,7 @@
 
 #include <dds/dds.h>
 
-#include "terrain/result.hpp"
+#include "planning/core/result.hpp"
 
 namespace skyroute::dds {
 
@@ -52,8 +52,21 @@ struct QosDeleter {
 };
 using Qos = std::unique_ptr<dds_qos_t, QosDeleter>;
 
+// A matched endpoint's discovery data (dds_get_matched_publication_data), freed as
+// dds_builtintopic_free_endpoint does (that function is not declared in Cyclone 0.10's headers).
+struct EndpointDeleter {
+  void operator()(dds_builtintopic_endpoint_t* endpoint) const;
+};
+using Endpoint = std::unique_ptr<dds_builtintopic_endpoint_t, EndpointDeleter>;
+// The writer behind `publication` as `reader` sees it; null when it is no longer matched.
+Endpoint matchedPublication(dds_entity_t reader, dds_instance_handle_t publication);
+
 // Each returns the owned entity or an Error naming the operation and Cyclone's reason.
-Result<Entity> createParticipant(dds_domainid_t domain);
+// user_data: the participant's USER_DATA QoS, which every other participant on the domain reads at
+// discovery (the daemon names its instance there).
+Result<Entity> createParticipant(dds_domainid_t domain, const std::string& user_data = "");
+// A reader of the built-in DCPSParticipant topic: every participant discovered on the domain.
+Result<Entity> createParticipantReader(dds_entity_t participant);
 Result<Entity> createTopic(dds_entity_t participant, const dds_topic_descriptor_t* descriptor,
                            const std::string& name, const dds_qos_t* qos);
 Result<Entity> createReader(dds_entity_t participant, dds_entity_t topic, const dds_qos_t* qos);

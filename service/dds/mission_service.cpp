@@ -1,5 +1,6 @@
 #include "service/dds/mission_service.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 
@@ -10,97 +11,173 @@ namespace skyroute::dds {
 namespace {
 
 // The IDL revision of idl/skyroute.idl: bump when a message changes incompatibly.
-constexpr const char* kIdlVersion = "skyroute_msgs/1";
+constexpr const char* kIdlVersion = "skyroute_msgs/2";
+
+using Clock = std::chrono::steady_clock;
+
+Clock::duration seconds(double s) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+}
+
+// The terrain and world model of a configuration; errors name the DEM.
+Result<std::shared_ptr<WorldModel>> loadWorld(const DaemonConfig& config) {
+  if (config.dem_path.empty()) return make_error(ErrorCode::kInvalidArgument, "terrain.dem", "no DEM path");
+  auto world = WorldModel::load(config.dem_path, config.world);
+  if (!world.ok()) {
+    Error e = world.error();
+    e.field = "terrain.dem";
+    e.message = config.dem_path + ": " + e.message;
+    return e;
+  }
+  return world;
+}
+
+bool terrainChanged(const DaemonConfig& a, const DaemonConfig& b) {
+  return a.dem_path != b.dem_path || a.world.vehicle_radius_m != b.world.vehicle_radius_m ||
+         a.world.terrain_margin_m != b.world.terrain_margin_m ||
+         a.world.constant_velocity_horizon_s != b.world.constant_velocity_horizon_s;
+}
+
+// The DDS entities are made anew: another domain or service id, or another ROS 2 mirror (on or
+// off, or the origin of another terrain).
+bool edgeChanged(const DaemonConfig& a, const DaemonConfig& b) {
+  return a.domain != b.domain || a.service_id != b.service_id || a.ros2_enabled != b.ros2_enabled ||
+         (b.ros2_enabled && terrainChanged(a, b));
+}
 
 }  // namespace
+
+// Members in creation order: the participant first, so it is destroyed last.
+struct MissionService::Edge {
+  int domain = 0;
+  Entity participant;
+  std::optional<Reader<MissionRequestData>> requests;
+  std::optional<Reader<CancelRequestData>> cancels;
+  std::optional<Reader<ObstacleUpdateData>> obstacles;
+  std::optional<Writer<TrajectoryData>> trajectories;
+  std::optional<Writer<PlanStatusData>> statuses;
+  std::optional<Writer<ServiceStatusData>> heartbeat;
+  std::optional<Reader<ServiceStatusData>> rivals;  // every daemon's heartbeat, ours included
+  std::optional<Reader<FleetRequestData>> fleet_requests;
+  std::optional<Writer<FleetStatusData>> fleet_statuses;
+  std::unique_ptr<Ros2Mirror> ros2;  // ROS 2 topics of every trajectory (ros2.enabled)
+  std::optional<WaitLoop> loop;
+};
+
+MissionService::MissionService() = default;
 
 MissionService::~MissionService() {
   (void)deactivate();
   (void)cleanup();
 }
 
-Status MissionService::configure(const DaemonConfig& config) {
-  if (state_ != State::kUnconfigured) {
-    return make_error(ErrorCode::kInvalidArgument, "lifecycle", "configure needs the unconfigured state");
-  }
-  if (config.dem_path.empty()) return make_error(ErrorCode::kInvalidArgument, "terrain.dem", "no DEM path");
-  const auto started = std::chrono::steady_clock::now();
-  auto world = WorldModel::load(config.dem_path, config.world);
-  if (!world.ok()) {
-    Error e = world.error();
-    e.message = "terrain.dem " + config.dem_path + ": " + e.message;
+DaemonConfig MissionService::config() const {
+  std::lock_guard lock(config_mutex_);
+  return config_;
+}
+
+dds_entity_t MissionService::waitsetHandle() const {
+  std::shared_lock lock(edge_mutex_);
+  return edge_ && edge_->loop ? edge_->loop->waitsetHandle() : 0;
+}
+
+Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const DaemonConfig& config,
+                                                                      const WorldModel& world) {
+  auto edge = std::make_unique<Edge>();
+  edge->domain = config.domain;
+  ServiceInstance me = instance_;
+  me.service_id = config.service_id;
+  me.heartbeat_period_s = config.heartbeat_period_s;
+  auto participant = createParticipant(static_cast<dds_domainid_t>(config.domain), me.userData());
+  if (!participant.ok()) {
+    Error e = participant.error();
+    e.field = "dds.domain";
     return e;
   }
-  auto engine = Engine::create(*world, config.engine, *this);
-  if (!engine.ok()) return engine.error();
+  edge->participant = std::move(*participant);
+  const dds_entity_t p = edge->participant.get();
 
-  auto participant = createParticipant(static_cast<dds_domainid_t>(config.domain));
-  if (!participant.ok()) return participant.error();
-  const dds_entity_t p = participant->get();
   auto requests = Reader<MissionRequestData>::create(p);
   if (!requests.ok()) return requests.error();
+  edge->requests.emplace(std::move(*requests));
   auto cancels = Reader<CancelRequestData>::create(p);
   if (!cancels.ok()) return cancels.error();
+  edge->cancels.emplace(std::move(*cancels));
   auto obstacles = Reader<ObstacleUpdateData>::create(p);
   if (!obstacles.ok()) return obstacles.error();
+  edge->obstacles.emplace(std::move(*obstacles));
   auto trajectories = Writer<TrajectoryData>::create(p);
   if (!trajectories.ok()) return trajectories.error();
+  edge->trajectories.emplace(std::move(*trajectories));
   auto statuses = Writer<PlanStatusData>::create(p);
   if (!statuses.ok()) return statuses.error();
-  auto heartbeat = Writer<ServiceStatusData>::create(p);
+  edge->statuses.emplace(std::move(*statuses));
+  auto heartbeat = Writer<ServiceStatusData>::create(p, me.userData());
   if (!heartbeat.ok()) return heartbeat.error();
+  edge->heartbeat.emplace(std::move(*heartbeat));
+  auto rivals = Reader<ServiceStatusData>::create(p);
+  if (!rivals.ok()) return rivals.error();
+  edge->rivals.emplace(std::move(*rivals));
   auto fleet_requests = Reader<FleetRequestData>::create(p);
   if (!fleet_requests.ok()) return fleet_requests.error();
+  edge->fleet_requests.emplace(std::move(*fleet_requests));
   auto fleet_statuses = Writer<FleetStatusData>::create(p);
   if (!fleet_statuses.ok()) return fleet_statuses.error();
+  edge->fleet_statuses.emplace(std::move(*fleet_statuses));
+  if (config.ros2_enabled) edge->ros2 = Ros2Mirror::create(p, world.frame().anchor());
   auto loop = WaitLoop::create(p);
   if (!loop.ok()) return loop.error();
+  edge->loop.emplace(std::move(*loop));
 
-  config_ = config;
-  world_ = std::move(*world);
-  engine_ = std::move(*engine);
-  participant_ = std::move(*participant);
-  requests_.emplace(std::move(*requests));
-  cancels_.emplace(std::move(*cancels));
-  obstacles_.emplace(std::move(*obstacles));
-  trajectories_.emplace(std::move(*trajectories));
-  statuses_.emplace(std::move(*statuses));
-  heartbeat_.emplace(std::move(*heartbeat));
-  fleet_requests_.emplace(std::move(*fleet_requests));
-  fleet_statuses_.emplace(std::move(*fleet_statuses));
-  loop_.emplace(std::move(*loop));
-
-  // Handlers only queue or flag: planning happens on the engine's threads.
-  Status added = loop_->addWithRejects(
-      *requests_, [this](MissionRequestData&& request) { engine_->submit(std::move(request)); },
+  // Handlers only queue or flag: planning happens on the engine's threads. A refused sample is
+  // logged (rate-limited per reason) and answered where its topic has a reply.
+  WaitLoop& l = *edge->loop;
+  Status added = l.addWithRejects(
+      *edge->requests, [this](MissionRequestData&& request) { engine_->submit(std::move(request)); },
       [this](const Error& e, const MissionRequestData& identity) {
         ++bad_samples_;
-        spdlog::warn("event=bad_request request={} vehicle={} field={} message=\"{}\"", identity.request_id,
-                     identity.vehicle_id, e.field, e.message);
+        bad_samples_log_.warn("bad_request:" + e.field,
+                              fmt::format("event=bad_request request={} vehicle={} field={} message=\"{}\"",
+                                          identity.request_id, identity.vehicle_id, e.field, e.message));
         publishStatus(PlanStatusData::failed(identity, toPlanError(e), 0.0));
       });
-  if (!added.ok()) return added;
-  added = loop_->add(
-      *cancels_, [this](CancelRequestData&& cancel) { engine_->cancel(cancel); },
+  if (!added.ok()) return added.error();
+  added = l.addWithRejects(
+      *edge->cancels, [this](CancelRequestData&& cancel) { engine_->cancel(cancel); },
+      [this](const Error& e, const CancelRequestData& identity) {
+        ++bad_samples_;
+        bad_samples_log_.warn("bad_cancel:" + e.field, fmt::format("event=bad_cancel request={} vehicle={} field={} "
+                                                                   "message=\"{}\"",
+                                                                   identity.request_id, identity.vehicle_id, e.field,
+                                                                   e.message));
+        if (identity.request_id.empty() && identity.vehicle_id.empty()) return;  // nobody to answer
+        MissionRequestData who;
+        who.request_id = identity.request_id;
+        who.vehicle_id = identity.vehicle_id;
+        who.requester = identity.requester;
+        publishStatus(PlanStatusData::failed(who, toPlanError(e), 0.0));
+      });
+  if (!added.ok()) return added.error();
+  added = l.add(
+      *edge->obstacles, [this](ObstacleUpdateData&& update) { engine_->updateObstacle(update); },
       [this](const Error& e) {
         ++bad_samples_;
-        spdlog::warn("event=bad_cancel field={} message=\"{}\"", e.field, e.message);
+        bad_samples_log_.warn("bad_obstacle_update:" + e.field,
+                              fmt::format("event=bad_obstacle_update field={} message=\"{}\"", e.field, e.message));
       });
-  if (!added.ok()) return added;
-  added = loop_->add(
-      *obstacles_, [this](ObstacleUpdateData&& update) { engine_->updateObstacle(update); },
-      [this](const Error& e) {
-        ++bad_samples_;
-        spdlog::warn("event=bad_obstacle_update field={} message=\"{}\"", e.field, e.message);
-      });
-  if (!added.ok()) return added;
-
-  added = loop_->addWithRejects(
-      *fleet_requests_, [this](FleetRequestData&& request) { engine_->submitFleet(std::move(request)); },
+  if (!added.ok()) return added.error();
+  // Heartbeat samples carry nothing the node needs (rivals are read from discovery): drained.
+  added = l.add(*edge->rivals, [](ServiceStatusData&&) {}, [](const Error&) {});
+  if (!added.ok()) return added.error();
+  added = l.addStatus(edge->rivals->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [this] { checkRivals(); });
+  if (!added.ok()) return added.error();
+  added = l.addWithRejects(
+      *edge->fleet_requests, [this](FleetRequestData&& request) { engine_->submitFleet(std::move(request)); },
       [this](const Error& e, const FleetRequestData& identity) {
         ++bad_samples_;
-        spdlog::warn("event=bad_fleet_request request={} field={} message=\"{}\"", identity.request_id, e.field,
-                     e.message);
+        bad_samples_log_.warn("bad_fleet_request:" + e.field,
+                              fmt::format("event=bad_fleet_request request={} field={} message=\"{}\"",
+                                          identity.request_id, e.field, e.message));
         const PlanError error = toPlanError(e);
         FleetStatusData status;
         status.request_id = identity.request_id;
@@ -110,35 +187,122 @@ Status MissionService::configure(const DaemonConfig& config) {
         status.message = error.describe();
         publishFleetStatus(status);
       });
-  if (!added.ok()) return added;
+  if (!added.ok()) return added.error();
+  return edge;
+}
 
+Status MissionService::configure(const DaemonConfig& config) {
+  if (state_ != State::kUnconfigured) {
+    return make_error(ErrorCode::kInvalidArgument, "lifecycle", "configure needs the unconfigured state");
+  }
+  const auto started = Clock::now();
+  auto world = loadWorld(config);
+  if (!world.ok()) return world.error();
+  auto engine = Engine::create(*world, config.engine, *this);
+  if (!engine.ok()) return engine.error();
+  instance_ = ServiceInstance::current(config.service_id, config.heartbeat_period_s);
+  bad_samples_log_.setWindowS(config.engine.log_repeat_window_s);
+  auto edge = makeEdge(config, **world);
+  if (!edge.ok()) return edge.error();
+
+  {
+    std::lock_guard lock(config_mutex_);
+    config_ = config;
+  }
+  world_ = std::move(*world);
+  engine_ = std::move(*engine);
+  {
+    std::unique_lock lock(edge_mutex_);
+    edge_ = std::move(*edge);
+  }
   state_ = State::kInactive;
-  spdlog::info("event=configured dem={} domain={} time_s={:.2f}", config.dem_path, config.domain,
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  spdlog::info("event=configured dem={} domain={} instance={} time_s={:.2f}", config.dem_path, config.domain,
+               instance_.instance_id, std::chrono::duration<double>(Clock::now() - started).count());
   return Status::success();
+}
+
+std::optional<ServiceInstance> MissionService::olderRival() {
+  const std::string service_id = config().service_id;
+  std::optional<ServiceInstance> older;
+  for (const ServiceInstance& other : matchedInstances(edge_->rivals->handle())) {
+    if (other.service_id != service_id || other.instance_id == instance_.instance_id) continue;
+    if (other.precedes(instance_)) {
+      older = other;
+    } else if (std::find(younger_rivals_logged_.begin(), younger_rivals_logged_.end(), other.instance_id) ==
+               younger_rivals_logged_.end()) {
+      younger_rivals_logged_.push_back(other.instance_id);
+      spdlog::warn("event=rival_instance service_id={} rival=\"{}\" message=\"another daemon serves this service_id "
+                   "on domain {}; it started later and will stop\"",
+                   service_id, other.describe(), edge_->domain);
+    }
+  }
+  return older;
+}
+
+void MissionService::checkRivals() {
+  if (conflict_reported_) return;
+  const std::optional<ServiceInstance> rival = olderRival();
+  if (!rival) return;
+  conflict_reported_ = true;
+  const std::string message = "another skyrouted serves service_id '" + config().service_id + "' on domain " +
+                              std::to_string(edge_->domain) + ": " + rival->describe() +
+                              ", started before this one; stopping (give each daemon its own dds.service_id or domain)";
+  spdlog::critical("event=service_conflict instance={} message=\"{}\"", instance_.instance_id, message);
+  if (on_conflict_) on_conflict_(message);
 }
 
 Status MissionService::activate() {
   if (state_ != State::kInactive) {
     return make_error(ErrorCode::kInvalidArgument, "lifecycle", "activate needs the inactive state");
   }
+  // Discovery on a domain takes a moment: before serving, listen for an older daemon with this
+  // service_id. No sample is taken meanwhile, so a refused start answers nothing.
+  // A probe of 0 s skips the check: the daemon serves at once and meets rivals through discovery.
+  const auto probe_end = Clock::now() + seconds(config().startup_probe_s);
+  while (config().startup_probe_s > 0.0) {
+    if (const std::optional<ServiceInstance> rival = olderRival()) {
+      return make_error(ErrorCode::kInvalidArgument, "dds.service_id",
+                        "another skyrouted already serves service_id '" + config().service_id + "' on domain " +
+                            std::to_string(edge_->domain) + ": " + rival->describe() +
+                            "; not starting (give each daemon its own dds.service_id or domain)");
+    }
+    if (Clock::now() >= probe_end) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   engine_->start();
-  dds_thread_ = std::thread([this] { ddsThread(); });
+  startDdsThread();
   state_ = State::kActive;
-  spdlog::info("event=active service_id={} domain={}", config_.service_id, config_.domain);
+  spdlog::info("event=active service_id={} domain={} instance={}", config().service_id, edge_->domain,
+               instance_.instance_id);
   return Status::success();
+}
+
+void MissionService::startDdsThread() {
+  dds_thread_ = std::thread([this] { ddsThread(); });
+}
+
+void MissionService::stopDdsThread() {
+  if (!dds_thread_.joinable()) return;
+  edge_->loop->stop();
+  dds_thread_.join();
 }
 
 Status MissionService::deactivate() {
   if (state_ != State::kActive) return Status::success();
-  loop_->stop();
-  if (dds_thread_.joinable()) dds_thread_.join();
-  engine_->stop();  // cancels in-flight plans; their cancelled statuses still go out
-  // Flush: reliable readers get what was written before the writers go away.
-  const double flush_s = config_.flush_timeout_s;
-  (void)statuses_->waitForAcks(flush_s);
-  (void)fleet_statuses_->waitForAcks(flush_s);
-  (void)trajectories_->waitForAcks(flush_s);
+  // The engine first: its plans see the cancel at their next check, and each is answered
+  // cancelled while the writers are still there. Requests arriving meanwhile are refused busy.
+  engine_->stop();
+  stopDdsThread();
+  // Flush: reliable readers get what was written, all writers sharing one deadline.
+  const auto deadline = Clock::now() + seconds(config().flush_timeout_s);
+  auto left_s = [&] { return std::max(0.0, std::chrono::duration<double>(deadline - Clock::now()).count()); };
+  {
+    std::shared_lock lock(edge_mutex_);
+    (void)edge_->statuses->waitForAcks(left_s());
+    (void)edge_->fleet_statuses->waitForAcks(left_s());
+    (void)edge_->trajectories->waitForAcks(left_s());
+    if (edge_->ros2) edge_->ros2->flush(left_s());
+  }
   state_ = State::kInactive;
   spdlog::info("event=inactive");
   return Status::success();
@@ -150,88 +314,134 @@ Status MissionService::cleanup() {
   }
   if (state_ == State::kUnconfigured) return Status::success();
   engine_.reset();
-  loop_.reset();
-  heartbeat_.reset();
-  fleet_statuses_.reset();
-  fleet_requests_.reset();
-  statuses_.reset();
-  trajectories_.reset();
-  obstacles_.reset();
-  cancels_.reset();
-  requests_.reset();
-  participant_ = Entity();
+  {
+    std::unique_lock lock(edge_mutex_);
+    edge_.reset();
+  }
   world_.reset();
   state_ = State::kUnconfigured;
   return Status::success();
 }
 
 Status MissionService::reload(const DaemonConfig& config) {
-  const bool restart = config.dem_path != config_.dem_path || config.domain != config_.domain ||
-                       config.world.vehicle_radius_m != config_.world.vehicle_radius_m ||
-                       config.world.terrain_margin_m != config_.world.terrain_margin_m ||
-                       config.engine.planning_threads != config_.engine.planning_threads;
-  if (!restart) {
-    engine_->setOptions(config.engine);
+  if (state_ == State::kUnconfigured) {
+    return make_error(ErrorCode::kInvalidArgument, "lifecycle", "reload needs a configured service");
+  }
+  const DaemonConfig old = this->config();
+  // Everything is checked and built first; nothing running changes until all of it worked.
+  if (Status ok = validateEngineOptions(config.engine); !ok.ok()) return ok;
+  std::shared_ptr<WorldModel> world;
+  if (terrainChanged(old, config)) {
+    if (Status free = engine_->canReplaceWorld(); !free.ok()) return free;  // before loading a large DEM
+    auto loaded = loadWorld(config);
+    if (!loaded.ok()) return loaded.error();
+    world = std::move(*loaded);
+  }
+  std::unique_ptr<Edge> edge;
+  const bool edge_changed = edgeChanged(old, config);
+  if (edge_changed) {
+    auto made = makeEdge(config, world ? *world : *world_);
+    if (!made.ok()) return made.error();
+    edge = std::move(*made);
+  }
+  // The only step that can still fail: a mission may have arrived since the check above.
+  if (world) {
+    if (Status ok = engine_->replaceWorld(world); !ok.ok()) return ok;
+    world_ = world;
+  }
+  if (edge_changed) {
+    const bool active = state_ == State::kActive;
+    if (active) stopDdsThread();
+    {
+      std::unique_lock lock(edge_mutex_);
+      std::swap(edge_, edge);
+    }
+    instance_.service_id = config.service_id;
+    younger_rivals_logged_.clear();
+    conflict_reported_ = false;
+    if (active) startDdsThread();
+  }
+  (void)engine_->setOptions(config.engine);  // validated above
+  bad_samples_log_.setWindowS(config.engine.log_repeat_window_s);
+  {
+    std::lock_guard lock(config_mutex_);
     config_ = config;
-    spdlog::info("event=reloaded restart=false");
-    return Status::success();
   }
-  const bool was_active = state_ == State::kActive;
-  if (Status s = deactivate(); !s.ok()) return s;
-  if (Status s = cleanup(); !s.ok()) return s;
-  if (Status s = configure(config); !s.ok()) return s;
-  if (was_active) {
-    if (Status s = activate(); !s.ok()) return s;
+  // On a new domain, ground stations there get every active mission's current trajectory
+  // (transient-local) as they would have on the old one.
+  std::size_t republished = 0;
+  if (edge_changed) {
+    for (const TrajectoryData& t : engine_->currentTrajectories()) {
+      publishTrajectory(t);
+      ++republished;
+    }
   }
-  spdlog::info("event=reloaded restart=true");
+  spdlog::info("event=reloaded terrain_changed={} domain_changed={} planning_threads={} missions={} obstacles={} "
+               "republished={}",
+               world != nullptr, edge_changed, config.engine.planning_threads, engine_->activeMissions(),
+               engine_->world()->obstacleCount(), republished);
   return Status::success();
 }
 
 void MissionService::publishStatus(const PlanStatusData& status) {
-  if (Status s = statuses_->write(status); !s.ok()) {
+  PlanStatusData addressed = status;
+  addressed.service_instance = instance_.instance_id;
+  std::shared_lock lock(edge_mutex_);
+  if (Status s = edge_->statuses->write(addressed); !s.ok()) {
     spdlog::error("event=write_failed topic=status field={} message=\"{}\"", s.error().field, s.error().message);
   }
 }
 
 void MissionService::publishTrajectory(const TrajectoryData& trajectory) {
-  if (Status s = trajectories_->write(trajectory); !s.ok()) {
+  std::shared_lock lock(edge_mutex_);
+  if (Status s = edge_->trajectories->write(trajectory); !s.ok()) {
     spdlog::error("event=write_failed topic=trajectory field={} message=\"{}\"", s.error().field, s.error().message);
   }
+  if (edge_->ros2) edge_->ros2->publish(trajectory);
 }
 
 void MissionService::retractTrajectory(const std::string& vehicle_id) {
   TrajectoryData key;
   key.vehicle_id = vehicle_id;
-  if (Status s = trajectories_->dispose(key); !s.ok()) {
+  std::shared_lock lock(edge_mutex_);
+  if (Status s = edge_->trajectories->dispose(key); !s.ok()) {
     spdlog::error("event=dispose_failed vehicle={} message=\"{}\"", vehicle_id, s.error().message);
   }
+  if (edge_->ros2) edge_->ros2->retract(vehicle_id);
 }
 
 void MissionService::publishFleetStatus(const FleetStatusData& status) {
-  if (Status s = fleet_statuses_->write(status); !s.ok()) {
+  std::shared_lock lock(edge_mutex_);
+  if (Status s = edge_->fleet_statuses->write(status); !s.ok()) {
     spdlog::error("event=write_failed topic=fleet_status field={} message=\"{}\"", s.error().field, s.error().message);
   }
 }
 
 void MissionService::publishHeartbeat() {
-  ServiceStatusData status = engine_->status(config_.service_id);
+  const DaemonConfig config = this->config();
+  ServiceStatusData status = engine_->status(config.service_id);
+  status.instance_id = instance_.instance_id;
+  status.started_utc_ns = instance_.started_utc_ns;
+  status.heartbeat_period_s = config.heartbeat_period_s;
   status.service_version = SKYROUTE_VERSION;
   status.idl_version = kIdlVersion;
-  (void)heartbeat_->write(status);
+  std::shared_lock lock(edge_mutex_);
+  (void)edge_->heartbeat->write(status);
 }
 
 void MissionService::ddsThread() {
-  using Clock = std::chrono::steady_clock;
+  // The edge is swapped only while this thread is stopped, so it is read here without the lock.
+  WaitLoop& loop = *edge_->loop;
   auto next_heartbeat = Clock::now();
   for (;;) {
     const auto now = Clock::now();
     if (now >= next_heartbeat) {
       publishHeartbeat();
-      next_heartbeat = now + std::chrono::duration_cast<Clock::duration>(
-                                 std::chrono::duration<double>(config_.heartbeat_period_s));
+      next_heartbeat = now + seconds(config().heartbeat_period_s);
+      bad_samples_log_.flush(now);
     }
     const double wait_s = std::chrono::duration<double>(next_heartbeat - Clock::now()).count();
-    auto outcome = loop_->runOnce(std::max(wait_s, 0.0));
+    auto outcome = loop.runOnce(std::max(wait_s, 0.0));
     if (!outcome.ok()) {
       // A DDS failure on one take must not end the service: log it and go on.
       spdlog::error("event=waitset_error field={} message=\"{}\"", outcome.error().field, outcome.error().message);

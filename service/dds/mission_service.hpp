@@ -4,24 +4,42 @@
 // only queued there; planning runs on the engine's threads. Trajectories go out reliable,
 // transient-local, keep-last 1 per vehicle, so a ground station that joins late gets every
 // vehicle's current trajectory; statuses reliable; a ServiceStatus heartbeat every period.
+//
+// One daemon per service_id on a domain: the heartbeat writer names this instance in its
+// USER_DATA (service_instance.hpp). activate() first listens for dds.startup_probe_s and refuses
+// to start when an older instance serves the same service_id; one that appears later makes the
+// younger of the two stop (on_conflict is called; the daemon exits with a message).
+//
+// Reload (SIGHUP) validates everything before it changes anything (the DEM is opened, a new DDS
+// edge created), and keeps the engine: active missions, their trajectories and the obstacles
+// survive. A terrain change is refused while missions are active or requests are waiting.
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <shared_mutex>
 #include <thread>
 
 #include "service/daemon_config.hpp"
+#include "service/dds/ros2_mirror.hpp"
+#include "service/dds/service_instance.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/engine.hpp"
+#include "service/log_throttle.hpp"
 
 namespace skyroute::dds {
 
 class MissionService final : public EngineSink {
  public:
   enum class State { kUnconfigured, kInactive, kActive };
+  // Called (from the node's DDS thread) when this instance must stop for another one; the
+  // message says which.
+  using ConflictHandler = std::function<void(const std::string& message)>;
 
-  MissionService() = default;
+  MissionService();
   ~MissionService() override;
   MissionService(const MissionService&) = delete;
   MissionService& operator=(const MissionService&) = delete;
@@ -29,21 +47,25 @@ class MissionService final : public EngineSink {
   // Loads the terrain, makes the world model and the engine, creates the DDS entities.
   // config.dem_path must be set. Errors name the key or the file.
   Status configure(const DaemonConfig& config);
-  // Starts the engine's threads and the node's DDS thread.
+  // Listens for dds.startup_probe_s for an older instance with this service_id (then fails,
+  // naming it: kInvalidArgument "dds.service_id"), then starts the engine and the DDS thread.
   Status activate();
-  // Stops taking samples (the waitset's guard is triggered), cancels in-flight plans, ends the
-  // threads and waits up to flush_timeout_s for readers to acknowledge what was written.
+  // Stops the engine first (every plan in progress is cancelled and answered cancelled), then
+  // the DDS thread, then waits up to flush_timeout_s in all for readers to acknowledge.
   Status deactivate();
   // Releases the engine, the world and every DDS entity.
   Status cleanup();
-  // A new configuration (SIGHUP): tunables apply to the requests that follow; a new terrain or
-  // DDS domain restarts the node (deactivate, cleanup, configure, activate).
+  // A new configuration (SIGHUP). Fails, changing nothing, when any part of it cannot be used:
+  // an engine option, the DEM, a DDS domain, or a terrain change while missions are active.
   Status reload(const DaemonConfig& config);
 
+  void onConflict(ConflictHandler handler) { on_conflict_ = std::move(handler); }
+
   State state() const { return state_; }
-  const DaemonConfig& config() const { return config_; }
+  DaemonConfig config() const;
+  const ServiceInstance& instance() const { return instance_; }
   // The waitset's handle, for a signal handler that only triggers it (WaitLoop::signalStop).
-  dds_entity_t waitsetHandle() const { return loop_ ? loop_->waitsetHandle() : 0; }
+  dds_entity_t waitsetHandle() const;
 
   // EngineSink: called from the engine's threads.
   void publishStatus(const PlanStatusData& status) override;
@@ -52,26 +74,32 @@ class MissionService final : public EngineSink {
   void publishFleetStatus(const FleetStatusData& status) override;
 
  private:
+  struct Edge;  // the DDS entities of one domain and service_id
+  Result<std::unique_ptr<Edge>> makeEdge(const DaemonConfig& config, const WorldModel& world);
+  void startDdsThread();
+  void stopDdsThread();
   void ddsThread();
   void publishHeartbeat();
+  // An older instance with this service_id among the matched heartbeat writers, if any; logs a
+  // younger one once.
+  std::optional<ServiceInstance> olderRival();
+  void checkRivals();  // on a heartbeat writer match: stop for an older rival
 
+  mutable std::mutex config_mutex_;  // config_ (reload writes it, the DDS thread reads it)
   DaemonConfig config_;
   State state_ = State::kUnconfigured;
+  ServiceInstance instance_;
   std::shared_ptr<WorldModel> world_;
   std::unique_ptr<Engine> engine_;
-  // DDS entities: the participant first, so it is destroyed last.
-  Entity participant_;
-  std::optional<Reader<MissionRequestData>> requests_;
-  std::optional<Reader<CancelRequestData>> cancels_;
-  std::optional<Reader<ObstacleUpdateData>> obstacles_;
-  std::optional<Writer<TrajectoryData>> trajectories_;
-  std::optional<Writer<PlanStatusData>> statuses_;
-  std::optional<Writer<ServiceStatusData>> heartbeat_;
-  // Fleets (issue 7): FleetRequest in, FleetStatus out (trajectories on the same writer).
-  std::optional<Reader<FleetRequestData>> fleet_requests_;
-  std::optional<Writer<FleetStatusData>> fleet_statuses_;
-  std::optional<WaitLoop> loop_;
+  // Engine threads publish through the edge while a reload may swap it: shared for publishing,
+  // exclusive for the swap.
+  mutable std::shared_mutex edge_mutex_;
+  std::unique_ptr<Edge> edge_;
   std::thread dds_thread_;
+  ConflictHandler on_conflict_;
+  bool conflict_reported_ = false;   // DDS thread only
+  std::vector<std::string> younger_rivals_logged_;  // DDS thread only
+  LogThrottle bad_samples_log_;      // refused samples, rate-limited per reason
   std::atomic<std::uint64_t> bad_samples_{0};
 };
 

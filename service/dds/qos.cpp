@@ -16,6 +16,19 @@ Qos lastValuePerKey() {
   return qos;
 }
 
+Qos latestBestEffort() {
+  Qos qos(dds_create_qos());
+  dds_qset_reliability(qos.get(), DDS_RELIABILITY_BEST_EFFORT, 0);
+  dds_qset_durability(qos.get(), DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, 1);
+  return qos;
+}
+
+void onlyXcdr1(dds_qos_t* qos) {
+  const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
+  dds_qset_data_representation(qos, 1, &xcdr1);
+}
+
 }  // namespace
 
 Qos trajectoryQos() { return lastValuePerKey(); }
@@ -30,11 +43,17 @@ Qos commandQos(double max_blocking_s) {
   return qos;
 }
 
-Qos heartbeatQos() {
-  Qos qos(dds_create_qos());
-  dds_qset_reliability(qos.get(), DDS_RELIABILITY_BEST_EFFORT, 0);
-  dds_qset_durability(qos.get(), DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, 1);
+Qos heartbeatQos() { return latestBestEffort(); }
+
+Qos rosLatchedQos() {
+  Qos qos = lastValuePerKey();
+  onlyXcdr1(qos.get());
+  return qos;
+}
+
+Qos px4StreamQos() {
+  Qos qos = latestBestEffort();
+  onlyXcdr1(qos.get());
   return qos;
 }
 

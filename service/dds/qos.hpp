@@ -22,4 +22,12 @@ Qos commandQos(double max_blocking_s = 1.0);
 // Service heartbeat: best effort, volatile, keep-last 1 per service.
 Qos heartbeatQos();
 
+// ROS 2 latched topics (the daemon's ROS 2 mirror): the trajectories' QoS, written in XCDR1, the
+// only data representation ROS 2's Cyclone RMW accepts.
+Qos rosLatchedQos();
+
+// PX4's uXRCE-DDS streams, both ways: best effort (PX4 publishes best effort, and a late setpoint
+// is worth nothing), volatile, keep-last 1, XCDR1.
+Qos px4StreamQos();
+
 }  // namespace skyroute::dds

@@ -57,4 +57,36 @@ Status waitForSubscriptionMatched(dds_entity_t reader, uint32_t count, double ti
                         });
 }
 
+uint32_t matchedReaders(dds_entity_t writer) {
+  dds_publication_matched_status_t status{};
+  return dds_get_publication_matched_status(writer, &status) == DDS_RETCODE_OK ? status.current_count : 0;
+}
+
+uint32_t matchedWriters(dds_entity_t reader) {
+  dds_subscription_matched_status_t status{};
+  return dds_get_subscription_matched_status(reader, &status) == DDS_RETCODE_OK ? status.current_count : 0;
+}
+
+std::string guidText(const dds_guid_t& guid) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(32);
+  for (uint8_t byte : guid.v) {
+    out.push_back(kHex[byte >> 4]);
+    out.push_back(kHex[byte & 0xf]);
+  }
+  return out;
+}
+
+std::string entityGuid(dds_entity_t entity) {
+  dds_guid_t guid{};
+  if (dds_get_guid(entity, &guid) != DDS_RETCODE_OK) return "";
+  return guidText(guid);
+}
+
+std::string remoteWriterGuid(dds_entity_t reader, dds_instance_handle_t publication) {
+  const Endpoint endpoint = matchedPublication(reader, publication);
+  return endpoint ? guidText(endpoint->key) : "";
+}
+
 }  // namespace skyroute::dds

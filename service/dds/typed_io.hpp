@@ -5,6 +5,8 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -16,14 +18,33 @@ namespace skyroute::dds {
 // Blocks until the writer matches at least `count` readers (or the reader `count` writers).
 Status waitForPublicationMatched(dds_entity_t writer, uint32_t count, double timeout_s);
 Status waitForSubscriptionMatched(dds_entity_t reader, uint32_t count, double timeout_s);
+uint32_t matchedReaders(dds_entity_t writer);  // current matches (0 on a DDS error)
+uint32_t matchedWriters(dds_entity_t reader);
+
+// A GUID as 32 lower-case hex digits: the form messages carry (PlanStatus.requester).
+std::string guidText(const dds_guid_t& guid);
+// The GUID of one of this process's entities ("" on a DDS error).
+std::string entityGuid(dds_entity_t entity);
+// The GUID of the remote writer a sample came from (its sample info's publication handle); ""
+// when it is no longer matched.
+std::string remoteWriterGuid(dds_entity_t reader, dds_instance_handle_t publication);
+
+// Requests, whose `requester` the reader fills from the sample's writer, so the service can
+// address its answers to that client alone. (A status's requester is what the service wrote.)
+template <class Plain>
+inline constexpr bool kStampsRequester =
+    std::is_same_v<Plain, MissionRequestData> || std::is_same_v<Plain, CancelRequestData>;
 
 template <class Plain>
 class Writer {
  public:
   using Traits = TopicTraits<Plain>;
 
-  static Result<Writer> create(dds_entity_t participant) {
+  // user_data: the writer's USER_DATA QoS, which every matched reader can read at discovery,
+  // before any sample (the daemon's heartbeat writer names its instance there).
+  static Result<Writer> create(dds_entity_t participant, const std::string& user_data = "") {
     Qos qos = Traits::qos();
+    if (!user_data.empty()) dds_qset_userdata(qos.get(), user_data.data(), user_data.size());
     auto topic = createTopic(participant, Traits::descriptor(), Traits::kName, qos.get());
     if (!topic) return topic.error();
     auto writer = createWriter(participant, topic->get(), qos.get());
@@ -124,6 +145,11 @@ class Reader {
         Plain identity{};
         if constexpr (kWithIdentity) {
           if (!result.ok()) identity = identityFromWire(wire);
+        }
+        if constexpr (kStampsRequester<Plain>) {
+          const std::string sender = remoteWriterGuid(reader_.get(), infos[i].publication_handle);
+          if (result.ok()) result.value().requester = sender;
+          identity.requester = sender;
         }
         converted.emplace_back(std::move(result), std::move(identity));
       }

@@ -35,6 +35,24 @@ Status WaitLoop::addSource(dds_entity_t reader, std::function<Status()> take) {
   return Status::success();
 }
 
+Status WaitLoop::addStatus(dds_entity_t entity, uint32_t mask, std::function<void()> on_change) {
+  dds_return_t rc = dds_set_status_mask(entity, mask);
+  if (rc != DDS_RETCODE_OK) return ddsError(rc, "dds_set_status_mask");
+  auto source = std::make_unique<Source>();
+  source->take = [entity, mask, on_change = std::move(on_change)]() {
+    uint32_t changed = 0;
+    // Taking the status resets it, so the waitset stops reporting it until it changes again.
+    const dds_return_t taken = dds_take_status(entity, &changed, mask);
+    if (taken != DDS_RETCODE_OK) return Status(ddsError(taken, "dds_take_status"));
+    if (changed != 0) on_change();
+    return Status::success();
+  };
+  rc = dds_waitset_attach(waitset_.get(), entity, static_cast<dds_attach_t>(sources_.size() + 1));
+  if (rc != DDS_RETCODE_OK) return ddsError(rc, "dds_waitset_attach(status)");
+  sources_.push_back(std::move(source));
+  return Status::success();
+}
+
 void WaitLoop::stop() const { (void)dds_set_guardcondition(guard_.get(), true); }
 
 bool WaitLoop::stopRequested() const {

@@ -42,6 +42,10 @@ class WaitLoop {
     });
   }
 
+  // Calls on_change whenever one of the `mask` statuses of `entity` changes (e.g. a reader's
+  // DDS_SUBSCRIPTION_MATCHED_STATUS: a writer appeared or went away). The entity must outlive the loop.
+  Status addStatus(dds_entity_t entity, uint32_t mask, std::function<void()> on_change);
+
   // Dispatches until stop() (kStopped) or until timeout_s passes (kTimedOut; nullopt = forever).
   Result<Outcome> run(std::optional<double> timeout_s = std::nullopt);
   // One wait of at most timeout_s, dispatching what arrived; kStopped if a stop was requested.
@@ -57,7 +61,7 @@ class WaitLoop {
   Status addSource(dds_entity_t reader, std::function<Status()> take);
 
   struct Source {
-    Entity condition;
+    Entity condition;  // a read condition; empty for a status source (the entity is attached)
     std::function<Status()> take;
   };
   Entity waitset_;

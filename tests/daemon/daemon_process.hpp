@@ -74,6 +74,16 @@ class ChildProcess {
   }
 
   bool started() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }
+  // Resident set size from /proc/<pid>/status (VmRSS), in kB; -1 when it cannot be read.
+  long rssKb() const {
+    std::ifstream in("/proc/" + std::to_string(pid_) + "/status");
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+    }
+    return -1;
+  }
   void signal(int sig) const {
     if (pid_ > 0) ::kill(pid_, sig);
   }

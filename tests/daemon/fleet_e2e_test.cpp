@@ -1,4 +1,4 @@
-// A fleet over DDS, end to end (issue 7 item 6): skyrouted as a separate process; the test is the
+// A fleet over DDS, end to end: skyrouted as a separate process; the test is the
 // ground station, with a FleetRequest writer and a FleetStatus reader of its own next to the
 // common station's topics.
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@
 #include "terrain/terrain_world.hpp"
 #include "tests/daemon/daemon_process.hpp"
 #include "tests/daemon/ground_station.hpp"
-#include "tests/test_data.hpp"
+#include "tests/terrain_data.hpp"
 
 namespace skyroute {
 namespace {

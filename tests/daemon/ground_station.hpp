@@ -32,6 +32,7 @@ struct Station {
   std::vector<TrajectoryData> trajectory_log;
   std::vector<ObstacleUpdateData> obstacle_log;
   int heartbeats = 0;
+  std::optional<ServiceStatusData> last_heartbeat;
 
   static std::unique_ptr<Station> open(int domain) {
     auto s = std::make_unique<Station>();
@@ -54,7 +55,10 @@ struct Station {
       self->trajectory_log.push_back(std::move(x));
       self->trajectory_times.push_back(std::chrono::steady_clock::now());
     }, ignore);
-    (void)s->loop->add(*s->heartbeat, [self](ServiceStatusData&&) { ++self->heartbeats; }, ignore);
+    (void)s->loop->add(*s->heartbeat, [self](ServiceStatusData&& x) {
+      ++self->heartbeats;
+      self->last_heartbeat = std::move(x);
+    }, ignore);
     (void)s->loop->add(*s->obstacle_echo, [self](ObstacleUpdateData&& x) { self->obstacle_log.push_back(std::move(x)); }, ignore);
     return s;
   }
@@ -74,6 +78,31 @@ struct Station {
     for (const auto& s : status_log)
       if (s.request_id == request_id && isTerminal(s.state)) return s;
     return std::nullopt;
+  }
+  // Whether request_id has reached `state` (for this station's requests only, when mine).
+  bool reached(const std::string& request_id, PlanState state, bool mine = false) const {
+    const std::string me = mine ? requesterId() : "";
+    return std::any_of(status_log.begin(), status_log.end(), [&](const PlanStatusData& s) {
+      return s.request_id == request_id && s.state == state && (!mine || s.requester == me);
+    });
+  }
+  bool waitState(const std::string& request_id, PlanState state, double timeout_s, bool mine = false) {
+    return pumpUntil([&] { return reached(request_id, state, mine); }, timeout_s);
+  }
+  // The GUID the daemon names this station's requests by (PlanStatusData::requester).
+  std::string requesterId() const { return dds::entityGuid(requests->handle()); }
+  // The final status of request_id addressed to this station (another station may use the id).
+  std::optional<PlanStatusData> terminalForMe(const std::string& request_id) const {
+    const std::string me = requesterId();
+    for (const auto& s : status_log)
+      if (s.request_id == request_id && s.requester == me && isTerminal(s.state)) return s;
+    return std::nullopt;
+  }
+  // Waits for the next heartbeat after now, so its counters describe the daemon now.
+  std::optional<ServiceStatusData> freshHeartbeat(double timeout_s) {
+    const int seen = heartbeats;
+    if (!pumpUntil([&] { return heartbeats > seen; }, timeout_s)) return std::nullopt;
+    return last_heartbeat;
   }
   bool waitTerminal(const std::vector<std::string>& ids, double timeout_s) {
     return pumpUntil([&] { return std::all_of(ids.begin(), ids.end(), [&](const auto& id) { return terminal(id).has_value(); }); },

@@ -12,17 +12,11 @@
 #include <set>
 #include <thread>
 
-#include <nlohmann/json.hpp>
-
-#include "service/dds/loopback.hpp"
-#include "service/dds/wait_loop.hpp"
-#include "service/mission_json.hpp"
 #include "service/obstacle_feed.hpp"
 #include "service/world_model.hpp"
 #include "terrain/terrain_world.hpp"
-#include "tests/daemon/daemon_process.hpp"
-#include "tests/daemon/ground_station.hpp"
-#include "tests/test_data.hpp"
+#include "tests/daemon/daemon_fixture.hpp"
+#include "tests/terrain_data.hpp"
 
 namespace skyroute {
 namespace {
@@ -30,64 +24,9 @@ namespace {
 using testing::ChildProcess;
 using testing::Station;
 
-std::string tempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("skyroute_e2e_" + std::to_string(::getpid()) + "_" + name)).string();
-}
+std::string tempPath(const std::string& name) { return testing::e2eTempPath(name); }
 
-class SkyroutedE2E : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dds::useLoopbackOnly();  // the daemon and tools inherit it
-    terrain_ = testing::defaultTerrainHeightfield();
-    ASSERT_TRUE(terrain_) << "data/default_terrain.tif did not load";
-  }
-
-  // Starts skyrouted on `domain` and waits until it serves (heartbeat heard, topics matched).
-  void startDaemon(int domain, std::vector<std::string> extra = {}) {
-    std::vector<std::string> argv{SKYROUTED, "--domain", std::to_string(domain)};
-    argv.insert(argv.end(), extra.begin(), extra.end());
-    daemon_ = ChildProcess::spawn(argv, "skyrouted_" + std::to_string(domain));
-    ASSERT_TRUE(daemon_.started());
-    station_ = Station::open(domain);
-    ASSERT_TRUE(station_);
-    ASSERT_TRUE(station_->pumpUntil([&] { return station_->heartbeats > 0 || !daemon_.running(); }, 60.0))
-        << daemon_.err();
-    ASSERT_TRUE(daemon_.running()) << daemon_.err();
-    ASSERT_TRUE(station_->requests->waitForReaders(1, 20.0).ok());
-    ASSERT_TRUE(station_->statuses->waitForWriters(1, 20.0).ok());
-    ASSERT_TRUE(station_->trajectories->waitForWriters(1, 20.0).ok());
-  }
-  void TearDown() override {
-    if (daemon_.running()) {
-      daemon_.signal(SIGTERM);
-      EXPECT_EQ(daemon_.wait(10.0), 0) << daemon_.err();
-    }
-  }
-
-  MissionRequestData demoMission() const {
-    std::ifstream in(testing::projectDataPath("missions/demo_mission.json"));
-    auto mission = missionFromJson(nlohmann::json::parse(in));
-    EXPECT_TRUE(mission.ok());
-    return *mission;
-  }
-  MissionPointData above(double e, double n, double agl_m) const {
-    return MissionPointData::enu(Eigen::Vector3d(e, n, terrain_->heightAt(e, n) + agl_m));
-  }
-  MissionRequestData simpleMission(const std::string& id, const std::string& vehicle, double lane_m) const {
-    MissionRequestData m;
-    m.request_id = id;
-    m.vehicle_id = vehicle;
-    m.begin = above(-5000, lane_m, 400);
-    m.points = {above(0, lane_m + 200, 400)};
-    m.end = above(5000, lane_m, 400);
-    return m;
-  }
-  static Eigen::Vector3d enuOf(const MissionPointData& p) { return p.enu_m; }
-
-  static inline std::shared_ptr<const Heightfield> terrain_;
-  ChildProcess daemon_;
-  std::unique_ptr<Station> station_;
-};
+class SkyroutedE2E : public testing::DaemonFixture {};
 
 TEST_F(SkyroutedE2E, MissionGivesACollisionFreeTrajectoryThroughEveryPointBeginFirstEndLast) {
   startDaemon(140);
@@ -264,17 +203,9 @@ TEST_F(SkyroutedE2E, SigtermDuringPlanningStopsCleanlyWithinASecond) {
   std::ofstream(config) << "[planning]\nleg_max_iterations = 2000000\n";
   startDaemon(144, {"--config", config});
   std::filesystem::remove(config);
-  MissionRequestData big = simpleMission("big", "uav-big", 0.0);
-  big.points.clear();
-  for (int i = 0; i < 40; ++i) big.points.push_back(above(-5000 + 250 * i, 3000.0 * std::sin(0.7 * i), 200));
+  const MissionRequestData big = slowMission("big", "uav-big");
   ASSERT_TRUE(station_->requests->write(big).ok());
-  ASSERT_TRUE(station_->pumpUntil(
-      [&] {
-        for (const auto& s : station_->status_log)
-          if (s.request_id == "big" && s.state == PlanState::kPlanning) return true;
-        return false;
-      },
-      30.0));
+  ASSERT_TRUE(station_->waitState("big", PlanState::kPlanning, 30.0));
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   ASSERT_FALSE(station_->terminal("big").has_value()) << "planning finished too fast to interrupt";
   const auto sent = std::chrono::steady_clock::now();

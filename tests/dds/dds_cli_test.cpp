@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/dds/loopback.hpp"
+#include "service/dds/service_instance.hpp"
 #include "service/dds/typed_io.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/height_datum.hpp"
@@ -92,10 +93,11 @@ int run(const std::string& args, const std::string& name, std::string* out = nul
   return code;
 }
 
-#define SKIP_UNLESS_TOOLS_REGISTERED()                                                               \
+// main.cpp registers the DDS tools, so a CLI without them is a defect: a failure, not a skip.
+#define ASSERT_TOOLS_REGISTERED()                                                                    \
   if (std::string help; run("replay --help", "probe", &help) != 0 || help.find("--speed") == std::string::npos) \
-  GTEST_SKIP() << cli() << " has no DDS tools yet (register addGcsCommand etc. from "                \
-                          "service/cli/dds_commands.hpp in main.cpp, or set SKYROUTE_DDS_CLI)"
+  GTEST_FAIL() << cli() << " has no DDS tools (addGcsCommand etc. of service/cli/dds_commands.hpp are not "  \
+                          "registered in main.cpp)"
 
 FeedEntry sphereAt(std::uint64_t id, double t_s, const Eigen::Vector3d& at) {
   FeedEntry e;
@@ -110,7 +112,7 @@ FeedEntry sphereAt(std::uint64_t id, double t_s, const Eigen::Vector3d& at) {
 
 // Domain ids 120..124 belong to this file.
 TEST(DdsCli, ReplayThenRecordKeepsContentAndTiming) {
-  SKIP_UNLESS_TOOLS_REGISTERED();
+  ASSERT_TOOLS_REGISTERED();
   const std::string feed_path = tempPath("in.jsonl");
   const std::string recorded_path = tempPath("recorded.jsonl");
   std::vector<FeedEntry> entries = {sphereAt(1, 0.0, {0, 0, 500}), sphereAt(2, 0.4, {100, 0, 500}),
@@ -183,7 +185,7 @@ TrajectoryData trajectoryOf(const std::string& vehicle, std::uint32_t revision, 
 }
 
 TEST(DdsCli, LateGroundStationGetsEveryVehicleAndExports) {
-  SKIP_UNLESS_TOOLS_REGISTERED();
+  ASSERT_TOOLS_REGISTERED();
   auto participant = dds::createParticipant(121);
   ASSERT_TRUE(participant.ok());
   auto writer = dds::Writer<TrajectoryData>::create(participant->get());
@@ -249,13 +251,16 @@ TEST(DdsCli, LateGroundStationGetsEveryVehicleAndExports) {
 }
 
 TEST(DdsCli, RequestExitCodeFollowsTheServiceAnswer) {
-  SKIP_UNLESS_TOOLS_REGISTERED();
+  ASSERT_TOOLS_REGISTERED();
   // The test plays the planning service: it reads requests and answers with statuses.
   auto participant = dds::createParticipant(122);
   ASSERT_TRUE(participant.ok());
   auto requests = dds::Reader<MissionRequestData>::create(participant->get());
   auto statuses = dds::Writer<PlanStatusData>::create(participant->get());
-  ASSERT_TRUE(requests.ok() && statuses.ok());
+  // The tool reaches every live service, which it knows from their heartbeat writers.
+  auto heartbeat = dds::Writer<ServiceStatusData>::create(participant->get(),
+                                                          dds::ServiceInstance::current("test-service").userData());
+  ASSERT_TRUE(requests.ok() && statuses.ok() && heartbeat.ok());
   auto loop = dds::WaitLoop::create(participant->get());
   ASSERT_TRUE(loop.ok());
   std::vector<MissionRequestData> heard;
@@ -322,7 +327,7 @@ TEST(DdsCli, RequestExitCodeFollowsTheServiceAnswer) {
 }
 
 TEST(DdsCli, RequestWithoutServiceOrWithBadInputFailsClearly) {
-  SKIP_UNLESS_TOOLS_REGISTERED();
+  ASSERT_TOOLS_REGISTERED();
   std::string out, err;
   EXPECT_EQ(run("request --domain 123 --vehicle v --begin 44.2,-71.3,1000 --points 44.21,-71.31,1100 "
                 "--end 44.23,-71.28,1000 --wait 1",

@@ -103,16 +103,6 @@ inline double visibilityGraphOptimum(const GridLayer& g, GridCell start, GridCel
 }
 
 // A grid from rows of text ('#' blocked, anything else free); row 0 is y = 0.
-inline GridLayer gridFromText(const std::vector<std::string>& rows) {
-  GridLayer g(static_cast<int>(rows.front().size()), static_cast<int>(rows.size()));
-  std::vector<GridCell> blocked;
-  for (int y = 0; y < g.height(); ++y) {
-    for (int x = 0; x < g.width(); ++x) {
-      if (rows[y][x] == '#') blocked.push_back(GridCell{x, y});
-    }
-  }
-  g.setStaticBlocked(blocked, true);
-  return g;
-}
+inline GridLayer gridFromText(const std::vector<std::string>& rows) { return GridLayer::fromRows(rows); }
 
 }  // namespace skyroute::testing

@@ -11,7 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "planning/motion_validator.hpp"
+#include "planning/core/motion_validator.hpp"
 
 namespace skyroute::testing {
 

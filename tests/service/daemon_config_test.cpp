@@ -71,5 +71,16 @@ TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
   EXPECT_EQ(missing.error().code, ErrorCode::kFileNotFound);
 }
 
+TEST(DaemonConfig, Ros2MirrorIsOnByDefaultAndCanBeTurnedOff) {
+  EXPECT_TRUE(DaemonConfig{}.ros2_enabled);
+  EXPECT_NE(describeDaemonConfig(DaemonConfig{}).find("[ros2]"), std::string::npos);
+  auto off = parseDaemonConfig("[ros2]\nenabled = false\n", "ros2.toml");
+  ASSERT_TRUE(off.ok()) << off.error().describe();
+  EXPECT_FALSE(off->ros2_enabled);
+  auto bad = parseDaemonConfig("[ros2]\nenabled = 1\n", "ros2.toml");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().field, "ros2.enabled");
+}
+
 }  // namespace
 }  // namespace skyroute

@@ -16,7 +16,7 @@
 
 #include "service/engine.hpp"
 #include "terrain/terrain_world.hpp"
-#include "tests/test_data.hpp"
+#include "tests/terrain_data.hpp"
 
 namespace skyroute {
 namespace {
@@ -241,7 +241,7 @@ TEST_F(EngineTest, AFiredWallClockCapIsReportedInTheStatus) {
   // A leg whose straight line is blocked (RRT* must search) with more iterations than the cap
   // lets it run: the plan is still made, and its status says the cap fired on that leg.
   EngineOptions options;
-  options.pipeline.budget.leg_max_iterations = 1'000'000'000;
+  options.pipeline.budget.leg_max_iterations = 5'000'000;  // fits the memory budget, far beyond the cap
   options.pipeline.budget.leg_time_cap_s = 0.2;
   auto engine = Engine::create(world_, options, sink_, [this] { return clock_.now_ns; });
   ASSERT_TRUE(engine.ok()) << engine.error().describe();

@@ -1,4 +1,4 @@
-// Fleet missions in 3D (issue 7 item 6): GMTPA on the flight band, trajectories through the
+// Fleet missions in 3D: GMTPA on the flight band, trajectories through the
 // trajectory stage, the minimum separation checked over continuous time and repaired by delays.
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include "service/engine.hpp"
 #include "service/fleet_mission.hpp"
 #include "terrain/terrain_world.hpp"
-#include "tests/test_data.hpp"
+#include "tests/terrain_data.hpp"
 
 namespace skyroute {
 namespace {

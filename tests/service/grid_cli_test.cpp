@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "planning/grid_search.hpp"
+#include "planning/grid/grid_search.hpp"
 #include "terrain/movingai.hpp"
 #include "tests/test_data.hpp"
 

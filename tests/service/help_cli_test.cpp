@@ -1,4 +1,4 @@
-// Every non-DDS subcommand's --help: a short example in its footer, every default shown, and the
+// Every non-DDS subcommand's --help (terrain's aside): a short example in its footer, every default shown, and the
 // exit-code table last.
 #include <gtest/gtest.h>
 
@@ -28,9 +28,6 @@ TEST(CliHelp, EveryCommandHasAnExampleItsDefaultsAndTheExitCodeTable) {
       {"grid solve", {{"--algo", "astar"}}},
       {"grid path", {{"--seed", "1"}, {"--budget-s", "60"}, {"--window-segments", "3"}}},
       {"grid", {}},
-      {"terrain", {}},
-      {"terrain info", {{"--octree-res", "90"}}},
-      {"terrain generate", {{"--seed", "2026"}, {"--width", "320"}, {"--height", "320"}, {"--cell-size-m", "40"}}},
       {"mission",
        {{"--algo", "mmdstar"}, {"--clearance-m", "30"}, {"--ceiling-m", "5000"}, {"--cell-size-m", "90"},
         {"--out-geometry", "legs"}}},
@@ -73,7 +70,6 @@ TEST(CliHelp, OldOptionNamesAreHidden) {
   EXPECT_EQ(testing::runCli("mission --help").text.find("--points"), std::string::npos);
   EXPECT_EQ(testing::runCli("grid path --help").text.find("--start"), std::string::npos);
   EXPECT_EQ(testing::runCli("fleet --help").text.find("--cell-size "), std::string::npos);
-  EXPECT_EQ(testing::runCli("terrain generate --help").text.find("--cell "), std::string::npos);
 }
 
 }  // namespace

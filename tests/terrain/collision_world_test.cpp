@@ -13,6 +13,7 @@
 #include "terrain/grid_from_terrain.hpp"
 #include "terrain/terrain_octree.hpp"
 #include "terrain/terrain_world.hpp"
+#include "tests/terrain_data.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute {

@@ -11,6 +11,7 @@
 #include "terrain/dem.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/local_frame.hpp"
+#include "tests/terrain_data.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute {
@@ -148,7 +149,7 @@ class FrameAndHeightfield : public ::testing::TestWithParam<std::string> {};
 TEST_P(FrameAndHeightfield, RoundTripsAndLatticeAreExact) {
   std::string path = GetParam() == "default" ? testing::projectDataPath("default_terrain.tif")
                                              : testing::sharedDataPath("dem/" + GetParam());
-  if (path.empty()) GTEST_SKIP() << "shared DEM " << GetParam() << " not found (../shared/data absent)";
+  if (path.empty()) SKYROUTE_SKIP_OR_FAIL_MISSING("dem/" + GetParam());
   auto dem = Dem::load(path);
   ASSERT_TRUE(dem.ok()) << dem.error().describe();
   auto hf_result = Heightfield::build(*dem);

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/trajectory/finite_differences.hpp"
 #include "tests/trajectory/random_paths.hpp"
 #include "trajectory/feasibility.hpp"
 #include "trajectory/spline7.hpp"
@@ -21,18 +22,12 @@ struct Measured {
 // Speeds and accelerations from positions only (central differences), every 0.01 s.
 Measured measureByFiniteDifferences(const Trajectory& t) {
   Measured m;
-  const double h = 1e-3;
-  for (double time = h; time < t.duration_s() - h; time += 0.01) {
-    const Eigen::Vector3d p0 = t.evaluate(time - h, Derivative::kPosition);
-    const Eigen::Vector3d p1 = t.evaluate(time, Derivative::kPosition);
-    const Eigen::Vector3d p2 = t.evaluate(time + h, Derivative::kPosition);
-    const Eigen::Vector3d v = (p2 - p0) / (2 * h);
-    const Eigen::Vector3d a = (p2 - 2 * p1 + p0) / (h * h);
+  testing::forEachFiniteDifference(t, [&m](double, const Eigen::Vector3d& v, const Eigen::Vector3d& a) {
     m.speed = std::max(m.speed, v.norm());
     m.accel = std::max(m.accel, a.norm());
     m.climb = std::max(m.climb, v.z());
     m.descent = std::max(m.descent, -v.z());
-  }
+  });
   return m;
 }
 

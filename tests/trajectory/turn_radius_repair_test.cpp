@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/trajectory/finite_differences.hpp"
 #include "tests/trajectory/random_paths.hpp"
 #include "trajectory/corner_rounding.hpp"
 #include "trajectory/trajectory_builder.hpp"
@@ -21,17 +22,11 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 // a from central differences of positions every 0.01 s (not the polynomials' derivatives).
 double measureMinTurnRadius(const Trajectory& t, double min_speed_mps) {
   double best = std::numeric_limits<double>::infinity();
-  const double h = 1e-3;
-  for (double time = h; time < t.duration_s() - h; time += 0.01) {
-    const Eigen::Vector3d p0 = t.evaluate(time - h, Derivative::kPosition);
-    const Eigen::Vector3d p1 = t.evaluate(time, Derivative::kPosition);
-    const Eigen::Vector3d p2 = t.evaluate(time + h, Derivative::kPosition);
-    const Eigen::Vector3d v = (p2 - p0) / (2 * h);
-    const Eigen::Vector3d a = (p2 - 2 * p1 + p0) / (h * h);
-    if (v.norm() < min_speed_mps) continue;
+  testing::forEachFiniteDifference(t, [&](double, const Eigen::Vector3d& v, const Eigen::Vector3d& a) {
+    if (v.norm() < min_speed_mps) return;
     const double cross = v.cross(a).norm();
     if (cross > 0.0) best = std::min(best, std::pow(v.norm(), 3) / cross);
-  }
+  });
   return best;
 }
 
