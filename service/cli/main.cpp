@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
   skyroute::cli::addRecordCommand(app);
   skyroute::cli::addReplayCommand(app);
   skyroute::cli::addPx4Command(app);
+  skyroute::cli::addCancelCommand(app);
+  skyroute::cli::addStatusCommand(app);
 
   try {
     app.parse(argc, argv);
