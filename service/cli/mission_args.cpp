@@ -7,11 +7,11 @@ namespace skyroute::cli {
 MissionRequestData buildMissionRequest(const std::string& tool, const MissionPointArgs& a) {
   MissionRequestData m;
   if (!a.mission_file.empty()) {
-    auto parsed = missionFromJson(readJsonFile(tool, "--mission", a.mission_file));
-    if (!parsed) fail(tool, kExitBadInput, "--mission " + a.mission_file + ": " + parsed.error().message);
+    auto parsed = missionFromJson(readJsonFile(tool, a.file_option, a.mission_file));
+    if (!parsed) fail(tool, kExitBadInput, a.file_option + " " + a.mission_file + ": " + parsed.error().message);
     m = std::move(*parsed);
   } else if (a.from.empty() || a.to.empty()) {
-    fail(tool, kExitUsage, "give --mission FILE, or --from and --to (and any --via)");
+    fail(tool, kExitUsage, "give " + a.file_option + " FILE, or --from and --to (and any --via)");
   }
   auto point = [&](const std::string& text, const std::string& option) {
     auto p = parseGeoTriple(text, option);
@@ -42,7 +42,7 @@ bool fieldFromFile(const MissionPointArgs& a, const std::string& field) {
 
 // A request field as the user wrote it.
 std::string missionUserField(const MissionPointArgs& a, const std::string& field) {
-  if (fieldFromFile(a, field)) return "--mission " + a.mission_file + ": " + field;
+  if (fieldFromFile(a, field)) return a.file_option + " " + a.mission_file + ": " + field;
   if (field == "begin") return "--from";
   if (field == "end") return "--to";
   if (field.rfind("points[", 0) == 0) return "--via[" + field.substr(7);

@@ -12,7 +12,8 @@
 namespace skyroute::cli {
 
 struct MissionPointArgs {
-  std::string mission_file;      // --mission
+  std::string file_option = "--mission";  // the option that names the mission file, in messages
+  std::string mission_file;      // that option's value
   std::string from;              // --from LAT,LON,ALT
   std::string to;                // --to
   std::vector<std::string> via;  // --via, in the given order

@@ -267,6 +267,9 @@ void addMissionCommand(CLI::App& app) {
                        "; with --cells on a DEM, the grid's band (default " +
                            numberText(TerrainGridOptions{}.min_clearance_m) + " m clearance, ceiling " +
                            numberText(TerrainGridOptions{}.flight_ceiling_m) + " m)");
+  // The vehicle's limits belong to the request the order stage validates (a value out of range
+  // is refused, named as given); the grid takes the flight band only.
+  for (CLI::Option* option : addVehicleDynamicsOptions(*cmd, a->points.limits)) a->geo_only.push_back(option);
   cmd->add_flag("--json", a->json, "Print one JSON object instead of text");
   a->geo_only.push_back(cmd->add_option("--out", a->out, "Write the ordered mission: .csv, .geojson or .kml (docs/exports.md)"));
   a->geo_only.push_back(cmd->add_option("--out-geometry", a->out_geometry, "What --out holds: legs (straight 3D lines) or points")

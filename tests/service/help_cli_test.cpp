@@ -1,4 +1,4 @@
-// Every non-DDS subcommand's --help (terrain's aside): a short example in its footer, every default shown, and the
+// Every subcommand's --help (terrain's and gcs's aside): a short example in its footer, every default shown, and the
 // exit-code table last.
 #include <gtest/gtest.h>
 
@@ -30,7 +30,7 @@ TEST(CliHelp, EveryCommandHasAnExampleItsDefaultsAndTheExitCodeTable) {
       {"grid", {}},
       {"mission",
        {{"--algo", "mmdstar"}, {"--clearance-m", "30"}, {"--ceiling-m", "5000"}, {"--cell-size-m", "90"},
-        {"--out-geometry", "legs"}}},
+        {"--out-geometry", "legs"}, {"--max-speed-mps", "30"}, {"--min-turn-radius-m", "0"}}},
       {"fleet",
        {{"--algo", "greedy"}, {"--seed", "1"}, {"--capacity", "0"}, {"--budget-s", "60"}, {"--wait", "120"},
         {"--clearance-m", "30"}, {"--ceiling-m", "5000"}, {"--vref-mps", "20"}, {"--max-speed-mps", "30"},
@@ -39,6 +39,16 @@ TEST(CliHelp, EveryCommandHasAnExampleItsDefaultsAndTheExitCodeTable) {
       {"plan",
        {{"--seed", "1"}, {"--iterations", "3000"}, {"--budget-s", "10"}, {"--dt", "0.2"}, {"--clearance-m", "30"},
         {"--vref-mps", "20"}, {"--max-speed-mps", "30"}, {"--min-turn-radius-m", "0"}}},
+      {"planners", {}},
+      {"request",
+       {{"--domain", "0"}, {"--wait", "30"}, {"--clearance-m", "30"}, {"--ceiling-m", "5000"}, {"--vref-mps", "20"},
+        {"--max-speed-mps", "30"}, {"--max-accel-mps2", "4"}, {"--max-climb-mps", "5"}, {"--max-descent-mps", "4"},
+        {"--min-turn-radius-m", "0"}}},
+      {"cancel", {{"--domain", "0"}, {"--wait", "10"}}},
+      {"status", {{"--domain", "0"}, {"--wait", "3"}}},
+      {"record", {{"--domain", "0"}, {"--count", "0"}, {"--timeout", "0"}}},
+      {"replay", {{"--domain", "0"}, {"--speed", "1"}, {"--readers", "0"}, {"--wait", "10"}}},
+      {"px4", {{"--domain", "0"}, {"--rate-hz", "50"}, {"--silence-timeout", "3"}, {"--duration", "0"}}},
   };
   for (const HelpCase& c : cases) {
     SCOPED_TRACE(c.command);
@@ -70,6 +80,8 @@ TEST(CliHelp, OldOptionNamesAreHidden) {
   EXPECT_EQ(testing::runCli("mission --help").text.find("--points"), std::string::npos);
   EXPECT_EQ(testing::runCli("grid path --help").text.find("--start"), std::string::npos);
   EXPECT_EQ(testing::runCli("fleet --help").text.find("--cell-size "), std::string::npos);
+  EXPECT_EQ(testing::runCli("request --help").text.find("--begin"), std::string::npos);
+  EXPECT_EQ(testing::runCli("request --help").text.find("--points"), std::string::npos);
 }
 
 }  // namespace
