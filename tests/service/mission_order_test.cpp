@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "service/mission_order.hpp"
+#include "terrain/heightfield.hpp"
+#include "tests/terrain_data.hpp"
 #include "tests/test_data.hpp"
 
 namespace skyroute {
