@@ -15,6 +15,7 @@ PACKAGES=(
   libompl-dev
   tshark  # the ROS 2 mirror's packet-capture test (tests/daemon/ros2_e2e_test.cpp)
   libcpp-httplib-dev chromium chromium-driver
+  systemd  # systemd-analyze checks the installed unit (tests/install/install_test.sh)
 )
 
 missing=()

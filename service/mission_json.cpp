@@ -38,6 +38,9 @@ Result<std::string> text(const json& j, const std::string& key, const std::strin
   auto it = j.find(key);
   if (it == j.end()) return fallback;
   if (!it->is_string()) return invalid(join(parent, key), "must be a string");
+  // A DDS string ends at its first NUL: "a\u0000b" would reach the daemon as "a".
+  if (it->get_ref<const std::string&>().find('\0') != std::string::npos)
+    return invalid(join(parent, key), "must not contain a NUL character");
   return it->get<std::string>();
 }
 

@@ -95,7 +95,9 @@ Result<FeedEntry> parseEntry(const std::string& line) {
 ObstacleUpdateData FeedEntry::stamped(std::int64_t publish_utc_ns) const {
   ObstacleUpdateData u = update;
   u.valid_from_utc_ns = publish_utc_ns + secondsToNs(valid_from_s);
-  u.valid_until_utc_ns = valid_for_s ? u.valid_from_utc_ns + secondsToNs(*valid_for_s) : 0;
+  // At least a nanosecond: a validity shorter than that still ends after it begins.
+  u.valid_until_utc_ns =
+      valid_for_s ? u.valid_from_utc_ns + std::max<std::int64_t>(1, secondsToNs(*valid_for_s)) : 0;
   if (u.obstacle.motion) u.obstacle.motion->start_time_s = static_cast<double>(u.valid_from_utc_ns) * 1e-9;
   return u;
 }
@@ -121,12 +123,16 @@ FeedEntry FeedEntry::fromUpdate(const ObstacleUpdateData& update, double t_s, st
   entry.update.valid_from_utc_ns = 0;
   entry.update.valid_until_utc_ns = 0;
   if (entry.update.obstacle.motion) entry.update.obstacle.motion->start_time_s = 0.0;
-  // An update that took effect before it was heard is recorded as effective at once.
-  entry.valid_from_s = std::max(0.0, static_cast<double>(update.valid_from_utc_ns - received_utc_ns) * 1e-9);
+  // An update that took effect before it was heard is recorded as effective at once. Times beyond
+  // what a feed line may hold (the wire allows centuries) are recorded as the longest it may.
+  if (update.valid_from_utc_ns > received_utc_ns) {
+    entry.valid_from_s =
+        std::min(kFeedMaxTimeS, static_cast<double>(update.valid_from_utc_ns - received_utc_ns) * 1e-9);
+  }
   if (update.valid_until_utc_ns != 0) {
     const double from_abs_ns = static_cast<double>(std::max(update.valid_from_utc_ns, received_utc_ns));
     const double duration_s = (static_cast<double>(update.valid_until_utc_ns) - from_abs_ns) * 1e-9;
-    entry.valid_for_s = std::max(duration_s, 1e-3);
+    entry.valid_for_s = std::clamp(duration_s, 1e-3, kFeedMaxValidityS);
   }
   return entry;
 }
@@ -141,7 +147,10 @@ Result<ObstacleFeed> parseObstacleFeed(std::istream& in, const std::string& sour
     ++line_number;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     const json header = json::parse(line, nullptr, false);
-    if (header.is_discarded() || !header.is_object() || header.value("format", std::string()) != kObstacleFeedFormat)
+    // Not header.value("format", ...): it throws when "format" is there but not a string.
+    const auto format = header.is_object() ? header.find("format") : header.end();
+    if (!header.is_object() || format == header.end() || !format->is_string() ||
+        format->get_ref<const std::string&>() != kObstacleFeedFormat)
       return make_error(ErrorCode::kParseError, source_name,
                         source_name + ":" + std::to_string(line_number) + ": not an obstacle feed (the first line must be " +
                             obstacleFeedHeaderLine() + ")");
@@ -149,11 +158,13 @@ Result<ObstacleFeed> parseObstacleFeed(std::istream& in, const std::string& sour
     if (version == header.end() || !version->is_number_integer())
       return make_error(ErrorCode::kParseError, source_name,
                         source_name + ":" + std::to_string(line_number) + ": header has no integer version");
-    feed.version = version->get<int>();
-    if (feed.version != kObstacleFeedVersion)
+    // Compared as read: as an int, 4294967297 would pass for version 1.
+    const std::int64_t version_number = version->get<std::int64_t>();
+    if (version_number != kObstacleFeedVersion)
       return make_error(ErrorCode::kParseError, source_name,
-                        source_name + ":" + std::to_string(line_number) + ": feed version " + std::to_string(feed.version) +
+                        source_name + ":" + std::to_string(line_number) + ": feed version " + std::to_string(version_number) +
                             " is not supported (this build reads version " + std::to_string(kObstacleFeedVersion) + ")");
+    feed.version = kObstacleFeedVersion;
     have_header = true;
   }
   if (!have_header)

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 #include <memory>
 #include <mutex>
 
 #include <cpl_error.h>
+#include <cpl_vsi.h>
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
@@ -121,9 +121,10 @@ Eigen::Vector2d Dem::crsToPixel(double x, double y) const {
 
 Result<std::shared_ptr<const Dem>> Dem::load(const std::string& path, const DemLoadOptions& options) {
   const auto started = std::chrono::steady_clock::now();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return make_error(ErrorCode::kFileNotFound, path, "no such file");
-  if (std::filesystem::is_directory(path, ec)) return make_error(ErrorCode::kNotARaster, path, "is a directory");
+  // GDAL's stat rather than the file system's, so its virtual paths (/vsimem/, /vsizip/...) load too.
+  VSIStatBufL stat;
+  if (VSIStatL(path.c_str(), &stat) != 0) return make_error(ErrorCode::kFileNotFound, path, "no such file");
+  if (VSI_ISDIR(stat.st_mode)) return make_error(ErrorCode::kNotARaster, path, "is a directory");
 
   static std::once_flag gdal_registered;
   std::call_once(gdal_registered, [] { GDALAllRegister(); });
@@ -163,6 +164,11 @@ Result<std::shared_ptr<const Dem>> Dem::load(const std::string& path, const DemL
   dem->width_ = GDALGetRasterXSize(ds.get());
   dem->height_ = GDALGetRasterYSize(ds.get());
   if (dem->width_ < 2 || dem->height_ < 2) return make_error(ErrorCode::kNotARaster, path, "is smaller than 2 x 2 cells");
+  if (static_cast<std::int64_t>(dem->width_) * dem->height_ > options.max_cells) {
+    return make_error(ErrorCode::kInvalidArgument, path,
+                      "is " + std::to_string(dem->width_) + " x " + std::to_string(dem->height_) +
+                          " cells, more than the " + std::to_string(options.max_cells) + " this service loads");
+  }
 
   GDALRasterBandH band = GDALGetRasterBand(ds.get(), band_index);
   const double units = metresPerUnit(GDALGetRasterUnitType(band) ? GDALGetRasterUnitType(band) : "");
@@ -224,6 +230,12 @@ Result<std::shared_ptr<const Dem>> Dem::finish(std::shared_ptr<Dem> dem, const D
     return make_error(ErrorCode::kNoCrs, path, "has a coordinate reference system GDAL cannot interpret");
   }
   dem->geographic_ = OSRIsGeographic(srs.get()) != 0;
+  // Checked before any transformation is made: PROJ spends seconds searching for one from a
+  // geocentric CRS with a made-up ellipsoid, only to find none.
+  if (!dem->geographic_ && OSRIsProjected(srs.get()) == 0) {
+    return make_error(ErrorCode::kNoCrs, path,
+                      "has a CRS that is neither geographic nor projected (a DEM needs horizontal coordinates)");
+  }
   const char* name = OSRGetName(srs.get());
   dem->crs_name_ = name ? name : "unnamed";
   const char* authority = OSRGetAuthorityName(srs.get(), nullptr);

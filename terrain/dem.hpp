@@ -5,6 +5,7 @@
 
 #include <array>
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,12 +21,15 @@ struct DemLoadOptions {
   int max_filled_void_cells = 64;   // a void (4-connected nodata region) up to this size is filled
   double min_plausible_height_m = -500.0;   // below the Dead Sea shore with margin
   double max_plausible_height_m = 9000.0;   // above Everest with margin
+  // Larger rasters are refused before any cell is read: loading and the heightfield take about 20
+  // bytes a cell, and a few hundred bytes of header can declare billions of cells.
+  std::int64_t max_cells = 100'000'000;
 };
 
 class Dem {
  public:
   // Errors (each names the file): kFileNotFound, kNotARaster, kNoCrs, kBandAmbiguous,
-  // kInvalidArgument (band out of range), kAllNodata, kAbsurdHeights.
+  // kInvalidArgument (band out of range, more cells than max_cells), kAllNodata, kAbsurdHeights.
   static Result<std::shared_ptr<const Dem>> load(const std::string& path, const DemLoadOptions& options = {});
   // For tests and the generator: a DEM from memory. heights_m row-major, row 0 at the top.
   static Result<std::shared_ptr<const Dem>> fromArray(int width, int height, std::vector<float> heights_m,

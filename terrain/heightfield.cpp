@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <mutex>
 
@@ -116,8 +117,14 @@ Result<std::shared_ptr<const Heightfield>> Heightfield::build(std::shared_ptr<co
                                        Eigen::Vector2d(e_max - res.x(), n_max - res.y()));
   if (hf->bounds_en_.isEmpty()) return make_error(ErrorCode::kInvalidArgument, dem->path(), "footprint is empty");
 
-  // Lattice ENU -> pixel, exact at the nodes.
-  const double step = std::max(1.0, 8.0 * std::min(res.x(), res.y()));
+  // Lattice ENU -> pixel, exact at the nodes: every 8 cells of the finer axis, but never more nodes
+  // than a quarter of the DEM's cells (a DEM has about a 64th; cells far longer than wide, from a
+  // bad geotransform, would otherwise ask for billions of nodes).
+  if (!outer.sizes().allFinite()) return make_error(ErrorCode::kInvalidArgument, dem->path(), "footprint is not finite");
+  double step = std::max(1.0, 8.0 * std::min(res.x(), res.y()));
+  const double max_nodes = std::max(static_cast<double>(w) * h / 4.0, 65536.0);
+  auto nodes_along = [&](double extent_m) { return std::ceil((extent_m + step) / step) + 2.0; };
+  while (nodes_along(outer.sizes().x()) * nodes_along(outer.sizes().y()) > max_nodes) step *= 2.0;
   hf->lattice_step_m_ = step;
   hf->lattice_origin_m_ = outer.min() - Eigen::Vector2d(step, step);
   hf->lattice_nx_ = static_cast<int>(std::ceil((outer.max().x() - hf->lattice_origin_m_.x()) / step)) + 2;
@@ -142,37 +149,72 @@ Result<std::shared_ptr<const Heightfield>> Heightfield::build(std::shared_ptr<co
   return std::shared_ptr<const Heightfield>(std::move(hf));
 }
 
+namespace {
+
+// out[i] = the largest value(j) for j in [i - half, i + half] within [0, n), for every i in O(n):
+// indices whose value can still be a maximum are kept in a queue of decreasing values.
+template <class Value>
+void slidingMax(int n, int half, const Value& value, std::vector<float>& out) {
+  std::deque<int> candidates;
+  int next = 0;
+  for (int i = 0; i < n; ++i) {
+    for (; next < n && next <= i + half; ++next) {
+      while (!candidates.empty() && value(candidates.back()) <= value(next)) candidates.pop_back();
+      candidates.push_back(next);
+    }
+    while (candidates.front() < i - half) candidates.pop_front();
+    out[static_cast<std::size_t>(i)] = value(candidates.front());
+  }
+}
+
+}  // namespace
+
 std::shared_ptr<const Heightfield> Heightfield::dilated(double radius_m) const {
   std::shared_ptr<Heightfield> out(new Heightfield(*this));
   if (!(radius_m > 0.0)) return out;
   const Eigen::Vector2d res = dem_->resolutionM();
-  const int rx = static_cast<int>(std::ceil(radius_m / res.x()));
-  const int ry = static_cast<int>(std::ceil(radius_m / res.y()));
-  std::vector<std::pair<int, int>> window;
-  for (int dy = -ry; dy <= ry; ++dy) {
-    for (int dx = -rx; dx <= rx; ++dx) {
-      // Cells whose centre lies within the radius plus half a cell diagonal.
-      const double d = std::hypot(dx * res.x(), dy * res.y());
-      if (d <= radius_m + 0.5 * res.norm()) window.emplace_back(dx, dy);
+  // Offsets past the raster's own size never reach a cell.
+  const int rx = static_cast<int>(std::min(width_ - 1.0, std::ceil(radius_m / res.x())));
+  const int ry = static_cast<int>(std::min(height_ - 1.0, std::ceil(radius_m / res.y())));
+  // The window: cells whose centre lies within the radius plus half a cell diagonal. Its offsets
+  // at one dy are a single run -a..a of dx (and at one dx a run of dy), so each cell's maximum is
+  // the largest of per-run maxima, and a sliding maximum gives those for a whole line at once: the
+  // work is cells x runs, not cells x window (cells far narrower than the radius made that
+  // millions of offsets per cell).
+  const double reach_m = radius_m + 0.5 * res.norm();
+  auto in_window = [&](int dx, int dy) { return std::hypot(dx * res.x(), dy * res.y()) <= reach_m; };
+  // Unknown cells are +inf while taking maxima (no height is infinite) and NaN again at the end:
+  // an unknown cell in reach makes the result unknown.
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  std::vector<float> source(heights_);
+  for (float& v : source) v = std::isnan(v) ? kInf : v;
+  std::vector<float>& result = out->heights_;
+  std::fill(result.begin(), result.end(), -kInf);
+
+  const bool by_rows = ry <= rx;  // runs along rows (one per dy), or along columns (one per dx)
+  const int runs = by_rows ? ry : rx;
+  const int longest = by_rows ? rx : ry;
+  const int length = by_rows ? width_ : height_;
+  const int lines = by_rows ? height_ : width_;
+  auto index = [&](int line, int i) {
+    return by_rows ? static_cast<std::size_t>(line) * width_ + i : static_cast<std::size_t>(i) * width_ + line;
+  };
+  std::vector<float> run_max(static_cast<std::size_t>(length));
+  for (int k = -runs; k <= runs; ++k) {
+    int half = -1;
+    while (half < longest && (by_rows ? in_window(half + 1, k) : in_window(k, half + 1))) ++half;
+    if (half < 0) continue;
+    for (int line = std::max(0, -k); line < std::min(lines, lines - k); ++line) {
+      slidingMax(length, half, [&](int i) { return source[index(line + k, i)]; }, run_max);
+      for (int i = 0; i < length; ++i) result[index(line, i)] = std::max(result[index(line, i)], run_max[i]);
     }
   }
   double hi = -std::numeric_limits<double>::infinity();
-  for (int row = 0; row < height_; ++row) {
-    for (int col = 0; col < width_; ++col) {
-      float m = -std::numeric_limits<float>::infinity();
-      for (const auto& [dx, dy] : window) {
-        const int c = col + dx;
-        const int r = row + dy;
-        if (c < 0 || r < 0 || c >= width_ || r >= height_) continue;
-        const float v = heightCell(c, r);
-        if (std::isnan(v)) {
-          m = std::numeric_limits<float>::quiet_NaN();
-          break;
-        }
-        m = std::max(m, v);
-      }
-      out->heights_[static_cast<std::size_t>(row) * width_ + col] = m;
-      if (!std::isnan(m)) hi = std::max(hi, static_cast<double>(m));
+  for (float& v : result) {
+    if (v == kInf) {
+      v = std::numeric_limits<float>::quiet_NaN();
+    } else {
+      hi = std::max(hi, static_cast<double>(v));
     }
   }
   out->max_height_m_ = hi;

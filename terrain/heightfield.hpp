@@ -54,10 +54,11 @@ class Heightfield {
   Eigen::Vector2d enToPixelExact(double east_m, double north_m) const;
   Eigen::Vector2d pixelToEn(double col, double row) const;  // exact
   std::size_t memoryBytes() const;
+  // Height of cell (col, row): the DEM's, or its dilation's; NaN unknown. No bounds check.
+  float heightCell(int col, int row) const { return heights_[static_cast<std::size_t>(row) * width_ + col]; }
 
  private:
   Heightfield() = default;
-  float heightCell(int col, int row) const { return heights_[static_cast<std::size_t>(row) * width_ + col]; }
   double bilinear(double px, double py) const;
 
   struct CrsTransforms;  // DEM CRS <-> WGS84, behind a mutex

@@ -15,6 +15,10 @@ Error parseError(const std::string& path, int line, const std::string& what) {
 Result<GridLayer> loadMovingAiMap(const std::string& path) {
   std::ifstream in(path);
   if (!in) return make_error(ErrorCode::kFileNotFound, path, "cannot open the map file");
+  return parseMovingAiMap(in, path);
+}
+
+Result<GridLayer> parseMovingAiMap(std::istream& in, const std::string& path) {
   int width = -1;
   int height = -1;
   std::string line;
@@ -40,7 +44,7 @@ Result<GridLayer> loadMovingAiMap(const std::string& path) {
   if (width <= 0 || height <= 0 || width > 100000 || height > 100000) {
     return parseError(path, line_no, "missing or absurd width/height");
   }
-  GridLayer grid(width, height);
+  // The rows are read before the grid is made: a header alone may declare 10^10 cells.
   std::vector<GridCell> walls;
   for (int y = 0; y < height; ++y) {
     if (!std::getline(in, line)) return parseError(path, line_no + 1, "map has fewer rows than its height");
@@ -55,6 +59,7 @@ Result<GridLayer> loadMovingAiMap(const std::string& path) {
       }
     }
   }
+  GridLayer grid(width, height);
   grid.setStaticBlocked(walls, true);
   return grid;
 }
@@ -62,6 +67,10 @@ Result<GridLayer> loadMovingAiMap(const std::string& path) {
 Result<std::vector<MovingAiProblem>> loadMovingAiScenario(const std::string& path) {
   std::ifstream in(path);
   if (!in) return make_error(ErrorCode::kFileNotFound, path, "cannot open the scenario file");
+  return parseMovingAiScenario(in, path);
+}
+
+Result<std::vector<MovingAiProblem>> parseMovingAiScenario(std::istream& in, const std::string& path) {
   std::vector<MovingAiProblem> problems;
   std::string line;
   int line_no = 0;

@@ -2,6 +2,7 @@
 // `.scen` files into problems with their optimal lengths, the independent check of every search.
 #pragma once
 
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,8 @@ namespace skyroute {
 // `.` `G` `S` are passable; `@` `O` `T` `W` are blocked; any other character is a parse error
 // naming the line. Cell (x, y) is column x, row y, both from 0, as in the `.scen` files.
 Result<GridLayer> loadMovingAiMap(const std::string& path);
+// The same from a stream; source_name names it in errors (the path).
+Result<GridLayer> parseMovingAiMap(std::istream& in, const std::string& source_name);
 
 struct MovingAiProblem {
   int bucket = 0;
@@ -24,5 +27,6 @@ struct MovingAiProblem {
 
 // Parses a `version 1` scenario file; a malformed line is an error naming its line number.
 Result<std::vector<MovingAiProblem>> loadMovingAiScenario(const std::string& path);
+Result<std::vector<MovingAiProblem>> parseMovingAiScenario(std::istream& in, const std::string& source_name);
 
 }  // namespace skyroute

@@ -38,6 +38,9 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> Obstacle::trackDuring(double t0_s, d
   // Unfolded distance travelled; the centre turns round at every multiple of the track length.
   const double u0 = std::max(0.0, t0_s - motion->start_time_s) * motion->speed_mps;
   const double u1 = std::max(0.0, t1_s - motion->start_time_s) * motion->speed_mps;
+  // Two track lengths cover the whole track. Past 2^52 lengths a double no longer holds the phase
+  // (and k += 1 below would stop changing k: the count of turns never ended): the whole track too.
+  if (!(u1 - u0 < 2.0 * length) || !(u1 / length < 0x1p52)) return {motion->from_m, motion->to_m};
   auto along = [&](double u) {
     const double phase = std::fmod(u, 2.0 * length);
     return phase <= length ? phase : 2.0 * length - phase;

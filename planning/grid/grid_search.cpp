@@ -115,7 +115,9 @@ std::vector<double> dijkstraCostField(const GridLayer& grid, GridCell source, co
   dist[grid.index(source)] = 0.0;
   open.push({0.0, static_cast<std::uint32_t>(grid.index(source))});
   while (!open.empty()) {
-    const auto [d, i] = open.top();
+    // Named members, not a structured binding: clang before 16 cannot capture one in the lambda.
+    const double d = open.top().first;
+    const std::uint32_t i = open.top().second;
     open.pop();
     if (d > dist[i]) continue;
     forEachMove(grid, grid.cellOf(i), moves, [&](GridCell v, double c) {

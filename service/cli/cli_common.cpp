@@ -7,7 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "service/daemon_config.hpp"
+#include "service/shipped_data.hpp"
 
 namespace skyroute::cli {
 
@@ -115,8 +115,11 @@ bool printConfigIfAsked(const ConfigArgs& args, const DaemonConfig& config) {
   return true;
 }
 
-std::string demPathOf(const DaemonConfig& config) {
-  return config.dem_path.empty() ? std::string(SKYROUTE_DEFAULT_DEM) : config.dem_path;
+std::string demPathOf(const std::string& tool, const DaemonConfig& config) {
+  if (!config.dem_path.empty()) return config.dem_path;
+  auto shipped = defaultTerrainPath();
+  if (!shipped) fail(tool, kExitBadInput, shipped.error().describe());
+  return *shipped;
 }
 
 }  // namespace skyroute::cli

@@ -51,7 +51,8 @@ DaemonConfig loadConfig(const std::string& tool, const ConfigArgs& args);
 // true (the caller then stops).
 bool printConfigIfAsked(const ConfigArgs& args, const DaemonConfig& config);
 
-// The DEM to load: the configuration's terrain.dem, or the embedded default terrain.
-std::string demPathOf(const DaemonConfig& config);
+// The DEM to load: the configuration's terrain.dem, or the embedded default terrain (shipped data,
+// service/shipped_data.hpp). Without either, fails with kExitBadInput naming the folders searched.
+std::string demPathOf(const std::string& tool, const DaemonConfig& config);
 
 }  // namespace skyroute::cli

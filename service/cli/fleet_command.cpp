@@ -90,7 +90,7 @@ void runGeoFleet(const FleetCommandArgs& a) {
   const FleetRequestData request = buildFleetRequest(kTool, a.input, "fleet");
   checkFleetRequest(kTool, a.input, request, p.fleet);
 
-  const std::string dem = demPathOf(config);
+  const std::string dem = demPathOf(kTool, config);
   std::cerr << "loading " << dem << " ..." << std::endl;
   auto world = WorldModel::load(dem, config.world);
   if (!world.ok()) fail(kTool, kExitBadInput, (a.dem ? "--dem " : "terrain.dem ") + world.error().describe());
@@ -135,7 +135,7 @@ void runFleetGrid(FleetCommandArgs& a) {
   refuse(a.dds_only, "applies to latitude/longitude fleets only, not to grid cells");
   FleetGridArgs& g = a.grid;
   g.map = a.map;
-  if (g.map.empty()) g.dem = a.dem ? *a.dem : demPathOf(loadConfig(kTool, a.config));
+  if (g.map.empty()) g.dem = a.dem ? *a.dem : demPathOf(kTool, loadConfig(kTool, a.config));
   g.vehicles = a.input.vehicles;
   g.tasks = a.input.tasks;
   g.budget_s = a.budget_s;

@@ -13,7 +13,7 @@ std::unique_ptr<GcsLiveMap> GcsLiveMap::start(const std::string& tool, const std
   auto address = parseServeAddress(serve);
   if (!address) fail(tool, kExitUsage, "--serve " + address.error().message);
 
-  const std::string dem_file = dem_path.empty() ? demPathOf(DaemonConfig{}) : dem_path;
+  const std::string dem_file = dem_path.empty() ? demPathOf(tool, DaemonConfig{}) : dem_path;
   auto dem = Dem::load(dem_file);
   if (!dem) fail(tool, kExitBadInput, "--dem " + dem.error().describe());
   auto terrain = Heightfield::build(*dem);

@@ -191,7 +191,7 @@ void runGeoMission(const MissionCommandArgs& a) {
   if (mission.vehicle_id.empty()) mission.vehicle_id = "uav-1";
   if (mission.request_id.empty()) mission.request_id = mission.vehicle_id + "-mission";
 
-  const std::string dem = demPathOf(config);
+  const std::string dem = demPathOf(kTool, config);
   std::cerr << "loading " << dem << " ..." << std::endl;
   auto world = WorldModel::load(dem, config.world);
   if (!world.ok()) fail(kTool, kExitBadInput, (a.dem ? "--dem " : "terrain.dem ") + world.error().describe());
@@ -227,7 +227,7 @@ void runMission(MissionCommandArgs& a) {
   }
   MissionGridArgs& g = a.grid;
   g.map = a.map;
-  if (g.map.empty()) g.dem = a.dem ? *a.dem : demPathOf(loadConfig(kTool, a.config));
+  if (g.map.empty()) g.dem = a.dem ? *a.dem : demPathOf(kTool, loadConfig(kTool, a.config));
   g.from = a.points.from;
   g.via = a.points.via;
   g.to = a.points.to;

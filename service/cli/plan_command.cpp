@@ -13,6 +13,7 @@
 
 #include "service/cli/cli_common.hpp"
 #include "service/cli/commands.hpp"
+#include "service/cli/height_ref_option.hpp"
 #include "service/cli/mission_args.hpp"
 #include "service/daemon_config.hpp"
 #include "service/map_image.hpp"
@@ -38,6 +39,7 @@ struct PlanArgs {
   std::optional<double> dt_s;
   std::string out;
   std::string png;
+  HeightRefArgs height_ref;
 };
 
 MissionRequestData buildMission(const PlanArgs& a) {
@@ -131,9 +133,9 @@ void runPlan(const PlanArgs& a) {
   if (printConfigIfAsked(a.config, config)) return;
   checkOutputPath(kTool, "--out", a.out, {"csv", "geojson", "json", "plan", "waypoints"});
   checkOutputPath(kTool, "--png", a.png, {"png"});
-  const MissionRequestData mission = buildMission(a);
+  const MissionRequestData mission = missionInAmsl(kTool, a.height_ref, a.mission.mission_file, buildMission(a));
 
-  const std::string dem = demPathOf(config);
+  const std::string dem = demPathOf(kTool, config);
   std::cerr << "loading " << dem << " ..." << std::endl;
   auto world = WorldModel::load(dem, config.world);
   if (!world.ok()) fail(kTool, kExitBadInput, "terrain.dem " + world.error().describe());
@@ -189,6 +191,7 @@ void addPlanCommand(CLI::App& app) {
                    "Mission points LAT,LON,ALT (repeatable, or ';'-separated); MMD*L orders them unless --fixed-order")
       ->delimiter(';');
   plan->add_flag("--fixed-order", a->mission.fixed_order, "Visit the points in the given order");
+  addHeightRefOption(*plan, a->height_ref);
   plan->add_option("--vehicle", a->vehicle, "Vehicle id (default: the mission's, else uav-1)");
   plan->add_option("--planner", a->planner,
                    "Route planner: " + routePlannerNames(" | ") + " (default: config planning.default_planner)");

@@ -11,6 +11,7 @@
 #include "service/cli/dds_commands.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/obstacle_feed.hpp"
+#include "service/shipped_data.hpp"
 #include "terrain/heightfield.hpp"
 
 namespace skyroute::cli {
@@ -20,7 +21,7 @@ namespace {
 struct ReplayOptions {
   int domain = 0;
   std::string input;
-  std::string dem = SKYROUTE_DEFAULT_DEM;
+  std::string dem;  // "" = the embedded default terrain (shipped data)
   double speed = 1.0;
   bool loop = false;
   int readers = 0;
@@ -35,7 +36,13 @@ void runReplay(const ReplayOptions& o) {
   if (feed->entries.empty()) fail(tool, kExitBadInput, o.input + ": no valid obstacle updates to replay");
   if (feed->hasGeoPositions()) {
     // The daemon's frame: anchored at its DEM's centre (terrain/heightfield.hpp).
-    auto dem = Dem::load(o.dem);
+    std::string dem_path = o.dem;
+    if (dem_path.empty()) {
+      auto shipped = defaultTerrainPath();
+      if (!shipped) fail(tool, kExitBadInput, shipped.error().describe());
+      dem_path = *shipped;
+    }
+    auto dem = Dem::load(dem_path);
     if (!dem) fail(tool, kExitBadInput, "--dem " + dem.error().describe());
     auto terrain = Heightfield::build(*dem);
     if (!terrain) fail(tool, kExitBadInput, "--dem " + terrain.error().describe());
@@ -93,8 +100,7 @@ void addReplayCommand(CLI::App& app) {
   cmd->add_option("FILE", options->input, "Feed file (JSON lines, docs/obstacle_feed.md)")->required();
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
   cmd->add_option("--dem", options->dem,
-                  "The daemon's DEM: its frame places the feed's position_deg obstacles (default: the embedded terrain)")
-      ->capture_default_str();
+                  "The daemon's DEM: its frame places the feed's position_deg obstacles (default: the embedded terrain)");
   cmd->add_option("--speed", options->speed, "Time scale: 2 plays twice as fast")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--loop", options->loop, "Start again at the end, until Ctrl-C");
   cmd->add_option("--readers", options->readers, "Wait for this many subscribers before starting")

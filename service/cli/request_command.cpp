@@ -20,8 +20,9 @@
 #include <CLI/CLI.hpp>
 
 #include "service/cli/dds_cli_common.hpp"
-#include "service/cli/mission_args.hpp"
 #include "service/cli/dds_commands.hpp"
+#include "service/cli/height_ref_option.hpp"
+#include "service/cli/mission_args.hpp"
 #include "service/dds/service_instance.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/number_text.hpp"
@@ -35,6 +36,7 @@ struct RequestOptions {
   std::string vehicle, request_id, planner;
   MissionPointArgs mission;  // --file, --from/--via/--to, --fixed-order and the vehicle limits
   double wait_s = 30.0;
+  HeightRefArgs height_ref;
 };
 
 // The mission: the file's with the options on top, ids filled in, checked here as the service
@@ -42,7 +44,7 @@ struct RequestOptions {
 // or a default) before anything is sent.
 MissionRequestData buildMission(const RequestOptions& o) {
   const std::string tool = "request";
-  MissionRequestData m = buildMissionRequest(tool, o.mission);
+  MissionRequestData m = missionInAmsl(tool, o.height_ref, o.mission.mission_file, buildMissionRequest(tool, o.mission));
   if (!o.vehicle.empty()) m.vehicle_id = o.vehicle;
   if (m.vehicle_id.empty()) fail(tool, kExitUsage, "--vehicle is required (or vehicle_id in --file)");
   if (!o.planner.empty()) m.planner = o.planner;
@@ -234,6 +236,7 @@ void addRequestCommand(CLI::App& app) {
   cmd->add_option("--planner", options->planner, "Planner name (default: the file's, else the service's)");
   addFlightBandOptions(*cmd, mission.limits);
   addVehicleDynamicsOptions(*cmd, mission.limits);
+  addHeightRefOption(*cmd, options->height_ref);
   cmd->add_option("--wait", options->wait_s, "Seconds to wait for the service and its answer")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

@@ -23,6 +23,7 @@
 #include "service/daemon_config.hpp"
 #include "service/dds/mission_service.hpp"
 #include "service/logging.hpp"
+#include "service/shipped_data.hpp"
 
 namespace {
 
@@ -46,6 +47,15 @@ skyroute::Result<skyroute::DaemonConfig> buildConfig(const Overrides& o) {
   if (o.log_format) config.log_format = *o.log_format;
   if (o.seed) config.engine.pipeline.seed = *o.seed;
   return config;
+}
+
+// terrain.dem "" means the embedded default terrain, found beside the binary (shipped data).
+skyroute::Status resolveDefaultDem(skyroute::DaemonConfig& config) {
+  if (!config.dem_path.empty()) return skyroute::Status::success();
+  auto shipped = skyroute::defaultTerrainPath();
+  if (!shipped) return shipped.error();
+  config.dem_path = *shipped;
+  return skyroute::Status::success();
 }
 
 constexpr int kExitConflict = 5;
@@ -100,7 +110,7 @@ int main(int argc, char** argv) {
     std::cout << skyroute::describeDaemonConfig(*config);
     return 0;
   }
-  if (config->dem_path.empty()) config->dem_path = SKYROUTE_DEFAULT_DEM;
+  if (skyroute::Status s = resolveDefaultDem(*config); !s.ok()) return fail(s.error(), 3);
   if (skyroute::Status s = skyroute::setupLogging(config->log_level, config->log_format); !s.ok()) {
     std::cerr << "skyrouted: " << s.error().describe() << std::endl;
     return 2;
@@ -132,7 +142,9 @@ int main(int argc, char** argv) {
     if (signal_number == SIGHUP) {
       spdlog::info("event=sighup config={}", overrides.config_path.empty() ? "(none)" : overrides.config_path);
       auto reloaded = buildConfig(overrides);
-      if (reloaded.ok() && reloaded->dem_path.empty()) reloaded->dem_path = SKYROUTE_DEFAULT_DEM;
+      if (reloaded.ok()) {
+        if (skyroute::Status s = resolveDefaultDem(*reloaded); !s.ok()) reloaded = s.error();
+      }
       if (!reloaded.ok()) {
         // A broken file must not take a running service down: keep the configuration in force.
         spdlog::error("event=reload_failed field={} message=\"{}\"", reloaded.error().field, reloaded.error().message);

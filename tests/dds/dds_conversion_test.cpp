@@ -180,6 +180,13 @@ TEST(MissionJson, RoundTripAndFieldErrors) {
   r = missionFromJson(j);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().field, "end");
+
+  // A DDS string cannot carry a NUL: such an id would reach the daemon cut short.
+  j = missionToJson(m);
+  j["vehicle_id"] = std::string("uav\0-2", 6);
+  r = missionFromJson(j);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().field, "vehicle_id");
 }
 
 }  // namespace

@@ -117,6 +117,28 @@ TEST(ObstacleFeed, MalformedLinesAreSkippedWithTheirLineNumbers) {
   }
 }
 
+TEST(ObstacleFeed, TimesStayWithinTheWireNanoseconds) {
+  // Times past the feed's horizon (a week; a year of validity) are refused: far larger ones would
+  // overflow publish + valid_from + valid_for in int64 nanoseconds.
+  const std::string obstacle = R"("obstacle":{"id":1,"shape":"sphere","size_m":[1,1,1],"position_m":[0,0,0]})";
+  std::istringstream in(obstacleFeedHeaderLine() + "\n" +                             // line 1
+                        "{\"t_s\":1e10," + obstacle + "}\n" +                         // line 2
+                        "{\"t_s\":0," + obstacle + ",\"valid_from_s\":1e300}\n" +     // line 3
+                        "{\"t_s\":0," + obstacle + ",\"valid_for_s\":2e9}\n" +        // line 4
+                        "{\"t_s\":6e5," + obstacle + ",\"valid_for_s\":1e-12}\n");    // line 5: accepted
+  auto feed = parseObstacleFeed(in, "times.jsonl");
+  ASSERT_TRUE(feed.ok()) << feed.error().describe();
+  ASSERT_EQ(feed->skipped.size(), 3u);
+  const char* keys[] = {"t_s", "valid_from_s", "valid_for_s"};
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_NE(feed->skipped[i].message.find(keys[i]), std::string::npos) << feed->skipped[i].message;
+  ASSERT_EQ(feed->entries.size(), 1u);
+  // A validity shorter than a nanosecond still ends after it begins, so the daemon accepts it.
+  const ObstacleUpdateData stamped = feed->entries[0].stamped(1'704'067'200'000'000'000);
+  EXPECT_EQ(stamped.valid_until_utc_ns, stamped.valid_from_utc_ns + 1);
+  EXPECT_FALSE(validateObstacleUpdate(stamped).has_value());
+}
+
 TEST(ObstacleFeed, BadHeaderOrVersionIsFatal) {
   std::istringstream no_header("{\"t_s\": 0, \"obstacle\": {\"id\": 1, \"remove\": true}}\n");
   auto r = parseObstacleFeed(no_header, "x.jsonl");
@@ -130,6 +152,17 @@ TEST(ObstacleFeed, BadHeaderOrVersionIsFatal) {
 
   std::istringstream empty("");
   EXPECT_FALSE(parseObstacleFeed(empty, "z.jsonl").ok());
+
+  // A header whose format is not a string is refused like any other (it used to throw).
+  std::istringstream number_format("{\"format\":1,\"version\":1}\n");
+  r = parseObstacleFeed(number_format, "n.jsonl");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("not an obstacle feed"), std::string::npos) << r.error().message;
+  // 2^32 + 1 is not version 1, though it is as a 32-bit int.
+  std::istringstream wrapped("{\"format\":\"skyroute-obstacle-feed\",\"version\":4294967297}\n");
+  r = parseObstacleFeed(wrapped, "w.jsonl");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("version 4294967297"), std::string::npos) << r.error().message;
 
   auto missing = readObstacleFeed("/nonexistent/feed.jsonl");
   ASSERT_FALSE(missing.ok());
@@ -158,6 +191,26 @@ TEST(ObstacleFeed, StampingAndRecordingAreInverse) {
       EXPECT_NEAR(*recorded.valid_for_s, *e.valid_for_s, 1e-9);
     }
     EXPECT_EQ(obstacleFeedEntryLine(recorded), obstacleFeedEntryLine(e));
+  }
+}
+
+TEST(ObstacleFeed, RecordingAnUpdateValidForCenturiesGivesALineThatReplays) {
+  const std::int64_t heard_ns = 1'704'067'200'000'000'000;
+  ObstacleUpdateData update;
+  update.obstacle.id = 3;
+  update.valid_from_utc_ns = std::numeric_limits<std::int64_t>::max() - 2;  // the year 2262
+  update.valid_until_utc_ns = std::numeric_limits<std::int64_t>::max();
+  const FeedEntry far = FeedEntry::fromUpdate(update, 0.0, heard_ns);
+  EXPECT_EQ(far.valid_from_s, kFeedMaxTimeS);
+  update.valid_from_utc_ns = std::numeric_limits<std::int64_t>::min();  // long past: effective at once
+  const FeedEntry long_valid = FeedEntry::fromUpdate(update, 0.0, heard_ns);
+  EXPECT_EQ(long_valid.valid_from_s, 0.0);
+  EXPECT_EQ(long_valid.valid_for_s, kFeedMaxValidityS);
+  for (const FeedEntry& e : {far, long_valid}) {
+    std::istringstream line(obstacleFeedHeaderLine() + "\n" + obstacleFeedEntryLine(e) + "\n");
+    auto feed = parseObstacleFeed(line, "recorded.jsonl");
+    ASSERT_TRUE(feed.ok());
+    EXPECT_EQ(feed->entries.size(), 1u) << (feed->skipped.empty() ? "" : feed->skipped[0].message);
   }
 }
 

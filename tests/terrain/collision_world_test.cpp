@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <thread>
+#include <tuple>
 
 #include <gtest/gtest.h>
 #include <cpl_conv.h>
@@ -317,6 +318,26 @@ TEST(CollisionWorld, MovingObstacleAtKnownTimes) {
   EXPECT_FALSE(world->isPointValid(Eigen::Vector3d(-400, 0, z), 0.0, 100.0));
   EXPECT_TRUE(world->removeObstacle(7));
   EXPECT_TRUE(world->isPointValid(origin, 10.0));
+}
+
+TEST(Obstacle, TrackDuringCoversTheWholeTrackWhenThePhaseIsLost) {
+  Obstacle o;
+  o.motion = BackAndForth{{0, 0, 0}, {1, 0, 0}, 1.0e10, 0.0};  // 1 m track, 1e10 m/s
+  // 1.7e19 m travelled: far past what a double resolves in 1 m steps (this used to loop forever).
+  auto [from, to] = o.trackDuring(1.7e9, 1.7e9 + 60.0);
+  EXPECT_EQ(from, o.motion->from_m);
+  EXPECT_EQ(to, o.motion->to_m);
+  // Two lengths or more in the interval also give the whole track; less gives the stretch covered.
+  o.motion->speed_mps = 1.0;
+  std::tie(from, to) = o.trackDuring(0.25, 2.5);
+  EXPECT_EQ(from, o.motion->from_m);
+  EXPECT_EQ(to, o.motion->to_m);
+  std::tie(from, to) = o.trackDuring(0.25, 0.5);
+  EXPECT_TRUE(from.isApprox(Eigen::Vector3d(0.25, 0, 0)));
+  EXPECT_TRUE(to.isApprox(Eigen::Vector3d(0.5, 0, 0)));
+  std::tie(from, to) = o.trackDuring(0.75, 1.5);  // turns at 1 m: covers [0.5, 1]
+  EXPECT_TRUE(from.isApprox(Eigen::Vector3d(0.5, 0, 0)));
+  EXPECT_TRUE(to.isApprox(Eigen::Vector3d(1, 0, 0)));
 }
 
 TEST(CollisionWorld, SnapshotTimeBandBlocksOnlyWhileTheVehicleCanBeThere) {

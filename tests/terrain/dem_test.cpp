@@ -1,9 +1,13 @@
 // DEM loading, the local frame and the heightfield, on the real DEMs and the embedded terrain.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
+#include <cpl_conv.h>
 #include <cpl_string.h>
+#include <cpl_vsi.h>
 #include <gdal.h>
 #include <gtest/gtest.h>
 #include <ogr_srs_api.h>
@@ -92,6 +96,128 @@ TEST(Dem, EmbeddedDefaultTerrainLoads) {
   ASSERT_TRUE(dem.ok()) << dem.error().describe();
   EXPECT_EQ((*dem)->unknownCells(), 0);
   EXPECT_GT((*dem)->maxHeightM() - (*dem)->minHeightM(), 400.0);  // mountains to climb or go around
+}
+
+TEST(Dem, LoadsFromGdalVirtualPaths) {
+  // An in-memory copy of a file on disk: the same DEM through /vsimem/.
+  const std::string disk = writeTiff("vsimem_source.tif", 4, 4, 1, ramp(4, 4), true);
+  const std::string memory = "/vsimem/dem_test/ramp.tif";
+  ASSERT_EQ(CPLCopyFile(memory.c_str(), disk.c_str()), 0);
+  auto dem = Dem::load(memory);
+  ASSERT_TRUE(dem.ok()) << dem.error().describe();
+  EXPECT_EQ((*dem)->width(), 4);
+  EXPECT_EQ((*dem)->maxHeightM(), 100 + 2 * 3 + 3 * 3);
+  VSIUnlink(memory.c_str());
+  EXPECT_EQ(Dem::load(memory).error().code, ErrorCode::kFileNotFound);
+  VSIMkdir("/vsimem/dem_test_dir", 0755);
+  EXPECT_EQ(Dem::load("/vsimem/dem_test_dir").error().code, ErrorCode::kNotARaster);
+}
+
+TEST(Dem, RefusesACrsWithoutHorizontalCoordinates) {
+  OGRSpatialReferenceH geocentric = OSRNewSpatialReference(nullptr);
+  ASSERT_EQ(OSRSetFromUserInput(geocentric, "EPSG:4978"), OGRERR_NONE);  // WGS 84 earth-centred X, Y, Z
+  char* wkt = nullptr;
+  OSRExportToWkt(geocentric, &wkt);
+  const auto dem = Dem::fromArray(2, 2, {1, 2, 3, 4}, {0, 1, 0, 0, 0, -1}, wkt, "geocentric");
+  CPLFree(wkt);
+  OSRDestroySpatialReference(geocentric);
+  ASSERT_FALSE(dem.ok());
+  EXPECT_EQ(dem.error().code, ErrorCode::kNoCrs);
+  EXPECT_NE(dem.error().message.find("neither geographic nor projected"), std::string::npos) << dem.error().message;
+}
+
+TEST(Dem, RefusesMoreCellsThanTheLimitBeforeReadingThem) {
+  const std::string path = writeTiff("limit.tif", 4, 4, 1, ramp(4, 4), true);
+  EXPECT_TRUE(Dem::load(path, DemLoadOptions{.max_cells = 16}).ok());
+  const auto refused = Dem::load(path, DemLoadOptions{.max_cells = 15});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(refused.error().message.find("4 x 4 cells"), std::string::npos) << refused.error().message;
+}
+
+// A 200 x 4 DEM of cells `width_deg` wide and 20 degrees tall, all at 300 m.
+std::shared_ptr<const Dem> sliverDem(const std::string& name, double width_deg) {
+  GDALAllRegister();
+  const std::string path = ::testing::TempDir() + "/" + name;
+  GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), 200, 4, 1, GDT_Float32, nullptr);
+  double gt[6] = {0.0, width_deg, 0.0, 45.0, 0.0, -20.0};
+  GDALSetGeoTransform(ds, gt);
+  GDALSetProjection(ds, testing::epsgWkt(4326).c_str());
+  std::vector<float> heights(800, 300.f);
+  EXPECT_EQ(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Write, 0, 0, 200, 4, heights.data(), 200, 4, GDT_Float32, 0, 0),
+            CE_None);
+  GDALClose(ds);
+  auto dem = Dem::load(path);
+  EXPECT_TRUE(dem.ok()) << dem.error().describe();
+  return dem.ok() ? *dem : nullptr;
+}
+
+TEST(Heightfield, LatticeOfCellsFarLongerThanWideStaysSmall) {
+  // At 8 of the narrow cells per node, the lattice of these 1e-6 degree cells would have about a
+  // billion nodes.
+  auto dem = sliverDem("sliver.tif", 1e-6);
+  ASSERT_TRUE(dem);
+  auto hf = Heightfield::build(dem);
+  ASSERT_TRUE(hf.ok()) << hf.error().describe();
+  EXPECT_LT((*hf)->memoryBytes(), std::size_t{4} << 20);
+}
+
+TEST(Heightfield, DilationMatchesTheWindowByBruteForce) {
+  // Random heights on 30 m x 45 m cells, with a void too large to be filled (80 cells).
+  constexpr int w = 23;
+  constexpr int h = 17;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> height(0.f, 500.f);
+  std::vector<float> heights(w * h);
+  for (float& v : heights) v = height(rng);
+  for (int r = 0; r < 8; ++r)
+    for (int c = 0; c < 10; ++c) heights[r * w + c] = std::numeric_limits<float>::quiet_NaN();
+  auto dem = Dem::fromArray(w, h, heights, {500000.0, 30.0, 0.0, 5200000.0, 0.0, -45.0}, utmWkt(), "random");
+  ASSERT_TRUE(dem.ok()) << dem.error().describe();
+  auto hf = Heightfield::build(*dem);
+  ASSERT_TRUE(hf.ok()) << hf.error().describe();
+  const Eigen::Vector2d res = (*dem)->resolutionM();
+  for (const double radius_m : {10.0, 40.0, 100.0, 333.0, 2000.0}) {
+    const auto dilated = (*hf)->dilated(radius_m);
+    const int rx = static_cast<int>(std::ceil(radius_m / res.x()));
+    const int ry = static_cast<int>(std::ceil(radius_m / res.y()));
+    for (int row = 0; row < h; ++row) {
+      for (int col = 0; col < w; ++col) {
+        // The definition: the highest cell whose centre is within the radius plus half a diagonal.
+        float expected = -std::numeric_limits<float>::infinity();
+        for (int dy = -ry; dy <= ry; ++dy) {
+          for (int dx = -rx; dx <= rx; ++dx) {
+            const int c = col + dx;
+            const int r = row + dy;
+            if (c < 0 || r < 0 || c >= w || r >= h) continue;
+            if (std::hypot(dx * res.x(), dy * res.y()) > radius_m + 0.5 * res.norm()) continue;
+            const float v = (*hf)->heightCell(c, r);
+            expected = std::isnan(v) || std::isnan(expected) ? std::numeric_limits<float>::quiet_NaN()
+                                                             : std::max(expected, v);
+          }
+        }
+        const float got = dilated->heightCell(col, row);
+        if (std::isnan(expected)) {
+          EXPECT_TRUE(std::isnan(got)) << radius_m << " m at " << col << "," << row;
+        } else {
+          EXPECT_EQ(got, expected) << radius_m << " m at " << col << "," << row;
+        }
+      }
+    }
+  }
+}
+
+TEST(Heightfield, DilationWindowStopsAtTheRasterEdge) {
+  // 30 m spans 380,000 of these 1e-9 degree cells: a window that size for each of 800 cells never
+  // finished; no offset past the raster's 200 columns can reach a cell anyway.
+  auto dem = sliverDem("needle.tif", 1e-9);
+  ASSERT_TRUE(dem);
+  auto hf = Heightfield::build(dem);
+  ASSERT_TRUE(hf.ok()) << hf.error().describe();
+  const auto started = std::chrono::steady_clock::now();
+  const auto dilated = (*hf)->dilated(30.0);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), 5.0);
+  EXPECT_EQ(dilated->maxHeightM(), 300.0);
 }
 
 TEST(Dem, BadInputGetsTypedErrorsNamingTheFile) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 
+#include <sstream>
+
 #include <gtest/gtest.h>
 
 #include "terrain/movingai.hpp"
@@ -147,6 +149,14 @@ TEST(MovingAi, MalformedFilesNameTheLine) {
   EXPECT_EQ(map.error().code, ErrorCode::kParseError);
   EXPECT_NE(map.error().message.find("line 6"), std::string::npos) << map.error().message;
   EXPECT_EQ(loadMovingAiMap("/nonexistent.map").error().code, ErrorCode::kFileNotFound);
+}
+
+TEST(MovingAi, AHeaderAloneAllocatesNothing) {
+  // 10^10 cells declared, one row given: the grid was allocated before the rows were read.
+  std::istringstream in("type octile\nheight 100000\nwidth 100000\nmap\n....\n");
+  const auto map = parseMovingAiMap(in, "huge.map");
+  ASSERT_FALSE(map.ok());
+  EXPECT_NE(map.error().message.find("row shorter than the width"), std::string::npos) << map.error().message;
 }
 
 }  // namespace
