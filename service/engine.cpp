@@ -261,12 +261,13 @@ std::optional<PlanError> Engine::submit(MissionRequestData request) {
 
 bool Engine::cancel(const CancelRequestData& request) {
   std::vector<MissionRequestData> cancelled;
-  std::shared_ptr<Mission> ended;
+  std::vector<std::shared_ptr<Mission>> ended;
   bool matched = false;
   {
     std::lock_guard lock(mutex_);
-    auto matches = [&](const MissionRequestData& r) {  // a fleet job's request is empty: never matches
-      return !r.vehicle_id.empty() && r.vehicle_id == request.vehicle_id &&
+    // A cancel names a vehicle, a request, or both; a fleet job's request is empty: never matches.
+    auto matches = [&](const MissionRequestData& r) {
+      return !r.vehicle_id.empty() && (request.vehicle_id.empty() || r.vehicle_id == request.vehicle_id) &&
              (request.request_id.empty() || r.request_id == request.request_id);
     };
     for (auto it = queue_.begin(); it != queue_.end();) {
@@ -283,21 +284,25 @@ bool Engine::cancel(const CancelRequestData& request) {
         matched = true;
       }
     }
-    if (auto it = missions_.find(request.vehicle_id); it != missions_.end() && matches(it->second->request)) {
-      ended = it->second;
-      missions_.erase(it);
+    for (auto it = missions_.begin(); it != missions_.end();) {
+      if (matches(it->second->request)) {
+        ended.push_back(it->second);
+        it = missions_.erase(it);
+      } else {
+        ++it;
+      }
     }
   }
   // Mission locks are never taken under the engine lock (the replanning loop holds a mission's
   // lock while it plans).
-  if (ended) {
-    ended->cancel->store(true);
+  for (const std::shared_ptr<Mission>& mission : ended) {
+    mission->cancel->store(true);
     {
-      std::lock_guard mission_lock(ended->mutex);
-      ended->ended = true;
+      std::lock_guard mission_lock(mission->mutex);
+      mission->ended = true;
     }
-    cancelled.push_back(ended->request);
-    sink_.retractTrajectory(request.vehicle_id);
+    cancelled.push_back(mission->request);
+    sink_.retractTrajectory(mission->request.vehicle_id);
   }
   for (const MissionRequestData& r : cancelled) finish(cancelledStatus(r, "cancelled on request"));
   if (!cancelled.empty() || matched) {
@@ -307,9 +312,9 @@ bool Engine::cancel(const CancelRequestData& request) {
   }
   // Nothing to cancel: say so to the canceller (a finished request keeps its stored result).
   const std::string what = request.request_id.empty() ? "no request" : "no request '" + request.request_id + "'";
+  const std::string whose = request.vehicle_id.empty() ? "" : " of vehicle '" + request.vehicle_id + "'";
   const PlanError error{PlanErrorCode::kInvalidArgument, request.request_id.empty() ? "vehicle_id" : "request_id",
-                        "cancel refused: " + what + " of vehicle '" + request.vehicle_id +
-                            "' is queued, being planned or flying"};
+                        "cancel refused: " + what + whose + " is queued, being planned or flying"};
   throttle_.warn("cancel_unknown:" + request.vehicle_id + ":" + request.request_id,
                  fmt::format("event=cancel_rejected vehicle={} request={} message=\"{}\"", request.vehicle_id,
                              request.request_id, error.message));

@@ -1,6 +1,9 @@
 #include "service/mission_json.hpp"
 
 #include <cmath>
+#include <optional>
+#include <utility>
+#include <vector>
 
 namespace skyroute {
 
@@ -65,6 +68,54 @@ Result<Eigen::Vector3d> vector3(const json& j, const std::string& key, const std
 
 json array3(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
+// The limits' keys, as the IDL names them.
+std::vector<std::pair<const char*, double VehicleLimitsData::*>> limitFields() {
+  return {{"v_ref_mps", &VehicleLimitsData::v_ref_mps},
+          {"max_speed_mps", &VehicleLimitsData::max_speed_mps},
+          {"max_accel_mps2", &VehicleLimitsData::max_accel_mps2},
+          {"max_climb_rate_mps", &VehicleLimitsData::max_climb_rate_mps},
+          {"max_descent_rate_mps", &VehicleLimitsData::max_descent_rate_mps},
+          {"min_turn_radius_m", &VehicleLimitsData::min_turn_radius_m},
+          {"min_clearance_agl_m", &VehicleLimitsData::min_clearance_agl_m},
+          {"ceiling_amsl_m", &VehicleLimitsData::ceiling_amsl_m}};
+}
+
+json limitsToJson(const VehicleLimitsData& limits) {
+  json j = json::object();
+  for (const auto& [key, field] : limitFields()) j[key] = limits.*field;
+  return j;
+}
+
+// j["limits"] into `limits` (absent keys keep their values); the first problem found, if any.
+std::optional<Error> limitsFromJson(const json& j, VehicleLimitsData& limits) {
+  auto it = j.find("limits");
+  if (it == j.end()) return std::nullopt;
+  if (!it->is_object()) return invalid("limits", "must be an object");
+  for (const auto& [key, field] : limitFields()) {
+    auto v = number(*it, key, "limits", limits.*field);
+    if (!v) return v.error();
+    limits.*field = *v;
+  }
+  return std::nullopt;
+}
+
+// j[key] as an array of points named key[i] (absent: empty when optional).
+Result<std::vector<MissionPointData>> pointArray(const json& j, const std::string& key, bool required) {
+  std::vector<MissionPointData> points;
+  auto it = j.find(key);
+  if (it == j.end()) {
+    if (required) return invalid(key, "is missing");
+    return points;
+  }
+  if (!it->is_array()) return invalid(key, "must be an array of points");
+  for (std::size_t i = 0; i < it->size(); ++i) {
+    auto p = missionPointFromJson((*it)[i], key + "[" + std::to_string(i) + "]");
+    if (!p) return p.error();
+    points.push_back(*p);
+  }
+  return points;
+}
+
 }  // namespace
 
 json missionPointToJson(const MissionPointData& point) {
@@ -99,21 +150,12 @@ Result<MissionPointData> missionPointFromJson(const json& j, const std::string& 
 json missionToJson(const MissionRequestData& m) {
   json points = json::array();
   for (const auto& p : m.points) points.push_back(missionPointToJson(p));
-  const VehicleLimitsData& l = m.limits;
   return json{{"request_id", m.request_id},
               {"vehicle_id", m.vehicle_id},
               {"begin", missionPointToJson(m.begin)},
               {"points", points},
               {"end", missionPointToJson(m.end)},
-              {"limits",
-               {{"v_ref_mps", l.v_ref_mps},
-                {"max_speed_mps", l.max_speed_mps},
-                {"max_accel_mps2", l.max_accel_mps2},
-                {"max_climb_rate_mps", l.max_climb_rate_mps},
-                {"max_descent_rate_mps", l.max_descent_rate_mps},
-                {"min_turn_radius_m", l.min_turn_radius_m},
-                {"min_clearance_agl_m", l.min_clearance_agl_m},
-                {"ceiling_amsl_m", l.ceiling_amsl_m}}},
+              {"limits", limitsToJson(m.limits)},
               {"planner", m.planner},
               {"fixed_order", m.fixed_order}};
 }
@@ -135,35 +177,10 @@ Result<MissionRequestData> missionFromJson(const json& j) {
   auto end = missionPointFromJson(j.at("end"), "end");
   if (!end) return end.error();
   m.end = *end;
-  if (j.contains("points")) {
-    const json& points = j.at("points");
-    if (!points.is_array()) return invalid("points", "must be an array");
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      auto p = missionPointFromJson(points[i], "points[" + std::to_string(i) + "]");
-      if (!p) return p.error();
-      m.points.push_back(*p);
-    }
-  }
-  if (j.contains("limits")) {
-    const json& lj = j.at("limits");
-    if (!lj.is_object()) return invalid("limits", "must be an object");
-    VehicleLimitsData& l = m.limits;
-    const std::pair<const char*, double*> fields[] = {
-        {"v_ref_mps", &l.v_ref_mps},
-        {"max_speed_mps", &l.max_speed_mps},
-        {"max_accel_mps2", &l.max_accel_mps2},
-        {"max_climb_rate_mps", &l.max_climb_rate_mps},
-        {"max_descent_rate_mps", &l.max_descent_rate_mps},
-        {"min_turn_radius_m", &l.min_turn_radius_m},
-        {"min_clearance_agl_m", &l.min_clearance_agl_m},
-        {"ceiling_amsl_m", &l.ceiling_amsl_m},
-    };
-    for (const auto& [key, target] : fields) {
-      auto v = number(lj, key, "limits", *target);
-      if (!v) return v.error();
-      *target = *v;
-    }
-  }
+  auto points = pointArray(j, "points", false);
+  if (!points) return points.error();
+  m.points = std::move(*points);
+  if (auto bad = limitsFromJson(j, m.limits)) return *bad;
   auto planner = text(j, "planner", "", "");
   if (!planner) return planner.error();
   m.planner = *planner;
@@ -171,6 +188,56 @@ Result<MissionRequestData> missionFromJson(const json& j) {
   if (!fixed) return fixed.error();
   m.fixed_order = *fixed;
   return m;
+}
+
+json fleetToJson(const FleetRequestData& f) {
+  auto points = [](const std::vector<MissionPointData>& list) {
+    json a = json::array();
+    for (const auto& p : list) a.push_back(missionPointToJson(p));
+    return a;
+  };
+  return json{{"request_id", f.request_id}, {"vehicle_ids", f.vehicle_ids},        {"begins", points(f.begins)},
+              {"tasks", points(f.tasks)},     {"ends", points(f.ends)},              {"limits", limitsToJson(f.limits)},
+              {"planner", f.planner}};
+}
+
+Result<FleetRequestData> fleetFromJson(const json& j) {
+  if (!j.is_object()) return invalid("fleet", "must be a JSON object");
+  FleetRequestData f;
+  auto request_id = text(j, "request_id", "", "");
+  if (!request_id) return request_id.error();
+  f.request_id = *request_id;
+  auto begins = pointArray(j, "begins", true);
+  if (!begins) return begins.error();
+  f.begins = std::move(*begins);
+  if (auto ids = j.find("vehicle_ids"); ids != j.end()) {
+    if (!ids->is_array()) return invalid("vehicle_ids", "must be an array of strings");
+    for (std::size_t i = 0; i < ids->size(); ++i) {
+      if (!(*ids)[i].is_string()) return invalid("vehicle_ids[" + std::to_string(i) + "]", "must be a string");
+      f.vehicle_ids.push_back((*ids)[i].get<std::string>());
+    }
+    if (f.vehicle_ids.size() != f.begins.size()) {
+      return invalid("vehicle_ids", "has " + std::to_string(f.vehicle_ids.size()) + " ids for " +
+                                        std::to_string(f.begins.size()) + " begins");
+    }
+  } else {
+    for (std::size_t i = 0; i < f.begins.size(); ++i) f.vehicle_ids.push_back("uav-" + std::to_string(i + 1));
+  }
+  auto tasks = pointArray(j, "tasks", true);
+  if (!tasks) return tasks.error();
+  f.tasks = std::move(*tasks);
+  auto ends = pointArray(j, "ends", false);
+  if (!ends) return ends.error();
+  f.ends = j.contains("ends") ? std::move(*ends) : f.begins;
+  if (f.ends.size() != f.begins.size()) {
+    return invalid("ends", "has " + std::to_string(f.ends.size()) + " points for " + std::to_string(f.begins.size()) +
+                               " begins");
+  }
+  if (auto bad = limitsFromJson(j, f.limits)) return *bad;
+  auto planner = text(j, "planner", "", "");
+  if (!planner) return planner.error();
+  f.planner = *planner;
+  return f;
 }
 
 json obstacleToJson(const ObstacleUpdateData& u) {

@@ -21,6 +21,14 @@ Result<MissionPointData> missionPointFromJson(const nlohmann::json& j, const std
 nlohmann::json missionToJson(const MissionRequestData& mission);
 Result<MissionRequestData> missionFromJson(const nlohmann::json& j);
 
+// A fleet request (`skyroute fleet --file`): {"request_id", "vehicle_ids": [...], "begins": [...],
+// "tasks": [...], "ends": [...], "limits": {...}, "planner"}, points as in a mission. Reading:
+// request_id may be absent (the CLI fills it in); without vehicle_ids the vehicles are uav-1 ..
+// uav-N in the order of begins; without ends each vehicle returns to its begin; vehicle_ids and
+// ends must match begins in length. Errors name the field with its path ("tasks[3].lat_deg").
+nlohmann::json fleetToJson(const FleetRequestData& fleet);
+Result<FleetRequestData> fleetFromJson(const nlohmann::json& j);
+
 // Obstacle geometry and motion without the validity times (the feed stores those relative to the
 // line's time): {"id", "remove", "shape", "size_m": [x,y,z], "position_m": [e,n,u],
 // "motion": "static" | "constant_velocity" | "back_and_forth", "velocity_mps", "from_m", "to_m",

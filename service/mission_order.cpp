@@ -28,6 +28,7 @@ Result<MissionOrder> euclideanOrder(const std::vector<Eigen::Vector3d>& points_m
   out.method = "euclidean";
   out.fallback_reason = std::move(reason);
   out.cost_m = tsp->cost;
+  out.cost_matrix_m = std::move(cost);
   return out;
 }
 
@@ -88,6 +89,9 @@ Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::v
   out.cost_m = plan->cost * grid->cellSize();
   out.cell_size_m = grid->cellSize();
   out.expansions = plan->search.expansions;
+  out.cost_matrix_m = plan->cost_matrix;
+  for (auto& row : out.cost_matrix_m)
+    for (double& cost : row) cost *= grid->cellSize();  // infinity stays infinity
   out.time_ms = elapsedMs(started);
   return out;
 }

@@ -31,6 +31,11 @@ struct MissionOrder {
   double cell_size_m = 0.0;       // of the order grid (mmdstar)
   std::uint64_t expansions = 0;   // MMD*L cell expansions
   double time_ms = 0.0;
+  // cost_matrix_m[from][to] in metres over all points, the costs the order was chosen from: MMD*L
+  // path costs (infinity where MMD*L plans no path: into the begin point, out of the end point, a
+  // point to itself) or straight-line distances (euclidean). Empty for a fixed order, which
+  // compares nothing.
+  std::vector<std::vector<double>> cost_matrix_m;
 };
 
 // points_m: begin, mission points, end (ENU metres). fixed keeps the given order.

@@ -17,6 +17,32 @@ using nlohmann::json;
 
 std::int64_t secondsToNs(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
 
+// "key_deg": [lat, lon, alt AMSL] into `point`, and "key_m" set to 0 in `obstacle` so the ENU
+// parser accepts it (placeIn() fills it later). Both spellings at once are an error.
+std::optional<Error> takeGeoPosition(json& obstacle, const std::string& key, std::optional<GeoPoint>& point) {
+  auto deg = obstacle.find(key + "_deg");
+  if (deg == obstacle.end()) return std::nullopt;
+  const std::string field = "obstacle." + key + "_deg";
+  if (obstacle.contains(key + "_m")) {
+    return Error{ErrorCode::kParseError, field, field + " and obstacle." + key + "_m are both given (give one)"};
+  }
+  const bool triple = deg->is_array() && deg->size() == 3 &&
+                      std::all_of(deg->begin(), deg->end(), [](const json& v) { return v.is_number(); });
+  if (!triple) return Error{ErrorCode::kParseError, field, field + " must be [lat_deg, lon_deg, alt_amsl_m]"};
+  const GeoPoint p{(*deg)[0].get<double>(), (*deg)[1].get<double>(), (*deg)[2].get<double>()};
+  if (!std::isfinite(p.lat_deg) || !std::isfinite(p.lon_deg) || !std::isfinite(p.alt_amsl_m)) {
+    return Error{ErrorCode::kParseError, field, field + " must hold finite numbers"};
+  }
+  if (std::abs(p.lat_deg) > 90.0 || std::abs(p.lon_deg) > 180.0) {
+    return Error{ErrorCode::kParseError, field,
+                 field + " latitude " + numberText(p.lat_deg) + ", longitude " + numberText(p.lon_deg) +
+                     " is not a WGS84 position (latitude within +-90, longitude within +-180)"};
+  }
+  point = p;
+  obstacle[key + "_m"] = json::array({0.0, 0.0, 0.0});
+  return std::nullopt;
+}
+
 // Parses one data line; an Error names the field.
 Result<FeedEntry> parseEntry(const std::string& line) {
   const json j = json::parse(line, nullptr, /*allow_exceptions=*/false);
@@ -33,7 +59,14 @@ Result<FeedEntry> parseEntry(const std::string& line) {
                                                          numberText(kFeedMaxTimeS) + " s (one week)");
   auto o = j.find("obstacle");
   if (o == j.end()) return make_error(ErrorCode::kParseError, "obstacle", "obstacle is missing");
-  auto update = obstacleFromJson(*o, "obstacle");
+  json obstacle = *o;
+  if (obstacle.is_object()) {
+    for (auto [key, point] : {std::pair{"position", &entry.geo.position}, std::pair{"from", &entry.geo.from},
+                              std::pair{"to", &entry.geo.to}}) {
+      if (auto e = takeGeoPosition(obstacle, key, *point)) return *e;
+    }
+  }
+  auto update = obstacleFromJson(obstacle, "obstacle");
   if (!update) return update.error();
   entry.update = std::move(*update);
   if (auto f = j.find("valid_from_s"); f != j.end()) {
@@ -67,6 +100,20 @@ ObstacleUpdateData FeedEntry::stamped(std::int64_t publish_utc_ns) const {
       valid_for_s ? u.valid_from_utc_ns + std::max<std::int64_t>(1, secondsToNs(*valid_for_s)) : 0;
   if (u.obstacle.motion) u.obstacle.motion->start_time_s = static_cast<double>(u.valid_from_utc_ns) * 1e-9;
   return u;
+}
+
+void FeedEntry::placeIn(const LocalFrame& frame) {
+  Obstacle& o = update.obstacle;
+  if (o.motion) {
+    if (geo.from) o.motion->from_m = frame.toEnu(*geo.from);
+    if (geo.to) o.motion->to_m = frame.toEnu(*geo.to);
+    o.center_m = o.motion->from_m;
+  }
+  if (geo.position) o.center_m = frame.toEnu(*geo.position);
+}
+
+bool ObstacleFeed::hasGeoPositions() const {
+  return std::any_of(entries.begin(), entries.end(), [](const FeedEntry& e) { return e.geo.any(); });
 }
 
 FeedEntry FeedEntry::fromUpdate(const ObstacleUpdateData& update, double t_s, std::int64_t received_utc_ns) {
@@ -156,7 +203,15 @@ std::string obstacleFeedHeaderLine() {
 }
 
 std::string obstacleFeedEntryLine(const FeedEntry& entry) {
-  json j{{"t_s", entry.t_s}, {"obstacle", obstacleToJson(entry.update)}};
+  json obstacle = obstacleToJson(entry.update);
+  // WGS84 positions are written as the feed gave them.
+  for (auto [key, point] : {std::pair{"position", &entry.geo.position}, std::pair{"from", &entry.geo.from},
+                            std::pair{"to", &entry.geo.to}}) {
+    if (!*point) continue;
+    obstacle.erase(std::string(key) + "_m");
+    obstacle[std::string(key) + "_deg"] = json::array({(*point)->lat_deg, (*point)->lon_deg, (*point)->alt_amsl_m});
+  }
+  json j{{"t_s", entry.t_s}, {"obstacle", obstacle}};
   if (entry.valid_from_s != 0.0) j["valid_from_s"] = entry.valid_from_s;
   if (entry.valid_for_s) j["valid_for_s"] = *entry.valid_for_s;
   return j.dump();

@@ -103,7 +103,12 @@ Result<std::vector<MovingAiProblem>> parseMovingAiScenario(std::istream& in, con
     problems.push_back(p);
   }
   for (std::size_t i = 0; i < problems.size(); ++i) {
-    const int decimals = decimals_of[i] >= 0 ? decimals_of[i] : std::max(most_decimals, 0);
+    // A file of whole numbers only prints exact costs (a 4-connected map): they are compared to 1e-3.
+    if (most_decimals < 0) {
+      problems[i].optimal_tolerance = 1e-3;
+      continue;
+    }
+    const int decimals = decimals_of[i] >= 0 ? decimals_of[i] : most_decimals;
     problems[i].optimal_tolerance = std::pow(10.0, -decimals);
   }
   return problems;

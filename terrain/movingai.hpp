@@ -26,7 +26,8 @@ struct MovingAiProblem {
   // One unit in the last digit the file printed optimal_length with: a cost within this of
   // optimal_length agrees with it to the printed digits (generators round or truncate, and some
   // sum in single precision). A length printed without a decimal point counts with the most
-  // decimals any length of the file has (generators drop trailing zeros, not precision).
+  // decimals any length of the file has (generators drop trailing zeros, not precision); a file of
+  // whole numbers only holds exact costs, compared to 1e-3.
   double optimal_tolerance = 0.0;
 };
 

@@ -1,8 +1,14 @@
 // The DDS tools of `skyroute`, each in its own file; main.cpp registers them next to the others.
 #pragma once
 
+#include <string>
+
 namespace CLI {
 class App;
+}
+
+namespace skyroute {
+struct FleetRequestData;
 }
 
 namespace skyroute::cli {
@@ -12,5 +18,13 @@ void addRequestCommand(CLI::App& app);  // request: publish a mission, await sta
 void addRecordCommand(CLI::App& app);   // record: obstacle updates to a feed file   (record_command.cpp)
 void addReplayCommand(CLI::App& app);   // replay: a feed file with its timing       (replay_command.cpp)
 void addPx4Command(CLI::App& app);      // px4: offboard setpoints for PX4           (px4_command.cpp)
+void addCancelCommand(CLI::App& app);   // cancel: a vehicle's mission or a request   (cancel_command.cpp)
+void addStatusCommand(CLI::App& app);   // status: live daemons from their heartbeats (status_command.cpp)
+
+// fleet --domain: publishes the fleet request, prints its statuses and, on success, the outcome
+// and each vehicle's trajectory (written to `out` when given); fails with the exit-code table's
+// codes (fleet_dds_command.cpp).
+void requestFleetOverDds(const std::string& tool, const FleetRequestData& request, int domain, double wait_s,
+                         const std::string& out);
 
 }  // namespace skyroute::cli

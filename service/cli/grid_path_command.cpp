@@ -1,14 +1,12 @@
 // `skyroute grid path`: one any-angle or 8-connected path on a Moving AI map with A*, Theta*,
 // HAB-PP or Improved HAB-PP; prints length, first-path time and total time, and with --out writes
 // {"length": L, "points": [[x, y], ...]} in cell coordinates (cell centres at integers).
-//
-// Exit codes: 0 path found, 1 map file unreadable or malformed, 2 bad argument (names the option),
-// 3 no path (blocked endpoint, unreachable goal or out of time), 4 --out not writable.
+// Exit codes are the table's: a blocked or outside end point is a bad option value (2), no path
+// (unreachable, or out of time) a failed plan (1), an unreadable map a bad input file (3).
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <regex>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -16,6 +14,7 @@
 
 #include "planning/colony/hab_pp.hpp"
 #include "planning/grid/any_angle_search.hpp"
+#include "service/cli/cli_parse.hpp"
 #include "service/cli/commands.hpp"
 #include "terrain/movingai.hpp"
 
@@ -23,10 +22,12 @@ namespace skyroute::cli {
 
 namespace {
 
+const std::string kTool = "grid path";
+
 struct GridPathOptions {
   std::string map;
-  std::string start;
-  std::string goal;
+  std::string from;
+  std::string to;
   std::string algo;
   std::uint64_t seed = 1;
   double budget_s = 60.0;
@@ -35,39 +36,35 @@ struct GridPathOptions {
   std::string out;
 };
 
-[[noreturn]] void fail(int code, const std::string& message) {
-  std::cerr << "skyroute grid path: " << message << "\n";
-  throw CLI::RuntimeError(code);
-}
-
 GridCell parseCell(const std::string& option, const std::string& text) {
-  static const std::regex pattern(R"(\s*(-?\d{1,9})\s*,\s*(-?\d{1,9})\s*)");
-  std::smatch m;
-  if (!std::regex_match(text, m, pattern)) fail(2, option + ": expected X,Y (two integers), got '" + text + "'");
-  return GridCell{std::stoi(m[1].str()), std::stoi(m[2].str())};
+  auto cell = parseGridCell(text, option);
+  if (!cell) fail(kTool, kExitUsage, cell.error().message);
+  return *cell;
 }
 
 void checkEndpoint(const GridLayer& grid, const std::string& option, GridCell c) {
   const std::string where = "(" + std::to_string(c.x) + ", " + std::to_string(c.y) + ")";
   if (!grid.inside(c)) {
-    fail(2, option + ": " + where + " is outside the map (" + std::to_string(grid.width()) + " x " +
-                std::to_string(grid.height()) + ")");
+    fail(kTool, kExitUsage,
+         option + ": " + where + " is outside the map (" + std::to_string(grid.width()) + " x " +
+             std::to_string(grid.height()) + ")");
   }
-  if (grid.blocked(c)) fail(3, option + ": " + where + " is a blocked cell");
+  if (grid.blocked(c)) fail(kTool, kExitUsage, option + ": " + where + " is a blocked cell");
 }
 
 void run(const GridPathOptions& o) {
-  const GridCell start = parseCell("--start", o.start);
-  const GridCell goal = parseCell("--goal", o.goal);
-  if (!(o.budget_s > 0.0)) fail(2, "--budget-s: must be > 0");
-  if (o.window_segments < 0) fail(2, "--window-segments: must be >= 0 (0: off)");
+  const GridCell start = parseCell("--from", o.from);
+  const GridCell goal = parseCell("--to", o.to);
+  if (!(o.budget_s > 0.0)) fail(kTool, kExitUsage, "--budget-s: must be > 0");
+  if (o.window_segments < 0) fail(kTool, kExitUsage, "--window-segments: must be >= 0 (0: off)");
   if (o.window_given && o.algo.rfind("hab-pp", 0) != 0) {
-    fail(2, "--window-segments: applies to hab-pp and hab-pp-rrt only, not " + o.algo);
+    fail(kTool, kExitUsage, "--window-segments: applies to hab-pp and hab-pp-rrt only, not " + o.algo);
   }
+  checkOutputPath(kTool, "--out", o.out, {"json"});
   Result<GridLayer> grid = loadMovingAiMap(o.map);
-  if (!grid) fail(1, "--map: " + grid.error().describe());
-  checkEndpoint(*grid, "--start", start);
-  checkEndpoint(*grid, "--goal", goal);
+  if (!grid) fail(kTool, kExitBadInput, "--map " + grid.error().describe());
+  checkEndpoint(*grid, "--from", start);
+  checkEndpoint(*grid, "--to", goal);
   const auto stop = TerminationCondition::after(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(o.budget_s)));
 
@@ -94,7 +91,7 @@ void run(const GridPathOptions& o) {
     first_s = r.first_path_time_s;
     total_s = r.total_time_s;
   }
-  if (!found) fail(3, "--goal: no path from --start to --goal with " + o.algo + ": " + status);
+  if (!found) fail(kTool, kExitPlanningFailed, "--to: no path from --from to --to with " + o.algo + ": " + status);
 
   std::printf("algo: %s\nstatus: %s\nlength: %.6f\nfirst path time: %.6f s\ntotal time: %.6f s\npoints: %zu\n",
               o.algo.c_str(), status.c_str(), length, first_s, total_s, path.size());
@@ -105,7 +102,7 @@ void run(const GridPathOptions& o) {
     for (GridCell c : path) j["points"].push_back({c.x, c.y});
     std::ofstream f(o.out);
     f << j.dump() << "\n";
-    if (!f.flush()) fail(4, "--out: cannot write " + o.out);
+    if (!f.flush()) fail(kTool, kExitUsage, "--out " + o.out + ": cannot write");
   }
 }
 
@@ -115,8 +112,12 @@ void addGridPathCommand(CLI::App& grid) {
   auto opts = std::make_shared<GridPathOptions>();
   CLI::App* cmd = grid.add_subcommand("path", "One path on a Moving AI map: A*, Theta*, HAB-PP or Improved HAB-PP");
   cmd->add_option("--map", opts->map, "Moving AI .map file")->required();
-  cmd->add_option("--start", opts->start, "start cell X,Y (column, row from 0)")->required();
-  cmd->add_option("--goal", opts->goal, "goal cell X,Y")->required();
+  cmd->footer(helpFooter({"skyroute grid path --map room-32-32-4.map --from 1,1 --to 30,30 --algo theta --out path.json"}));
+  cmd->add_option("--from", opts->from, "start cell X,Y (column, row from 0)");
+  cmd->add_option("--to", opts->to, "goal cell X,Y");
+  // The names before --from and --to, kept for one release (hidden).
+  cmd->add_option("--start", opts->from, "old name of --from")->group("");
+  cmd->add_option("--goal", opts->to, "old name of --to")->group("");
   cmd->add_option("--algo", opts->algo, "astar (8-connected), theta (Theta*), hab-pp, hab-pp-rrt (Improved HAB-PP)")
       ->required()
       ->check(CLI::IsMember({"astar", "theta", "hab-pp", "hab-pp-rrt"}));
@@ -128,6 +129,7 @@ void addGridPathCommand(CLI::App& grid) {
   window->default_val(HabPpParameters{}.output_window_segments);
   cmd->add_option("--out", opts->out, "write {\"length\": L, \"points\": [[x, y], ...]} to this JSON file");
   cmd->callback([opts, window] {
+    if (opts->from.empty() || opts->to.empty()) fail(kTool, kExitUsage, "give --from X,Y and --to X,Y");
     opts->window_given = window->count() > 0;
     run(*opts);
   });

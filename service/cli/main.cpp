@@ -4,7 +4,7 @@
 
 #include "service/cli/commands.hpp"
 #include "service/cli/dds_commands.hpp"
-#include "service/cli/exit_codes.hpp"
+#include "service/cli/cli_common.hpp"
 
 int main(int argc, char** argv) {
   GDALAllRegister();
@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   skyroute::cli::addTerrainCommands(app);
   CLI::App* grid = app.add_subcommand("grid", "Grid searches on Moving AI maps and terrain grid layers");
   grid->require_subcommand(1);
+  grid->footer(skyroute::cli::helpFooter({"skyroute grid path --map room-32-32-4.map --from 1,1 --to 30,30 --algo theta"}));
   skyroute::cli::addGridSolveCommand(*grid);
   skyroute::cli::addGridPathCommand(*grid);
   skyroute::cli::addMissionCommand(app);
@@ -26,6 +27,8 @@ int main(int argc, char** argv) {
   skyroute::cli::addRecordCommand(app);
   skyroute::cli::addReplayCommand(app);
   skyroute::cli::addPx4Command(app);
+  skyroute::cli::addCancelCommand(app);
+  skyroute::cli::addStatusCommand(app);
 
   try {
     app.parse(argc, argv);

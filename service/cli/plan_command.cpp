@@ -14,6 +14,8 @@
 #include "service/cli/cli_common.hpp"
 #include "service/cli/commands.hpp"
 #include "service/cli/height_ref_option.hpp"
+#include "service/cli/mission_args.hpp"
+#include "service/daemon_config.hpp"
 #include "service/map_image.hpp"
 #include "service/mission_json.hpp"
 #include "service/mission_pipeline.hpp"
@@ -28,104 +30,25 @@ const std::string kTool = "plan";
 struct PlanArgs {
   ConfigArgs config;
   std::optional<std::string> dem;
-  std::string mission_file;
-  std::string from;
-  std::string to;
-  std::vector<std::string> via;
+  MissionPointArgs mission;  // --mission, --from/--via/--to, --fixed-order and the vehicle limits
   std::string vehicle;
   std::string planner;
-  bool fixed_order = false;
   std::optional<std::uint64_t> seed;
   std::optional<std::uint64_t> iterations;
   std::optional<double> budget_s;
   std::optional<double> dt_s;
-  // Vehicle limits: override the mission file's (or the defaults).
-  std::optional<double> clearance_m, ceiling_m, vref_mps, max_speed_mps, max_accel_mps2, max_climb_mps,
-      max_descent_mps, min_turn_radius_m;
   std::string out;
   std::string png;
   HeightRefArgs height_ref;
 };
 
-std::string lowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  if (!ext.empty()) ext.erase(0, 1);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-// Output paths are checked before any work: a known format and a folder that exists.
-void checkOutputPath(const std::string& option, const std::string& path, const std::vector<std::string>& formats) {
-  if (path.empty()) return;
-  const std::string ext = lowerExtension(path);
-  if (std::find(formats.begin(), formats.end(), ext) == formats.end()) {
-    std::string known;
-    for (const auto& f : formats) known += (known.empty() ? "." : ", .") + f;
-    fail(kTool, kExitUsage, option + " " + path + ": unknown format '." + ext + "' (use " + known + ")");
-  }
-  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  if (!folder.empty() && !std::filesystem::is_directory(folder)) {
-    fail(kTool, kExitUsage, option + " " + path + ": the folder " + folder.string() + " does not exist");
-  }
-}
-
 MissionRequestData buildMission(const PlanArgs& a) {
-  MissionRequestData m;
-  if (!a.mission_file.empty()) {
-    std::ifstream in(a.mission_file);
-    if (!in) fail(kTool, kExitBadInput, "--mission " + a.mission_file + ": cannot open the mission file");
-    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-    if (j.is_discarded()) fail(kTool, kExitBadInput, "--mission " + a.mission_file + ": not valid JSON");
-    auto parsed = missionFromJson(j);
-    if (!parsed) fail(kTool, kExitBadInput, "--mission " + a.mission_file + ": " + parsed.error().describe());
-    m = std::move(*parsed);
-  } else if (a.from.empty() || a.to.empty()) {
-    fail(kTool, kExitUsage, "give --mission FILE, or --from and --to (and any --via)");
-  }
-  auto point = [&](const std::string& text, const std::string& option) {
-    auto p = parseGeoTriple(text, option);
-    if (!p) fail(kTool, kExitUsage, p.error().message);
-    return *p;
-  };
-  if (!a.from.empty()) m.begin = point(a.from, "--from");
-  if (!a.to.empty()) m.end = point(a.to, "--to");
-  if (!a.via.empty()) {
-    m.points.clear();
-    for (std::size_t i = 0; i < a.via.size(); ++i) m.points.push_back(point(a.via[i], "--via[" + std::to_string(i) + "]"));
-  }
+  MissionRequestData m = buildMissionRequest(kTool, a.mission);
   if (!a.vehicle.empty()) m.vehicle_id = a.vehicle;
   if (m.vehicle_id.empty()) m.vehicle_id = "uav-1";
   if (m.request_id.empty()) m.request_id = m.vehicle_id + "-plan";
   if (!a.planner.empty()) m.planner = a.planner;
-  if (a.fixed_order) m.fixed_order = true;
-  VehicleLimitsData& l = m.limits;
-  const std::pair<const std::optional<double>*, double*> limits[] = {
-      {&a.clearance_m, &l.min_clearance_agl_m}, {&a.ceiling_m, &l.ceiling_amsl_m},
-      {&a.vref_mps, &l.v_ref_mps},               {&a.max_speed_mps, &l.max_speed_mps},
-      {&a.max_accel_mps2, &l.max_accel_mps2},   {&a.max_climb_mps, &l.max_climb_rate_mps},
-      {&a.max_descent_mps, &l.max_descent_rate_mps}, {&a.min_turn_radius_m, &l.min_turn_radius_m}};
-  for (const auto& [option, field] : limits) {
-    if (*option) *field = **option;
-  }
   return m;
-}
-
-// A request field as the user wrote it: the command line's options, or the mission file's field.
-std::string userField(const PlanArgs& a, const std::string& field) {
-  if (!a.mission_file.empty()) return "--mission " + a.mission_file + ": " + field;
-  if (field == "begin") return "--from";
-  if (field == "end") return "--to";
-  if (field.rfind("points[", 0) == 0) return "--via[" + field.substr(7);
-  static const std::pair<const char*, const char*> kLimitOptions[] = {
-      {"limits.min_clearance_agl_m", "--clearance-m"}, {"limits.ceiling_amsl_m", "--ceiling-m"},
-      {"limits.v_ref_mps", "--vref-mps"},              {"limits.max_speed_mps", "--max-speed-mps"},
-      {"limits.max_accel_mps2", "--max-accel-mps2"},   {"limits.max_climb_rate_mps", "--max-climb-mps"},
-      {"limits.max_descent_rate_mps", "--max-descent-mps"}, {"limits.min_turn_radius_m", "--min-turn-radius-m"},
-      {"planner", "--planner"}};
-  for (const auto& [name, option] : kLimitOptions) {
-    if (field == name) return option;
-  }
-  return field;
 }
 
 void writePng(const std::string& path, const WorldModel& world, const MissionPlan& plan, const TrajectoryData& data) {
@@ -208,9 +131,9 @@ void runPlan(const PlanArgs& a) {
   if (a.dt_s) p.sample_dt_s = *a.dt_s;
   if (auto bad = validatePipelineOptions(p)) fail(kTool, kExitUsage, bad->describe());
   if (printConfigIfAsked(a.config, config)) return;
-  checkOutputPath("--out", a.out, {"csv", "geojson", "json", "plan", "waypoints"});
-  checkOutputPath("--png", a.png, {"png"});
-  const MissionRequestData mission = missionInAmsl(kTool, a.height_ref, a.mission_file, buildMission(a));
+  checkOutputPath(kTool, "--out", a.out, {"csv", "geojson", "json", "plan", "waypoints"});
+  checkOutputPath(kTool, "--png", a.png, {"png"});
+  const MissionRequestData mission = missionInAmsl(kTool, a.height_ref, a.mission.mission_file, buildMission(a));
 
   const std::string dem = demPathOf(kTool, config);
   std::cerr << "loading " << dem << " ..." << std::endl;
@@ -220,15 +143,7 @@ void runPlan(const PlanArgs& a) {
   auto progress = [](PlanStage, const std::string& what) { std::cerr << what << " ..." << std::endl; };
   auto planned = pipeline.plan(PipelineRequest{mission, std::nullopt, std::nullopt},
                                static_cast<double>(utcNowNs()) * 1e-9, {}, progress);
-  if (!planned.ok()) {
-    const PlanError& e = planned.error();
-    // A request that cannot be planned at all is the input's fault: the options', or the file's.
-    const int input_code = a.mission_file.empty() ? kExitUsage : kExitBadInput;
-    const int code = e.stage == PlanStage::kValidate ? input_code : kExitPlanningFailed;
-    fail(kTool, code,
-         userField(a, e.field) + ": " + e.message + " [" + std::string(to_string(e.code)) + ", stage " +
-             std::string(to_string(e.stage)) + "]");
-  }
+  if (!planned.ok()) failPlanError(kTool, a.mission, planned.error());
   const MissionPlan& plan = *planned;
   const TrajectoryData data = pipeline.sample(
       plan, TrajectoryIdentity{mission.vehicle_id, mission.vehicle_id + "-plan", 0, mission.request_id});
@@ -263,38 +178,36 @@ void addPlanCommand(CLI::App& app) {
   auto a = std::make_shared<PlanArgs>();
   CLI::App* plan = app.add_subcommand(
       "plan", "Plan one mission as skyrouted would: MMD*L order, each leg's path, a checked 7th-order trajectory");
-  plan->footer(std::string("Example:\n  skyroute plan --mission data/missions/demo_mission.json --out out/plan.csv\n  "
-                           "skyroute plan --from 44.27,-71.35,1500 --to 44.30,-71.28,1600 --png out/plan.png\n\n") +
-               std::string(kExitCodeTable));
+  plan->footer(helpFooter({"skyroute plan --mission data/missions/demo_mission.json --out out/plan.csv",
+                           "skyroute plan --from 46.90,15.03,1100 --via 46.95,15.06,1150 --to 46.97,15.12,1100 "
+                           "--png out/plan.png"}));
   addConfigOptions(*plan, a->config);
   plan->add_option("--dem", a->dem, "DEM file (config terrain.dem; default: the embedded terrain)");
-  plan->add_option("--mission", a->mission_file,
+  plan->add_option("--mission", a->mission.mission_file,
                    "Mission JSON, as `skyroute request --file` publishes it (docs/dds.md); options below override it");
-  plan->add_option("--from", a->from, "Start LAT,LON,ALT (degrees, degrees, metres AMSL)");
-  plan->add_option("--to", a->to, "Goal LAT,LON,ALT");
-  plan->add_option("--via", a->via, "Mission point LAT,LON,ALT (repeatable); MMD*L orders them unless --fixed-order");
-  plan->add_flag("--fixed-order", a->fixed_order, "Visit the points in the given order");
+  plan->add_option("--from", a->mission.from, "Start LAT,LON,ALT (degrees, degrees, metres AMSL)");
+  plan->add_option("--to", a->mission.to, "Goal LAT,LON,ALT");
+  plan->add_option("--via", a->mission.via,
+                   "Mission points LAT,LON,ALT (repeatable, or ';'-separated); MMD*L orders them unless --fixed-order")
+      ->delimiter(';');
+  plan->add_flag("--fixed-order", a->mission.fixed_order, "Visit the points in the given order");
   addHeightRefOption(*plan, a->height_ref);
   plan->add_option("--vehicle", a->vehicle, "Vehicle id (default: the mission's, else uav-1)");
   plan->add_option("--planner", a->planner,
                    "Route planner: " + routePlannerNames(" | ") + " (default: config planning.default_planner)");
-  plan->add_option("--seed", a->seed, "Seed of the plan (config planning.seed, default 1)");
-  plan->add_option("--iterations", a->iterations, "Search iterations per leg (config planning.leg_max_iterations)");
+  plan->add_option("--seed", a->seed, "Seed of the plan (config planning.seed)")
+      ->default_str(std::to_string(PipelineOptions{}.seed));
+  plan->add_option("--iterations", a->iterations, "Search iterations per leg (config planning.leg_max_iterations)")
+      ->default_str(std::to_string(PlanBudget{}.leg_max_iterations));
   plan->add_option("--budget-s", a->budget_s,
                    "Wall-clock cap per leg, seconds; 0 = none (config planning.leg_time_cap_s)")
-      ->check(CLI::Range(0.0, 3600.0));
+      ->check(CLI::Range(0.0, 3600.0))
+      ->default_str(numberText(PlanBudget{}.leg_time_cap_s));
   plan->add_option("--dt", a->dt_s, "Sample spacing of the output, seconds (config planning.sample_dt_s)")
-      ->check(CLI::Range(0.001, 10.0));
-  plan->add_option("--clearance-m", a->clearance_m, "Minimum height above ground, m (limits.min_clearance_agl_m, default 30)");
-  plan->add_option("--ceiling-m", a->ceiling_m, "Highest altitude, m AMSL (limits.ceiling_amsl_m, default 5000)");
-  plan->add_option("--vref-mps", a->vref_mps, "Cruise speed V_ref, m/s (limits.v_ref_mps, default 20)");
-  plan->add_option("--max-speed-mps", a->max_speed_mps, "Speed limit, m/s (limits.max_speed_mps, default 30)");
-  plan->add_option("--max-accel-mps2", a->max_accel_mps2, "Acceleration limit, m/s^2 (limits.max_accel_mps2, default 4)");
-  plan->add_option("--max-climb-mps", a->max_climb_mps, "Climb rate limit, m/s (limits.max_climb_rate_mps, default 5)");
-  plan->add_option("--max-descent-mps", a->max_descent_mps,
-                   "Descent rate limit, m/s (limits.max_descent_rate_mps, default 4)");
-  plan->add_option("--min-turn-radius-m", a->min_turn_radius_m,
-                   "Minimum turn radius, m; 0 = none (limits.min_turn_radius_m, default 0)");
+      ->check(CLI::Range(0.001, 10.0))
+      ->default_str(numberText(PipelineOptions{}.sample_dt_s));
+  addFlightBandOptions(*plan, a->mission.limits);
+  addVehicleDynamicsOptions(*plan, a->mission.limits);
   plan->add_option("--out", a->out,
                    "Write the trajectory: .csv (the columns of skyroute gcs --csv), .geojson, .json, or a "
                    "QGroundControl .plan / .waypoints");

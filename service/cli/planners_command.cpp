@@ -5,7 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "service/cli/commands.hpp"
-#include "service/cli/exit_codes.hpp"
+#include "service/cli/cli_parse.hpp"
 #include "service/planner_registry.hpp"
 
 namespace skyroute::cli {
@@ -13,7 +13,7 @@ namespace skyroute::cli {
 void addPlannersCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "planners", "List the route planners a mission, --planner or planning.default_planner may name");
-  cmd->footer("Example:\n  skyroute planners\n\n" + std::string(kExitCodeTable));
+  cmd->footer(helpFooter({"skyroute planners"}));
   cmd->callback([] {
     for (const RoutePlannerInfo& p : routePlanners()) {
       std::string keys;

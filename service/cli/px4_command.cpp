@@ -209,7 +209,7 @@ void addPx4Command(CLI::App& app) {
       "px4", "Fly a vehicle's current trajectory with PX4 offboard control (uXRCE-DDS setpoints)");
   cmd->add_option("--vehicle", options->vehicle, "The skyroute vehicle id to follow (required)");
   cmd->add_option("--namespace", options->ros_namespace,
-                  "PX4's uXRCE-DDS namespace (uxrce_dds_client start -n NS): topics rt/NS/fmu/...");
+                  "PX4's uXRCE-DDS namespace (uxrce_dds_client start -n NS): topics rt/NS/fmu/...; default none: rt/fmu/...");
   cmd->add_option("--rate-hz", options->rate_hz, "Setpoint rate, 20 to 50 Hz")->type_name("HZ")->capture_default_str();
   cmd->add_option("--origin", options->origin,
                   "PX4's EKF origin (default: read from fmu/out/vehicle_local_position)")
@@ -219,7 +219,8 @@ void addPx4Command(CLI::App& app) {
                   "Hold the last position when skyrouted is silent this long, seconds")
       ->capture_default_str();
   cmd->add_option("--duration", options->duration_s, "Stop after S seconds (0 = until Ctrl-C)")->capture_default_str();
-  cmd->footer(std::string(kExitCodeTable));
+  cmd->footer(helpFooter({"skyroute px4 --domain 0 --vehicle uav-1",
+                          "skyroute px4 --domain 0 --vehicle uav-1 --namespace px4_1 --origin 46.90,15.03,900 --rate-hz 50"}));
   cmd->callback([options] { runPx4(*options); });
 }
 

@@ -63,10 +63,16 @@ void runRecord(const RecordOptions& o) {
 void addRecordCommand(CLI::App& app) {
   auto options = std::make_shared<RecordOptions>();
   CLI::App* cmd = app.add_subcommand("record", "Record the obstacle updates on a domain to a feed file");
+  cmd->footer(helpFooter({"skyroute record out/feed.jsonl --domain 0 --timeout 600",
+                          "skyroute record out/feed.jsonl --domain 0 --count 10"}));
   cmd->add_option("FILE", options->output, "Feed file to write (JSON lines)")->required();
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
-  cmd->add_option("--count", options->count, "Stop after K updates (0 = no limit)")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--timeout", options->timeout_s, "Stop after S seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--count", options->count, "Stop after K updates (0 = no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--timeout", options->timeout_s, "Stop after S seconds (0 = until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->callback([options] { runRecord(*options); });
 }
 

@@ -1,5 +1,7 @@
 // skyroute replay: publishes a recorded obstacle feed with its original timing (scaled by
-// --speed), once or --loop until Ctrl-C. Malformed lines are reported and skipped.
+// --speed), once or --loop until Ctrl-C. Malformed lines are reported and skipped. Obstacles the
+// feed places in WGS84 (position_deg) are put in the local frame of --dem, which must be the
+// daemon's DEM (by default both use the embedded terrain).
 #include <chrono>
 #include <iostream>
 
@@ -9,6 +11,8 @@
 #include "service/cli/dds_commands.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/obstacle_feed.hpp"
+#include "service/shipped_data.hpp"
+#include "terrain/heightfield.hpp"
 
 namespace skyroute::cli {
 
@@ -17,6 +21,7 @@ namespace {
 struct ReplayOptions {
   int domain = 0;
   std::string input;
+  std::string dem;  // "" = the embedded default terrain (shipped data)
   double speed = 1.0;
   bool loop = false;
   int readers = 0;
@@ -29,6 +34,20 @@ void runReplay(const ReplayOptions& o) {
   if (!feed) fail(tool, kExitBadInput, feed.error().message);
   for (const FeedIssue& issue : feed->skipped) std::cerr << "skyroute replay: " << issue.message << std::endl;
   if (feed->entries.empty()) fail(tool, kExitBadInput, o.input + ": no valid obstacle updates to replay");
+  if (feed->hasGeoPositions()) {
+    // The daemon's frame: anchored at its DEM's centre (terrain/heightfield.hpp).
+    std::string dem_path = o.dem;
+    if (dem_path.empty()) {
+      auto shipped = defaultTerrainPath();
+      if (!shipped) fail(tool, kExitBadInput, shipped.error().describe());
+      dem_path = *shipped;
+    }
+    auto dem = Dem::load(dem_path);
+    if (!dem) fail(tool, kExitBadInput, "--dem " + dem.error().describe());
+    auto terrain = Heightfield::build(*dem);
+    if (!terrain) fail(tool, kExitBadInput, "--dem " + terrain.error().describe());
+    for (FeedEntry& entry : feed->entries) entry.placeIn((*terrain)->frame());
+  }
 
   dds::Entity participant = openParticipant(tool, o.domain);
   auto writer = dds::Writer<ObstacleUpdateData>::create(participant.get());
@@ -76,12 +95,17 @@ void runReplay(const ReplayOptions& o) {
 void addReplayCommand(CLI::App& app) {
   auto options = std::make_shared<ReplayOptions>();
   CLI::App* cmd = app.add_subcommand("replay", "Publish a recorded obstacle feed with its original timing");
+  cmd->footer(helpFooter({"skyroute replay data/feeds/default_terrain_table1.jsonl --domain 0 --readers 1",
+                          "skyroute replay feed.jsonl --domain 0 --speed 2 --loop --dem white_mountains.tif"}));
   cmd->add_option("FILE", options->input, "Feed file (JSON lines, docs/obstacle_feed.md)")->required();
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
+  cmd->add_option("--dem", options->dem,
+                  "The daemon's DEM: its frame places the feed's position_deg obstacles (default: the embedded terrain)");
   cmd->add_option("--speed", options->speed, "Time scale: 2 plays twice as fast")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--loop", options->loop, "Start again at the end, until Ctrl-C");
   cmd->add_option("--readers", options->readers, "Wait for this many subscribers before starting")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("--wait", options->wait_s, "Seconds to wait for --readers")->capture_default_str();
   cmd->callback([options] { runReplay(*options); });
 }

@@ -1,6 +1,8 @@
 // skyroute request: publishes one mission and prints the statuses the service sends for it;
-// exit 0 only when the plan succeeded (1 failed or cancelled, 2 bad input, 3 no answer in time,
-// 5 the service that accepted the request was lost).
+// exit 0 only when the plan succeeded (1 failed or cancelled, 2 a bad option, 3 a bad --file,
+// 4 no service or no answer in time, 5 the service that accepted the request was lost). The
+// mission is checked here first, as the service checks it, so a bad value is named as the user
+// wrote it.
 // Before publishing it waits until every live planning service (the daemons behind the heartbeat
 // writers it discovers) reads requests and writes statuses, so which daemon plans it is never a
 // matter of discovery timing. It takes only the statuses addressed to its own writer (another
@@ -8,24 +10,21 @@
 // the request: silence for 2.5 heartbeat periods means that daemon is gone.
 #include <algorithm>
 #include <chrono>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
 #include <set>
-#include <sstream>
 
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
 #include "service/cli/dds_cli_common.hpp"
 #include "service/cli/dds_commands.hpp"
 #include "service/cli/height_ref_option.hpp"
+#include "service/cli/mission_args.hpp"
 #include "service/dds/service_instance.hpp"
 #include "service/dds/wait_loop.hpp"
-#include "service/mission_json.hpp"
 #include "service/number_text.hpp"
 
 namespace skyroute::cli {
@@ -34,48 +33,28 @@ namespace {
 
 struct RequestOptions {
   int domain = 0;
-  std::string vehicle, begin, points, end, file, request_id, planner;
-  bool fixed_order = false;
+  std::string vehicle, request_id, planner;
+  MissionPointArgs mission;  // --file, --from/--via/--to, --fixed-order and the vehicle limits
   double wait_s = 30.0;
   HeightRefArgs height_ref;
 };
 
+// The mission: the file's with the options on top, ids filled in, checked here as the service
+// would check it, so a bad value is named as the user wrote it (the option, or the file's field,
+// or a default) before anything is sent.
 MissionRequestData buildMission(const RequestOptions& o) {
   const std::string tool = "request";
-  MissionRequestData m;
-  if (!o.file.empty()) {
-    std::ifstream in(o.file);
-    if (!in) fail(tool, kExitBadInput, o.file + ": cannot open the mission file");
-    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-    if (j.is_discarded()) fail(tool, kExitBadInput, o.file + ": not valid JSON");
-    auto parsed = missionFromJson(j);
-    if (!parsed) fail(tool, kExitBadInput, o.file + ": " + parsed.error().describe());
-    m = std::move(*parsed);
-  } else if (o.begin.empty() || o.end.empty()) {
-    fail(tool, kExitUsage, "--begin and --end are required unless --file gives the mission");
-  }
-  auto point = [&](const std::string& text, const std::string& field) {
-    auto p = parseGeoTriple(text, field);
-    if (!p) fail(tool, kExitUsage, p.error().message);
-    return *p;
-  };
+  MissionRequestData m = missionInAmsl(tool, o.height_ref, o.mission.mission_file, buildMissionRequest(tool, o.mission));
   if (!o.vehicle.empty()) m.vehicle_id = o.vehicle;
   if (m.vehicle_id.empty()) fail(tool, kExitUsage, "--vehicle is required (or vehicle_id in --file)");
-  if (!o.begin.empty()) m.begin = point(o.begin, "--begin");
-  if (!o.end.empty()) m.end = point(o.end, "--end");
-  if (!o.points.empty()) {
-    m.points.clear();
-    std::istringstream in(o.points);
-    std::string item;
-    for (int i = 0; std::getline(in, item, ';'); ++i)
-      if (item.find_first_not_of(" \t") != std::string::npos)
-        m.points.push_back(point(item, "--points[" + std::to_string(i) + "]"));
-  }
   if (!o.planner.empty()) m.planner = o.planner;
-  if (o.fixed_order) m.fixed_order = true;
   if (!o.request_id.empty()) m.request_id = o.request_id;
   if (m.request_id.empty())
     m.request_id = m.vehicle_id + "-" + std::to_string(::getpid()) + "-" + std::to_string(utcNowNs() / 1000000);
+  if (auto problem = validateMissionRequest(m)) {
+    problem->stage = PlanStage::kValidate;
+    failPlanError(tool, o.mission, *problem);
+  }
   return m;
 }
 
@@ -93,7 +72,7 @@ struct Heard {
 
 void runRequest(const RequestOptions& o) {
   const std::string tool = "request";
-  const MissionRequestData mission = missionInAmsl(tool, o.height_ref, o.file, buildMission(o));
+  const MissionRequestData mission = buildMission(o);
   dds::Entity participant = openParticipant(tool, o.domain);
   // The status reader exists before the request is written, so no reply can be missed.
   auto statuses = dds::Reader<PlanStatusData>::create(participant.get());
@@ -233,16 +212,30 @@ void runRequest(const RequestOptions& o) {
 
 void addRequestCommand(CLI::App& app) {
   auto options = std::make_shared<RequestOptions>();
+  options->mission.file_option = "--file";
+  MissionPointArgs& mission = options->mission;
   CLI::App* cmd = app.add_subcommand("request", "Publish a mission to the planning service and print its status");
+  cmd->footer(helpFooter({"skyroute request --domain 0 --file data/missions/demo_mission.json --wait 120",
+                          "skyroute request --vehicle uav-1 --from 46.90,15.03,1100 --via '46.95,15.06,1150' "
+                          "--to 46.97,15.12,1100 --max-speed-mps 25"}));
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
-  cmd->add_option("--vehicle", options->vehicle, "Vehicle id");
-  cmd->add_option("--begin", options->begin, "Start point LAT,LON,ALT (degrees, metres AMSL)");
-  cmd->add_option("--points", options->points, "Mission points \"LAT,LON,ALT;LAT,LON,ALT;...\"");
-  cmd->add_option("--end", options->end, "End point LAT,LON,ALT");
-  cmd->add_option("--file", options->file, "Mission JSON (docs/dds.md); the options above override it");
-  cmd->add_option("--request-id", options->request_id, "Request id (default: vehicle-pid-milliseconds)");
-  cmd->add_option("--planner", options->planner, "Planner name (default: the service's)");
-  cmd->add_flag("--fixed-order", options->fixed_order, "Visit the points in the given order");
+  cmd->add_option("--vehicle", options->vehicle, "Vehicle id (default: the file's vehicle_id)");
+  cmd->add_option("--file", mission.mission_file, "Mission JSON (docs/dds.md); the options below override it");
+  cmd->add_option("--from", mission.from, "Start LAT,LON,ALT (degrees, degrees, metres AMSL)");
+  cmd->add_option("--to", mission.to, "Goal LAT,LON,ALT");
+  cmd->add_option("--via", mission.via,
+                  "Mission points LAT,LON,ALT (repeatable, or ';'-separated); the service orders them unless "
+                  "--fixed-order")
+      ->delimiter(';');
+  // The names before --from/--via/--to, kept for one release (hidden).
+  cmd->add_option("--begin", mission.from, "old name of --from")->group("");
+  cmd->add_option("--points", mission.via, "old name of --via")->group("")->delimiter(';');
+  cmd->add_option("--end", mission.to, "old name of --to")->group("");
+  cmd->add_flag("--fixed-order", mission.fixed_order, "Visit the points in the given order");
+  cmd->add_option("--request-id", options->request_id, "Request id (default: the file's, else vehicle-pid-milliseconds)");
+  cmd->add_option("--planner", options->planner, "Planner name (default: the file's, else the service's)");
+  addFlightBandOptions(*cmd, mission.limits);
+  addVehicleDynamicsOptions(*cmd, mission.limits);
   addHeightRefOption(*cmd, options->height_ref);
   cmd->add_option("--wait", options->wait_s, "Seconds to wait for the service and its answer")
       ->capture_default_str()

@@ -379,8 +379,11 @@ void toWire(const CancelRequestData& in, skyroute_msgs_CancelRequest& out) {
 }
 
 Result<CancelRequestData> fromWire(const skyroute_msgs_CancelRequest& in) {
-  if (auto e = required(in.vehicle_id, "vehicle_id")) return *e;
-  return CancelRequestData{text(in.request_id), in.vehicle_id};
+  // A cancel names the vehicle, the request, or both.
+  if (text(in.request_id).empty() && text(in.vehicle_id).empty()) {
+    return invalid("vehicle_id", "and request_id are both missing (empty)");
+  }
+  return CancelRequestData{text(in.request_id), text(in.vehicle_id)};
 }
 
 void toWire(const ServiceStatusData& in, skyroute_msgs_ServiceStatus& out) {

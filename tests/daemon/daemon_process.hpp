@@ -20,6 +20,20 @@ extern char** environ;
 
 namespace skyroute::testing {
 
+// A file's whole text ("" when it cannot be read).
+inline std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A path in the temporary folder that no other test process uses: skyroute_<tag>_<pid>_<name>.
+inline std::string tempPath(const std::string& tag, const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("skyroute_" + tag + "_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
 class ChildProcess {
  public:
   // argv[0] is the program path. stdout and stderr go to files named after `name`.
@@ -92,16 +106,10 @@ class ChildProcess {
     }
     return code_;
   }
-  std::string out() const { return slurp(out_path_); }
-  std::string err() const { return slurp(err_path_); }
+  std::string out() const { return readFile(out_path_); }
+  std::string err() const { return readFile(err_path_); }
 
  private:
-  static std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
   pid_t pid_ = -1;
   bool exited_ = false;
   int code_ = -1;

@@ -22,6 +22,8 @@
 #include "service/dds/wait_loop.hpp"
 #include "service/height_datum.hpp"
 #include "service/obstacle_feed.hpp"
+#include "terrain/heightfield.hpp"
+#include "tests/terrain_data.hpp"
 #include "tests/text_file.hpp"
 
 extern char** environ;
@@ -158,6 +160,46 @@ TEST(DdsCli, ReplayThenRecordKeepsContentAndTiming) {
   }
 }
 
+// An obstacle the feed places in WGS84 is published at the ENU position of the daemon's frame
+// (the embedded terrain's, as skyrouted's by default).
+TEST(DdsCli, ReplayPlacesPositionsInDegreesInTheDemsFrame) {
+  ASSERT_TOOLS_REGISTERED();
+  const auto terrain = testing::defaultTerrainHeightfield();
+  ASSERT_TRUE(terrain);
+  const GeoPoint anchor = terrain->frame().anchor();
+  const GeoPoint at{anchor.lat_deg + 0.01, anchor.lon_deg + 0.02, 1500.0};
+  const std::string feed_path = tempPath("geo.jsonl");
+  const std::string recorded_path = tempPath("geo_recorded.jsonl");
+  {
+    std::ofstream feed(feed_path);
+    feed << obstacleFeedHeaderLine() << "\n"
+         << nlohmann::json{{"t_s", 0},
+                           {"obstacle",
+                            {{"id", 7},
+                             {"shape", "sphere"},
+                             {"size_m", {100, 0, 0}},
+                             {"position_deg", {at.lat_deg, at.lon_deg, at.alt_amsl_m}}}}}
+                .dump()
+         << "\n";
+  }
+  Child recorder = Child::start("record " + recorded_path + " --domain 217 --count 1 --timeout 30", "geo_record");
+  std::string out, err;
+  EXPECT_EQ(run("replay " + feed_path + " --domain 217 --readers 1 --wait 20", "geo_replay", &out, &err), 0) << err;
+  ASSERT_EQ(recorder.wait(30.0), 0) << recorder.err();
+  auto recorded = readObstacleFeed(recorded_path);
+  ASSERT_TRUE(recorded.ok()) << recorded.error().describe();
+  ASSERT_EQ(recorded->entries.size(), 1u);
+  const Eigen::Vector3d expected = terrain->frame().toEnu(at);
+  EXPECT_LT((recorded->entries[0].update.obstacle.center_m - expected).norm(), 1e-3)
+      << recorded->entries[0].update.obstacle.center_m.transpose() << " vs " << expected.transpose();
+  EXPECT_GT(expected.head<2>().norm(), 1000.0);
+  // A DEM that cannot be read is a bad input file.
+  EXPECT_EQ(run("replay " + feed_path + " --domain 217 --dem /nonexistent/dem.tif", "geo_nodem", &out, &err), 3);
+  EXPECT_NE(err.find("--dem"), std::string::npos) << err;
+  std::filesystem::remove(feed_path);
+  std::filesystem::remove(recorded_path);
+}
+
 TrajectoryData trajectoryOf(const std::string& vehicle, std::uint32_t revision, std::size_t n) {
   TrajectoryData t;
   t.vehicle_id = vehicle;
@@ -279,8 +321,13 @@ TEST(DdsCli, RequestExitCodeFollowsTheServiceAnswer) {
                             {PlanState::kSucceeded, PlanErrorCode::kNone, "", 0}};
   int round = 0;
   for (const Answer& answer : answers) {
-    Child request = Child::start("request --domain 122 --vehicle uav-9 --begin 44.20,-71.30,1000 "
-                                 "--points \"44.21,-71.31,1100;44.22,-71.29,1150\" --end 44.23,-71.28,1000 --wait 30",
+    // The first round spells the points the old way (hidden aliases); the second sets limits
+    // from the command line, which the request carries.
+    const std::string points = round == 0 ? "--begin 44.20,-71.30,1000 --points \"44.21,-71.31,1100;44.22,-71.29,1150\" "
+                                            "--end 44.23,-71.28,1000"
+                                          : "--from 44.20,-71.30,1000 --via \"44.21,-71.31,1100;44.22,-71.29,1150\" "
+                                            "--to 44.23,-71.28,1000 --max-speed-mps 25 --clearance-m 80";
+    Child request = Child::start("request --domain 122 --vehicle uav-9 " + points + " --wait 30",
                                  "request" + std::to_string(round));
     heard.clear();
     ASSERT_TRUE(loop->run(30.0).ok());
@@ -291,6 +338,9 @@ TEST(DdsCli, RequestExitCodeFollowsTheServiceAnswer) {
     EXPECT_EQ(m.points[1].geo.alt_amsl_m, 1150.0);
     EXPECT_EQ(m.end.geo.lon_deg, -71.28);
     EXPECT_FALSE(m.request_id.empty());
+    EXPECT_EQ(m.limits.max_speed_mps, round == 0 ? VehicleLimitsData{}.max_speed_mps : 25.0);
+    EXPECT_EQ(m.limits.min_clearance_agl_m, round == 0 ? VehicleLimitsData{}.min_clearance_agl_m : 80.0);
+    EXPECT_EQ(m.limits.max_accel_mps2, VehicleLimitsData{}.max_accel_mps2);
 
     PlanStatusData planning{m.request_id, m.vehicle_id, PlanState::kPlanning, PlanErrorCode::kNone, "", "", 0.0};
     ASSERT_TRUE(statuses->write(planning).ok());
@@ -330,13 +380,15 @@ TEST(DdsCli, RequestWithoutServiceOrWithBadInputFailsClearly) {
                 "noservice", &out, &err),
             4);  // the service is unavailable
   EXPECT_NE(err.find("no planning service"), std::string::npos) << err;
+  // --begin, --points and --end are the hidden old names of --from, --via and --to: errors name
+  // the options as --help shows them.
   EXPECT_EQ(run("request --domain 123 --vehicle v --begin 44.2,-71.3 --end 44.23,-71.28,1000 --wait 1", "badbegin", &out, &err),
             2);
-  EXPECT_NE(err.find("--begin"), std::string::npos) << err;
-  EXPECT_EQ(run("request --domain 123 --vehicle v --begin 44.2,-71.3,9 --points \"1,2,3;4,x,6\" --end 44.23,-71.28,1000",
+  EXPECT_NE(err.find("--from"), std::string::npos) << err;
+  EXPECT_EQ(run("request --domain 123 --vehicle v --from 44.2,-71.3,9 --via \"1,2,3;4,x,6\" --to 44.23,-71.28,1000",
                 "badpoints", &out, &err),
             2);
-  EXPECT_NE(err.find("--points[1]"), std::string::npos) << err;
+  EXPECT_NE(err.find("--via[1]"), std::string::npos) << err;
   EXPECT_EQ(run("replay /nonexistent/feed.jsonl --domain 123", "nofeed", &out, &err), 3);  // an unreadable input file
   EXPECT_NE(err.find("/nonexistent/feed.jsonl"), std::string::npos) << err;
 }
@@ -357,6 +409,34 @@ TEST(DdsCli, GroundStationThatReceivedNothingTimesOutAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(csv));
   EXPECT_FALSE(std::filesystem::exists(kml));
   EXPECT_EQ(out.find("wrote"), std::string::npos) << out;
+}
+
+// A limit the request breaks is refused before anything is sent, named with where its value came
+// from: an option, the mission file, or the default.
+TEST(DdsCli, RequestNamesTheLimitABadValueBreaksAndWhereItCameFrom) {
+  ASSERT_TOOLS_REGISTERED();
+  const std::string points = " --vehicle v --from 44.2,-71.3,1000 --to 44.23,-71.28,1000 --wait 1";
+  std::string out, err;
+  // The default cruise speed (20 m/s) above a speed limit set lower.
+  EXPECT_EQ(run("request --domain 216" + points + " --max-speed-mps 10", "slow", &out, &err), 2);
+  EXPECT_NE(err.find("limits.v_ref_mps (default; --vref-mps sets it)"), std::string::npos) << err;
+  EXPECT_EQ(run("request --domain 216" + points + " --max-speed-mps 500", "fast", &out, &err), 2);
+  EXPECT_NE(err.find("--max-speed-mps: "), std::string::npos) << err;
+  EXPECT_NE(err.find("500"), std::string::npos) << err;
+  // The mission file's value, and the option that overrides it.
+  const std::string file = ::testing::TempDir() + "/fast_mission.json";
+  nlohmann::json mission{{"request_id", "r"},
+                         {"vehicle_id", "v"},
+                         {"begin", {{"lat_deg", 44.2}, {"lon_deg", -71.3}, {"alt_amsl_m", 1000}}},
+                         {"points", nlohmann::json::array()},
+                         {"end", {{"lat_deg", 44.23}, {"lon_deg", -71.28}, {"alt_amsl_m", 1000}}},
+                         {"limits", {{"max_speed_mps", 500}}}};
+  std::ofstream(file) << mission.dump();
+  EXPECT_EQ(run("request --domain 216 --wait 1 --file " + file, "fastfile", &out, &err), 3);
+  EXPECT_NE(err.find("--file " + file + ": limits.max_speed_mps"), std::string::npos) << err;
+  // Overridden, the request is valid and goes to the (absent) service.
+  EXPECT_EQ(run("request --domain 216 --wait 1 --max-speed-mps 25 --file " + file, "fixedfile", &out, &err), 4) << err;
+  std::filesystem::remove(file);
 }
 
 }  // namespace

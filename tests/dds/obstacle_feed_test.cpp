@@ -230,5 +230,52 @@ TEST(ObstacleFeed, ShippedSeed003FeedIsCleanAndMatchesTableOne) {
   }
 }
 
+// Positions in WGS84 (position_deg, from_deg, to_deg) beside the ENU ones: kept as given, written
+// back as given, and placed in a frame as that frame's ENU; both spellings of one position, or a
+// position that is not WGS84, skip the line naming the field.
+TEST(ObstacleFeed, PositionsInDegreesArePlacedInTheDaemonsFrame) {
+  std::istringstream in(
+      "{\"format\":\"skyroute-obstacle-feed\",\"version\":1}\n"
+      "{\"t_s\":0,\"obstacle\":{\"id\":1,\"shape\":\"sphere\",\"size_m\":[80,0,0],"
+      "\"position_deg\":[46.95,15.06,1200]}}\n"
+      "{\"t_s\":1,\"obstacle\":{\"id\":2,\"shape\":\"sphere\",\"size_m\":[80,0,0],\"motion\":\"back_and_forth\","
+      "\"from_deg\":[46.93,15.05,1100],\"to_deg\":[46.94,15.10,1100],\"speed_mps\":30}}\n"
+      "{\"t_s\":2,\"obstacle\":{\"id\":3,\"shape\":\"sphere\",\"size_m\":[80,0,0],"
+      "\"position_deg\":[46.95,15.06,1200],\"position_m\":[0,0,0]}}\n"
+      "{\"t_s\":3,\"obstacle\":{\"id\":4,\"shape\":\"sphere\",\"size_m\":[80,0,0],"
+      "\"position_deg\":[146.95,15.06,1200]}}\n"
+      "{\"t_s\":4,\"obstacle\":{\"id\":5,\"shape\":\"sphere\",\"size_m\":[80,0,0],\"position_m\":[10,20,30]}}\n");
+  auto feed = parseObstacleFeed(in, "geo.jsonl");
+  ASSERT_TRUE(feed.ok()) << feed.error().describe();
+  ASSERT_EQ(feed->entries.size(), 3u);
+  ASSERT_EQ(feed->skipped.size(), 2u);
+  EXPECT_NE(feed->skipped[0].message.find("geo.jsonl:4: obstacle.position_deg and obstacle.position_m are both given"),
+            std::string::npos)
+      << feed->skipped[0].message;
+  EXPECT_NE(feed->skipped[1].message.find("geo.jsonl:5: obstacle.position_deg latitude 146.95"), std::string::npos)
+      << feed->skipped[1].message;
+  EXPECT_TRUE(feed->hasGeoPositions());
+
+  // Written back as given.
+  const std::string line = obstacleFeedEntryLine(feed->entries[0]);
+  EXPECT_NE(line.find("\"position_deg\":[46.95,15.06,1200"), std::string::npos) << line;
+  EXPECT_EQ(line.find("position_m"), std::string::npos) << line;
+
+  auto frame = LocalFrame::create(46.9, 15.1);
+  ASSERT_TRUE(frame.ok());
+  for (FeedEntry& e : feed->entries) e.placeIn(*frame);
+  const Eigen::Vector3d at = frame->toEnu(GeoPoint{46.95, 15.06, 1200});
+  EXPECT_LT((feed->entries[0].update.obstacle.center_m - at).norm(), 1e-6);
+  EXPECT_GT(at.head<2>().norm(), 1000.0);  // not the placeholder
+  EXPECT_NEAR(at.z(), 1200.0, 1e-6);
+  const Obstacle& moving = feed->entries[1].update.obstacle;
+  ASSERT_TRUE(moving.motion);
+  EXPECT_LT((moving.motion->from_m - frame->toEnu(GeoPoint{46.93, 15.05, 1100})).norm(), 1e-6);
+  EXPECT_LT((moving.motion->to_m - frame->toEnu(GeoPoint{46.94, 15.10, 1100})).norm(), 1e-6);
+  EXPECT_EQ(moving.center_m, moving.motion->from_m);
+  // ENU positions stay as they are.
+  EXPECT_EQ(feed->entries[2].update.obstacle.center_m, Eigen::Vector3d(10, 20, 30));
+}
+
 }  // namespace
 }  // namespace skyroute

@@ -1,7 +1,9 @@
-// `skyroute fleet` end to end: the JSON of --out in the documented shape and checked here on its
-// own (one entry per step, legal moves, no two vehicles in one cell or swapping, every task on
-// its vehicle's path), the PNG readable with one colour per vehicle, and bad input refused with a
-// message naming the option and item.
+// `skyroute fleet` end to end. On a grid (--map): the JSON of --out in the documented shape and
+// checked here on its own (one entry per step, legal moves, no two vehicles in one cell or
+// swapping, every task on its vehicle's path), the PNG readable with one colour per vehicle. On the
+// embedded DEM with lat/lon points: the trajectories the mission pipeline's fleet stage gives, in
+// the formats of `skyroute gcs`. Bad input refused with a message naming the option and item, or
+// the file and field, and the exit code of the one table.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,10 +22,24 @@
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <ogrsf_frmts.h>
+
+#include "service/daemon_config.hpp"
+#include "service/mission_json.hpp"
+#include "service/mission_pipeline.hpp"
+#include "service/trajectory_export.hpp"
+#include "tests/test_data.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
 
 struct CliRun {
   int code = -1;
@@ -51,12 +67,6 @@ class FleetCli : public ::testing::Test {
     const int status = std::system(cmd.c_str());
     CliRun r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    auto slurp = [](const fs::path& p) {
-      std::ifstream f(p);
-      std::stringstream s;
-      s << f.rdbuf();
-      return s.str();
-    };
     r.out = slurp(out);
     r.err = slurp(err);
     return r;
@@ -141,13 +151,13 @@ TEST_F(FleetCli, AllAllocatorsAgreeOnTheObviousInstance) {
 
 TEST_F(FleetCli, BadInputIsRefusedWithTheItemNamed) {
   CliRun r = run("--map " + map() + " --vehicles '1,1;2,0' --tasks '4,1;0,0'");  // (0,0) is a wall
-  EXPECT_EQ(r.code, 3);
+  EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--tasks"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("task 1"), std::string::npos) << r.err;
 
   r = run("--map " + map() + " --vehicles '1,1;2' --tasks '4,1'");
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--vehicles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--vehicles[1]"), std::string::npos) << r.err;
 
   r = run("--map " + map() + " --vehicles '1,1;1,1' --tasks '4,1'");
   EXPECT_EQ(r.code, 2);
@@ -162,16 +172,134 @@ TEST_F(FleetCli, BadInputIsRefusedWithTheItemNamed) {
   EXPECT_NE(r.err.find("--algo"), std::string::npos) << r.err;
 
   r = run("--map " + (dir_ / "missing.map").string() + " --vehicles '1,1' --tasks '4,1'");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, 3);
   EXPECT_NE(r.err.find("missing.map"), std::string::npos) << r.err;
 
+  // Without --map or --cells the points are latitude, longitude, altitude.
   r = run("--vehicles '1,1' --tasks '4,1'");
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--map"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--vehicles[0]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("LAT,LON,ALT"), std::string::npos) << r.err;
 
   r = run("--map " + map() + " --vehicles '1,1' --tasks '4,1' --out /nonexistent-dir/plan.json");
-  EXPECT_EQ(r.code, 4);
+  EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
+
+  r = run("--map " + map() + " --vehicles '1,1' --tasks '4,1' --ends '2,0'");  // lat/lon fleets only
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--ends"), std::string::npos) << r.err;
+}
+
+// The old grid spellings still work for one release.
+TEST_F(FleetCli, OldGridOptionNamesStillWork) {
+  const CliRun r = run("--map " + map() + " --vehicles '1,1;2,0' --tasks '4,1;4,3;2,3;2,4' --cell-size 50 --clearance 20");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("makespan 10"), std::string::npos) << r.out;
+}
+
+const std::string kDemoFleet = skyroute::testing::projectDataPath("missions/demo_fleet.json");
+
+// `fleet --file` on the embedded terrain writes, byte for byte, what the pipeline's fleet stage
+// plans with the daemon's default configuration, through the writer `skyroute gcs` uses.
+TEST_F(FleetCli, FileOnTheEmbeddedDemGivesThePipelinesTrajectories) {
+  const fs::path csv = dir_ / "fleet.csv";
+  const CliRun r = run("--file " + kDemoFleet + " --out " + csv.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("fleet demo-fleet: 3 vehicles, 6 tasks"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("makespan"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("separation"), std::string::npos) << r.out;
+
+  const skyroute::DaemonConfig config;
+  auto world = skyroute::WorldModel::load(skyroute::testing::projectDataPath("default_terrain.tif"), config.world);
+  ASSERT_TRUE(world.ok()) << world.error().describe();
+  std::ifstream file(kDemoFleet);
+  auto request = skyroute::fleetFromJson(nlohmann::json::parse(file));
+  ASSERT_TRUE(request.ok()) << request.error().describe();
+  const skyroute::MissionPipeline pipeline(*world, config.engine.pipeline);
+  const skyroute::FleetPlanOutput plan = pipeline.planFleet(*request, skyroute::utcNowNs());
+  ASSERT_TRUE(plan.ok()) << plan.status.message;
+  const fs::path reference = dir_ / "reference.csv";
+  ASSERT_TRUE(skyroute::writeTrajectoriesCsv(reference.string(), plan.trajectories).ok());
+  const std::string got = slurp(csv);
+  EXPECT_GT(std::count(got.begin(), got.end(), '\n'), 1000);
+  EXPECT_TRUE(got == slurp(reference)) << "skyroute fleet and the pipeline's fleet stage differ";
+  for (const auto& a : plan.status.allocation) {
+    std::string tasks;
+    for (std::uint32_t t : a.tasks) tasks += (tasks.empty() ? "" : ", ") + std::to_string(t);
+    EXPECT_NE(r.out.find(a.vehicle_id + ": tasks " + tasks), std::string::npos) << r.out;
+  }
+}
+
+TEST_F(FleetCli, GeoJsonKmlAndPngOfTheFleet) {
+  const fs::path geojson = dir_ / "fleet.geojson", kml = dir_ / "fleet.kml", png = dir_ / "fleet.png";
+  ASSERT_EQ(run("--file " + kDemoFleet + " --out " + geojson.string() + " --png " + png.string()).code, 0);
+  ASSERT_EQ(run("--file " + kDemoFleet + " --out " + kml.string()).code, 0);
+  GDALAllRegister();
+  for (const fs::path& path : {geojson, kml}) {
+    std::unique_ptr<GDALDataset> ds(static_cast<GDALDataset*>(GDALOpenEx(path.c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr)));
+    ASSERT_TRUE(ds) << path;
+    OGRLayer* layer = ds->GetLayer(0);
+    ASSERT_NE(layer, nullptr);
+    std::set<std::string> vehicles;
+    for (auto& feature : *layer) {
+      vehicles.insert(feature->GetFieldAsString("vehicle_id"));
+      const OGRGeometry* g = feature->GetGeometryRef();
+      ASSERT_NE(g, nullptr);
+      EXPECT_EQ(wkbFlatten(g->getGeometryType()), wkbLineString);
+      EXPECT_GT(g->toLineString()->getNumPoints(), 100);
+    }
+    EXPECT_EQ(vehicles, (std::set<std::string>{"uav-1", "uav-2", "uav-3"})) << path;
+  }
+  std::unique_ptr<GDALDataset> image(static_cast<GDALDataset*>(GDALOpen(png.c_str(), GA_ReadOnly)));
+  ASSERT_TRUE(image);
+  EXPECT_EQ(image->GetRasterCount(), 3);
+  EXPECT_EQ(image->GetRasterXSize(), 320);  // the DEM's pixel grid
+}
+
+TEST_F(FleetCli, VehiclesAndTasksFromTheCommandLine) {
+  CliRun r = run("--vehicles 'north@46.97,15.04,1000;south@46.91,15.13,1000' --tasks '46.95,15.07,1050;46.93,15.11,1050'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("  north: tasks"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  south: tasks"), std::string::npos) << r.out;
+  r = run("--vehicles '46.97,15.04,1000;46.91,15.13,1000' --tasks '46.95,15.07,1050' --ends '46.96,15.05,1000;46.92,15.12,1000'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("  uav-1: tasks"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  uav-2: tasks"), std::string::npos) << r.out;
+}
+
+TEST_F(FleetCli, GeoBadInputIsNamedWithItsOptionOrField) {
+  std::ofstream(dir_ / "bad.json") << R"({"begins": [{"lat_deg": 46.91, "lon_deg": 15.04, "alt_amsl_m": 1000}],
+    "tasks": [{"lat_deg": 46.93, "lon_deg": 15.06, "alt_amsl_m": 1050}, {"lat_deg": 46.95, "lon_deg": 15.07}]})";
+  std::ofstream(dir_ / "under.json") << R"({"begins": [{"lat_deg": 46.91, "lon_deg": 15.04, "alt_amsl_m": 1000}],
+    "tasks": [{"lat_deg": 46.93, "lon_deg": 15.06, "alt_amsl_m": 100}]})";
+  const std::string two = " --vehicles 'a@46.97,15.04,1000;b@46.91,15.13,1000'";
+  struct Case {
+    std::string args;
+    int code;
+    std::vector<std::string> named;
+  };
+  const std::vector<Case> cases{
+      {"--file " + (dir_ / "bad.json").string(), 3, {"bad.json", "tasks[1].alt_amsl_m"}},
+      {"--file " + (dir_ / "missing.json").string(), 3, {"--file", "missing.json"}},
+      {"--file " + (dir_ / "under.json").string(), 3, {"under.json", "tasks[0]", "ground"}},
+      {two + " --tasks '46.95,15.07,100'", 2, {"--tasks[0]", "ground"}},
+      {two + " --tasks '46.95,15.07'", 2, {"--tasks[0]", "LAT,LON,ALT"}},
+      {" --vehicles 'a@46.97,15.04,1000;a@46.91,15.13,1000' --tasks '46.95,15.07,1050'", 2, {"--vehicles[1]", "duplicate"}},
+      {two + " --tasks '46.95,15.07,1050' --ends '46.96,15.05,1000'", 2, {"--ends", "1 points for 2 vehicles"}},
+      {two + " --tasks '46.95,15.07,1050' --vref-mps 50", 2, {"--vref-mps"}},
+      {two + " --tasks '46.95,15.07,1050' --algo ga", 2, {"--algo"}},
+      {two + " --tasks '46.95,15.07,1050' --wait 3", 2, {"--wait"}},
+      {"--file " + kDemoFleet + two, 2, {"--file", "--vehicles"}},
+      {"--file " + kDemoFleet + " --out " + (dir_ / "fleet.txt").string(), 2, {"--out", ".txt"}},
+      {"--file " + kDemoFleet + " --domain 212 --png " + (dir_ / "f.png").string(), 2, {"--png"}},
+      {"--file " + kDemoFleet + " --dem " + (dir_ / "missing.tif").string(), 3, {"--dem", "missing.tif"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const CliRun r = run(c.args);
+    EXPECT_EQ(r.code, c.code) << r.err;
+    for (const std::string& name : c.named) EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace

@@ -1,11 +1,14 @@
-// The `skyroute grid solve` and `skyroute mission` commands, run as a user would: JSON lines checked
-// against the scenario's optimal lengths and against Dijkstra, and bad input giving a message that
-// names the point and a non-zero exit.
+// The `skyroute grid solve` and `skyroute mission --map` commands, run as a user would: JSON lines
+// checked against the scenario's optimal lengths and against Dijkstra, and bad input giving a
+// message that names the option and the exit code of the one table.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -111,9 +114,28 @@ TEST(GridCli, SolveAgreesWithSharedScenariosToTheirPrintedDigits) {
 
 TEST(GridCli, SolveRejectsMissingFiles) {
   const Output out = run("grid solve --map /nonexistent.map --scen /nonexistent.scen");
-  EXPECT_NE(out.exit_code, 0);
+  EXPECT_EQ(out.exit_code, 3);  // an input file unreadable
   EXPECT_NE(out.text.find("--map"), std::string::npos) << out.text;
   EXPECT_NE(out.text.find("/nonexistent.map"), std::string::npos) << out.text;
+  EXPECT_EQ(run("grid solve --map /nonexistent.map --scen /nonexistent.scen --algo magic").exit_code, 2);
+}
+
+// Exit 1 is for a wrong cost only: a scenario whose optimal length is wrong, here by 1.
+TEST(GridCli, SolveExitsOneOnlyWhenACostIsWrong) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("skyroute_grid_cli_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string map = (dir / "open.map").string();
+  std::ofstream(map) << "type octile\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\n";
+  const std::string right = (dir / "right.scen").string();
+  const std::string wrong = (dir / "wrong.scen").string();
+  std::ofstream(right) << "version 1\n0\topen.map\t4\t4\t0\t0\t3\t0\t3\n";
+  std::ofstream(wrong) << "version 1\n0\topen.map\t4\t4\t0\t0\t3\t0\t4\n";
+  const Output ok = run("grid solve --map " + map + " --scen " + right);
+  EXPECT_EQ(ok.exit_code, 0) << ok.text;
+  const Output off = run("grid solve --map " + map + " --scen " + wrong);
+  EXPECT_EQ(off.exit_code, 1) << off.text;
+  EXPECT_NE(off.text.find("1 of 1 costs are wrong"), std::string::npos) << off.text;
+  std::filesystem::remove_all(dir);
 }
 
 TEST(GridCli, MissionPrintsOrderMatrixAndLegs) {
@@ -132,8 +154,9 @@ TEST(GridCli, MissionPrintsOrderMatrixAndLegs) {
   }
   ASSERT_EQ(pts.size(), 5u);
   auto cell = [](GridCell c) { return std::to_string(c.x) + "," + std::to_string(c.y); };
-  std::string args = "mission --map " + map + " --begin " + cell(b) + " --end " + cell(pts[4]) + " --points";
-  for (int i = 0; i < 4; ++i) args += " " + cell(pts[i]);
+  std::string args = "mission --map " + map + " --from " + cell(b) + " --to " + cell(pts[4]) + " --via '";
+  for (int i = 0; i < 4; ++i) args += (i ? ";" : "") + cell(pts[i]);
+  args += "'";
   for (const std::string algo : {"mmdstar", "dstar-lite"}) {
     const Output out = run(args + " --algo " + algo + " --json");
     ASSERT_EQ(out.exit_code, 0) << out.text;
@@ -162,6 +185,13 @@ TEST(GridCli, MissionPrintsOrderMatrixAndLegs) {
   EXPECT_EQ(text.exit_code, 0);
   EXPECT_NE(text.text.find("order"), std::string::npos);
   EXPECT_NE(text.text.find("cost matrix"), std::string::npos);
+
+  // The names before --from/--via/--to still work for one release, and give the same plan.
+  std::string old_args = "mission --map " + map + " --begin " + cell(b) + " --end " + cell(pts[4]) + " --points";
+  for (int i = 0; i < 4; ++i) old_args += " " + cell(pts[i]);
+  const Output old_names = run(old_args + " --json");
+  ASSERT_EQ(old_names.exit_code, 0) << old_names.text;
+  EXPECT_EQ(jsonLines(old_names.text)[0]["order"], jsonLines(run(args + " --json").text)[0]["order"]);
 }
 
 TEST(GridCli, MissionNamesABadPoint) {
@@ -190,21 +220,27 @@ TEST(GridCli, MissionNamesABadPoint) {
     }
   }
   auto cell = [](GridCell c) { return std::to_string(c.x) + "," + std::to_string(c.y); };
-  const std::string base = "mission --map " + map + " --begin " + cell(free_a) + " --end " + cell(free_b);
-  Output out = run(base + " --points " + cell(wall));
-  EXPECT_NE(out.exit_code, 0);
-  EXPECT_NE(out.text.find("points[0]"), std::string::npos) << out.text;
+  const std::string base = "mission --map " + map + " --from " + cell(free_a) + " --to " + cell(free_b);
+  Output out = run(base + " --via " + cell(wall));
+  EXPECT_EQ(out.exit_code, 2);
+  EXPECT_NE(out.text.find("--via[0]"), std::string::npos) << out.text;
   EXPECT_NE(out.text.find("obstacle"), std::string::npos) << out.text;
-  out = run(base + " --points 900,3");
-  EXPECT_NE(out.exit_code, 0);
-  EXPECT_NE(out.text.find("points[0]"), std::string::npos) << out.text;
+  out = run(base + " --via 900,3");
+  EXPECT_EQ(out.exit_code, 2);
+  EXPECT_NE(out.text.find("--via[0]"), std::string::npos) << out.text;
   EXPECT_NE(out.text.find("outside"), std::string::npos) << out.text;
-  out = run(base + " --points " + cell(free_b));
-  EXPECT_NE(out.exit_code, 0);
+  out = run(base + " --via " + cell(free_b));
+  EXPECT_EQ(out.exit_code, 2);
   EXPECT_NE(out.text.find("duplicates"), std::string::npos) << out.text;
-  out = run(base + " --points banana");
-  EXPECT_NE(out.exit_code, 0);
-  EXPECT_NE(out.text.find("--points[0]"), std::string::npos) << out.text;
+  out = run(base + " --via banana");
+  EXPECT_EQ(out.exit_code, 2);
+  EXPECT_NE(out.text.find("--via[0]"), std::string::npos) << out.text;
+  out = run("mission --map /nonexistent.map --from 1,1 --to 2,2");
+  EXPECT_EQ(out.exit_code, 3);
+  EXPECT_NE(out.text.find("/nonexistent.map"), std::string::npos) << out.text;
+  out = run(base + " --fixed-order");  // lat/lon missions only
+  EXPECT_EQ(out.exit_code, 2);
+  EXPECT_NE(out.text.find("--fixed-order"), std::string::npos) << out.text;
 }
 
 }  // namespace

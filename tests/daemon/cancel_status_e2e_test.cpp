@@ -1,0 +1,120 @@
+// `skyroute status` and `skyroute cancel` against skyrouted as a process: status reports the
+// daemon's heartbeat (instance, pid, uptime, queue, active vehicles) as it changes; cancel stops a
+// flying mission by vehicle or by request id alone, and a cancel for nothing is refused (exit 1).
+// Without a daemon both exit 4.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/daemon/daemon_fixture.hpp"
+
+namespace skyroute {
+namespace {
+
+using testing::ChildProcess;
+
+struct Ran {
+  int code = -1;
+  std::string out, err;
+};
+
+Ran runCli(std::vector<std::string> args, const std::string& name, double timeout_s = 60.0) {
+  args.insert(args.begin(), SKYROUTE_CLI);
+  ChildProcess child = ChildProcess::spawn(args, name);
+  Ran r;
+  r.code = child.wait(timeout_s);
+  r.out = child.out();
+  r.err = child.err();
+  return r;
+}
+
+class CancelStatusE2E : public testing::DaemonFixture {
+ protected:
+  // skyroute status --json on `domain`: its one service (the test fails when there is not one).
+  nlohmann::json statusOfTheOneService(const std::string& domain, const std::string& name) {
+    const Ran r = runCli({"status", "--domain", domain, "--json"}, name);
+    EXPECT_EQ(r.code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
+    if (j.is_discarded() || !j.contains("services") || j["services"].size() != 1) {
+      ADD_FAILURE() << "not one service:\n" << r.out << r.err;
+      return nlohmann::json::object();
+    }
+    return j["services"][0];
+  }
+  // Waits until the daemon's heartbeat says `vehicles` are flying.
+  bool heartbeatSays(std::uint32_t vehicles) {
+    for (int i = 0; i < 10; ++i) {
+      auto h = station_->freshHeartbeat(5.0);
+      if (h && h->vehicles == vehicles) return true;
+    }
+    return false;
+  }
+};
+
+TEST_F(CancelStatusE2E, StatusShowsTheHeartbeatAndCancelStopsByVehicleOrByRequest) {
+  startDaemon(213);
+  const nlohmann::json idle = statusOfTheOneService("213", "status_idle");
+  ASSERT_TRUE(station_->last_heartbeat);
+  EXPECT_EQ(idle.value("instance_id", ""), station_->last_heartbeat->instance_id);
+  EXPECT_EQ(idle.value("pid", 0), daemon_.pid());
+  EXPECT_EQ(idle.value("vehicles", -1), 0);
+  EXPECT_EQ(idle.value("queue_length", -1), 0);
+  EXPECT_GT(idle.value("uptime_s", 0.0), 0.0);
+  EXPECT_EQ(idle.value("terrain_loaded", false), true);
+
+  // A flying vehicle shows in the heartbeat; the text form names it too.
+  ASSERT_TRUE(station_->requests->write(simpleMission("fly-1", "uav-c", 0.0)).ok());
+  ASSERT_TRUE(station_->waitState("fly-1", PlanState::kSucceeded, 120.0)) << daemon_.err();
+  ASSERT_TRUE(heartbeatSays(1));
+  const nlohmann::json flying = statusOfTheOneService("213", "status_flying");
+  EXPECT_EQ(flying.value("vehicles", -1), 1);
+  EXPECT_GT(flying.value("uptime_s", 0.0), idle.value("uptime_s", 0.0));
+  const Ran text = runCli({"status", "--domain", "213"}, "status_text");
+  EXPECT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("vehicles=1 "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("queue=0 "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("pid=" + std::to_string(daemon_.pid())), std::string::npos) << text.out;
+
+  // By vehicle.
+  const Ran by_vehicle = runCli({"cancel", "--domain", "213", "--vehicle", "uav-c"}, "cancel_vehicle");
+  EXPECT_EQ(by_vehicle.code, 0) << by_vehicle.out << by_vehicle.err;
+  EXPECT_NE(by_vehicle.out.find("cancelled 1 request"), std::string::npos) << by_vehicle.out;
+  ASSERT_TRUE(station_->waitState("fly-1", PlanState::kCancelled, 10.0)) << daemon_.err();
+  ASSERT_TRUE(heartbeatSays(0));
+
+  // By request id alone: the service finds its vehicle.
+  ASSERT_TRUE(station_->requests->write(simpleMission("fly-2", "uav-d", 0.0)).ok());
+  ASSERT_TRUE(station_->waitState("fly-2", PlanState::kSucceeded, 120.0)) << daemon_.err();
+  const Ran by_request = runCli({"cancel", "--domain", "213", "--request", "fly-2"}, "cancel_request");
+  EXPECT_EQ(by_request.code, 0) << by_request.out << by_request.err;
+  EXPECT_NE(by_request.out.find("vehicle=uav-d state=cancelled"), std::string::npos) << by_request.out;
+  ASSERT_TRUE(station_->waitState("fly-2", PlanState::kCancelled, 10.0)) << daemon_.err();
+  ASSERT_TRUE(heartbeatSays(0));
+  EXPECT_EQ(statusOfTheOneService("213", "status_after").value("vehicles", -1), 0);
+
+  // Nothing to cancel: the service's refusal, exit 1.
+  const Ran ghost = runCli({"cancel", "--domain", "213", "--request", "ghost"}, "cancel_ghost");
+  EXPECT_EQ(ghost.code, 1) << ghost.out << ghost.err;
+  EXPECT_NE(ghost.err.find("cancel refused: no request 'ghost' is queued"), std::string::npos) << ghost.err;
+  const Ran done = runCli({"cancel", "--domain", "213", "--vehicle", "uav-c", "--request", "fly-1"}, "cancel_done");
+  EXPECT_EQ(done.code, 1) << done.out << done.err;
+  EXPECT_NE(done.err.find("of vehicle 'uav-c'"), std::string::npos) << done.err;
+}
+
+TEST_F(CancelStatusE2E, WithoutADaemonBothExitFourAndCancelNeedsATarget) {
+  const Ran status = runCli({"status", "--domain", "214", "--wait", "1"}, "status_none");
+  EXPECT_EQ(status.code, 4) << status.out << status.err;
+  EXPECT_NE(status.err.find("no planning service heartbeat on domain 214"), std::string::npos) << status.err;
+  const Ran cancel = runCli({"cancel", "--domain", "214", "--vehicle", "uav-x", "--wait", "1"}, "cancel_none");
+  EXPECT_EQ(cancel.code, 4) << cancel.out << cancel.err;
+  EXPECT_NE(cancel.err.find("no planning service is listening"), std::string::npos) << cancel.err;
+  const Ran nothing = runCli({"cancel", "--domain", "214"}, "cancel_nothing");
+  EXPECT_EQ(nothing.code, 2) << nothing.out << nothing.err;
+  EXPECT_NE(nothing.err.find("--vehicle"), std::string::npos) << nothing.err;
+}
+
+}  // namespace
+}  // namespace skyroute
