@@ -66,7 +66,9 @@ for name in "${harnesses[@]}"; do
   echo "fuzz: $name for $seconds s"
   status=0
   # New inputs go to the first folder (in build-fuzz); the seeds (with regressions/) are only read.
-  "$binary" -max_total_time="$seconds" -timeout=5 -rss_limit_mb=2048 -print_final_stats=1 \
+  # A fixed seed (SKYROUTE_FUZZ_SEED, default 1) makes a run reproducible: the same mutations in the
+  # same order, as far as the time allows.
+  "$binary" -seed="${SKYROUTE_FUZZ_SEED:-1}" -max_total_time="$seconds" -timeout=5 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$artifacts/" "$corpus" "$seeds" >"$log" 2>&1 || status=$?
   executions=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)

@@ -78,8 +78,10 @@ TEST_F(RefusedInputE2E, ReplayRefusesAFeedTimeBeyondTheHorizonNamingItsLine) {
   const std::string feed = testing::e2eTempPath("far_future.jsonl");
   std::ofstream(feed) << obstacleFeedHeaderLine() << "\n" << obstacleFeedEntryLine(entry) << "\n" << far.dump() << "\n";
 
+  // Two readers: the daemon's and this ground station's echo (one alone may be the echo, and the
+  // update would be published before the daemon matched).
   ChildProcess replay =
-      ChildProcess::spawn({SKYROUTE_CLI, "replay", feed, "--domain", "182", "--readers", "1"}, "replay_far");
+      ChildProcess::spawn({SKYROUTE_CLI, "replay", feed, "--domain", "182", "--readers", "2"}, "replay_far");
   EXPECT_EQ(replay.wait(30.0), 0) << replay.err();
   EXPECT_NE(replay.err().find(feed + ":3: t_s 1e+12 is beyond the feed's horizon"), std::string::npos) << replay.err();
   EXPECT_NE(replay.out().find("published 1 obstacle updates"), std::string::npos) << replay.out();

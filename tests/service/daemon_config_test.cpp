@@ -56,6 +56,8 @@ TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
       {"[replanning]\nenabled = 1\n", "replanning.enabled", ErrorCode::kInvalidArgument},
       {"[log]\nformat = \"xml\"\n", "log.format", ErrorCode::kInvalidArgument},
       {"seed = 1\n", "seed", ErrorCode::kInvalidArgument},
+      {"''='x'\n", "\"\"", ErrorCode::kInvalidArgument},
+      {"[dds]\n\"\" = 1\n", "dds.\"\"", ErrorCode::kInvalidArgument},
       {"[planning\nseed = 1\n", "bad.toml", ErrorCode::kParseError},
   };
   for (const Case& c : cases) {
@@ -66,12 +68,25 @@ TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
   }
   auto malformed = parseDaemonConfig("[planning\nseed = 1\n", "bad.toml");
   EXPECT_NE(malformed.error().message.find("bad.toml:1:"), std::string::npos) << malformed.error().message;
-  // Characters the TOML library mishandles are refused with their line and column (U+FE7F here);
+  // Characters the TOML library mishandles are refused with their line and column: U+FE7F
+  // anywhere, and any non-ASCII character outside strings and comments (where TOML allows none);
   // U+FEFF (a byte-order mark) and other non-ASCII text in comments and strings still parse.
   auto odd = parseDaemonConfig("[planning]\nseed = 1\n \xEF\xB9\xBF\n", "odd.toml");
   ASSERT_FALSE(odd.ok());
   EXPECT_EQ(odd.error().code, ErrorCode::kParseError);
   EXPECT_NE(odd.error().message.find("odd.toml:3:2: character U+FE7F"), std::string::npos) << odd.error().message;
+  auto bare = parseDaemonConfig("[dds]\ndomin \xC3\xA4 6\n", "bare.toml");
+  ASSERT_FALSE(bare.ok());
+  EXPECT_NE(bare.error().message.find("bare.toml:2:7: a character outside a string or a comment must be ASCII"),
+            std::string::npos)
+      << bare.error().message;
+  // A quote inside a bare token opens no string: what follows it is still checked.
+  auto quote = parseDaemonConfig("[terrain]\ndem = 0le'x \xC8\xA3'\n", "quote.toml");
+  ASSERT_FALSE(quote.ok());
+  EXPECT_NE(quote.error().message.find("quote.toml:2:13: a character outside"), std::string::npos)
+      << quote.error().message;
+  EXPECT_TRUE(parseDaemonConfig("[dds]\nservice_id = 'l\xC3\xA4' # \xC3\xA4\n[planning]\nseed = 3\n", "q.toml").ok());
+  EXPECT_TRUE(parseDaemonConfig("\xEF\xBB\xBF[dds]\nservice_id = \"bom\"\n", "bom.toml").ok());
   auto fine = parseDaemonConfig("# h\xC3\xB6he \xEF\xBB\xBF\n[dds]\nservice_id = \"s\xC3\xBC" "d\"\n", "fine.toml");
   ASSERT_TRUE(fine.ok()) << fine.error().describe();
   EXPECT_EQ(fine->service_id, "s\xC3\xBC" "d");
