@@ -1,4 +1,4 @@
-// A fleet mission (issue 7 item 6, seed 002 in 3D): a FleetRequest's begins, tasks and ends become
+// A fleet mission (the GMTPA paper, seed 002, in 3D): a FleetRequest's begins, tasks and ends become
 // cells of a flight-band grid, GMTPA (greedy Algorithm 1 + conflict-free space-time paths) plans
 // them, each vehicle's grid path is lifted to 3D and flown through the trajectory stage, and the
 // continuous trajectories are checked for a minimum separation at every instant and repaired by
