@@ -19,15 +19,9 @@
 
 namespace {
 
-struct CliRun {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
+using CliRun = skyroute::testing::CliOutput;  // exit code, and stdout with stderr as text
 
-CliRun run(const std::string& args) {
-  skyroute::testing::CliOutput r = skyroute::testing::runCli(args);
-  return CliRun{r.exit_code, std::move(r.text)};
-}
+CliRun run(const std::string& args) { return skyroute::testing::runCli(args); }
 
 std::string slurp(const std::string& path) { return skyroute::testing::readTextFile(path); }
 
@@ -54,7 +48,7 @@ class PlanExportCli : public ::testing::Test {
 TEST_F(PlanExportCli, QgroundcontrolPlanHasTheMissionPointsAtAmslAltitudes) {
   const std::string plan_path = (dir_ / "mission.plan").string();
   const CliRun r = run(planArgs(plan_path));
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(r.exit_code, 0) << r.text;
   const nlohmann::json plan = nlohmann::json::parse(slurp(plan_path), nullptr, false);
   ASSERT_FALSE(plan.is_discarded()) << slurp(plan_path);
   EXPECT_EQ(plan["fileType"], "Plan");
@@ -83,7 +77,7 @@ TEST_F(PlanExportCli, QgroundcontrolPlanHasTheMissionPointsAtAmslAltitudes) {
 TEST_F(PlanExportCli, WaypointsAndCsv) {
   const std::string waypoints = (dir_ / "mission.waypoints").string();
   CliRun r = run(planArgs(waypoints));
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(r.exit_code, 0) << r.text;
   std::istringstream lines(slurp(waypoints));
   std::string line;
   std::getline(lines, line);
@@ -94,7 +88,7 @@ TEST_F(PlanExportCli, WaypointsAndCsv) {
 
   const std::string csv = (dir_ / "trajectory.csv").string();
   r = run(planArgs(csv));
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(r.exit_code, 0) << r.text;
   std::istringstream csv_lines(slurp(csv));
   std::getline(csv_lines, line);
   // The columns of `skyroute gcs --csv`: one writer for both.
