@@ -23,6 +23,7 @@
 #include "service/height_datum.hpp"
 #include "service/obstacle_feed.hpp"
 #include "terrain/heightfield.hpp"
+#include "tests/dds/fake_planning_service.hpp"
 #include "tests/terrain_data.hpp"
 #include "tests/text_file.hpp"
 
@@ -291,25 +292,11 @@ TEST(DdsCli, LateGroundStationGetsEveryVehicleAndExports) {
 TEST(DdsCli, RequestExitCodeFollowsTheServiceAnswer) {
   ASSERT_TOOLS_REGISTERED();
   // The test plays the planning service: it reads requests and answers with statuses.
-  auto participant = dds::createParticipant(122);
-  ASSERT_TRUE(participant.ok());
-  auto requests = dds::Reader<MissionRequestData>::create(participant->get());
-  auto statuses = dds::Writer<PlanStatusData>::create(participant->get());
-  // The tool reaches every live service, which it knows from their heartbeat writers.
-  auto heartbeat = dds::Writer<ServiceStatusData>::create(participant->get(),
-                                                          dds::ServiceInstance::current("test-service").userData());
-  ASSERT_TRUE(requests.ok() && statuses.ok() && heartbeat.ok());
-  auto loop = dds::WaitLoop::create(participant->get());
-  ASSERT_TRUE(loop.ok());
-  std::vector<MissionRequestData> heard;
-  ASSERT_TRUE(loop->add<MissionRequestData>(
-                      *requests,
-                      [&](MissionRequestData&& m) {
-                        heard.push_back(std::move(m));
-                        loop->stop();
-                      },
-                      [](const Error& e) { ADD_FAILURE() << e.describe(); })
-                  .ok());
+  const auto service = testing::startFakePlanningService(122);
+  ASSERT_TRUE(service);
+  auto& loop = service->loop;
+  auto& statuses = service->statuses;
+  auto& heard = service->heard;
 
   struct Answer {
     PlanState state;
@@ -359,16 +346,7 @@ TEST(DdsCli, RequestExitCodeFollowsTheServiceAnswer) {
       EXPECT_NE(request.err().find("points[1].alt_amsl_m"), std::string::npos) << request.err();
     }
     ++round;
-    loop = dds::WaitLoop::create(participant->get());  // fresh loop: the old one is stopped
-    ASSERT_TRUE(loop.ok());
-    ASSERT_TRUE(loop->add<MissionRequestData>(
-                        *requests,
-                        [&](MissionRequestData&& mm) {
-                          heard.push_back(std::move(mm));
-                          loop->stop();
-                        },
-                        nullptr)
-                    .ok());
+    ASSERT_TRUE(service->listen());
   }
 }
 

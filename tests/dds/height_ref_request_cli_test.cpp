@@ -10,11 +10,9 @@
 #include <gtest/gtest.h>
 
 #include "service/dds/loopback.hpp"
-#include "service/dds/service_instance.hpp"
-#include "service/dds/typed_io.hpp"
-#include "service/dds/wait_loop.hpp"
 #include "service/height_datum.hpp"
 #include "tests/cli_run.hpp"
+#include "tests/dds/fake_planning_service.hpp"
 
 namespace skyroute {
 namespace {
@@ -40,24 +38,11 @@ TEST(HeightRefRequestCli, EllipsoidalHeightsArePublishedAsAmsl) {
     return triple(g.lat_deg, g.lon_deg, *geoid->ellipsoidFromAmslM(g.lat_deg, g.lon_deg, g.alt_amsl_m));
   };
 
-  auto participant = dds::createParticipant(kDomain);
-  ASSERT_TRUE(participant.ok()) << participant.error().describe();
-  auto requests = dds::Reader<MissionRequestData>::create(participant->get());
-  auto statuses = dds::Writer<PlanStatusData>::create(participant->get());
-  auto heartbeat = dds::Writer<ServiceStatusData>::create(participant->get(),
-                                                          dds::ServiceInstance::current("test-service").userData());
-  ASSERT_TRUE(requests.ok() && statuses.ok() && heartbeat.ok());
-  auto loop = dds::WaitLoop::create(participant->get());
-  ASSERT_TRUE(loop.ok());
-  std::vector<MissionRequestData> heard;
-  ASSERT_TRUE(loop->add<MissionRequestData>(
-                      *requests,
-                      [&](MissionRequestData&& m) {
-                        heard.push_back(std::move(m));
-                        loop->stop();
-                      },
-                      [](const Error& e) { ADD_FAILURE() << e.describe(); })
-                  .ok());
+  const auto service = testing::startFakePlanningService(kDomain);
+  ASSERT_TRUE(service);
+  auto& loop = service->loop;
+  auto& statuses = service->statuses;
+  auto& heard = service->heard;
 
   testing::CliOutput request;
   std::thread tool([&] {
