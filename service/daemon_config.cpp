@@ -13,6 +13,7 @@
 #include <toml++/toml.h>
 
 #include "service/planner_registry.hpp"
+#include "service/toml_precheck.hpp"
 
 namespace skyroute {
 namespace {
@@ -222,104 +223,11 @@ Status setKey(const Key& key, const toml::node& node) {
   return Status::success();
 }
 
-// toml++ 3.3 (Debian's) reaches undefined behaviour when it asks whether a non-ASCII character
-// outside a string or comment is whitespace (an "unreachable" branch, and for U+FE28..U+FEFE a
-// 64-bit shift by 64): found by the config fuzzer. TOML allows non-ASCII text only in strings and
-// comments, so anything else is refused here, before the library sees it, with its line and column;
-// the U+FE28..U+FEFE block is refused everywhere (no key or value of ours needs it).
-class TomlPrecheck {
- public:
-  TomlPrecheck(const std::string& text, const std::string& source_name) : text_(text), source_(source_name) {}
-
-  std::optional<Error> run() {
-    if (text_.compare(0, 3, "\xEF\xBB\xBF") == 0) i_ = 3;  // a leading byte-order mark, which TOML allows
-    while (i_ < text_.size()) {
-      if (auto e = blockedCharacter()) return e;
-      const char c = text_[i_];
-      if (c == '#') {
-        skipUntil("\n", false);
-        last_significant_ = '\n';
-      } else if ((c == '"' || c == '\'') && opensString()) {
-        const std::string triple(3, c);
-        const bool multi_line = text_.compare(i_, 3, triple) == 0;
-        advance(multi_line ? 3 : 1);
-        skipUntil(multi_line ? triple : std::string(1, c), c == '"');
-        last_significant_ = c;
-      } else if (static_cast<unsigned char>(c) >= 0x80) {
-        return refuse("a character outside a string or a comment must be ASCII");
-      } else {
-        if (c != ' ' && c != '\t') last_significant_ = c == '\r' ? '\n' : c;
-        advance(1);
-      }
-    }
-    return std::nullopt;
-  }
-
- private:
-  // In TOML a quote opens a string only where a key or a value begins; elsewhere (inside a bare
-  // token, which the parser rejects) what follows is not string text.
-  bool opensString() const {
-    return last_significant_ == '\n' || last_significant_ == '=' || last_significant_ == '[' ||
-           last_significant_ == ',' || last_significant_ == '{' || last_significant_ == '.';
-  }
-
-  // Moves past `end` (or to the end of the text); a basic string's backslash escapes one character.
-  // A single-line string also ends at a newline, where the parser reports it.
-  void skipUntil(const std::string& end, bool escapes) {
-    while (i_ < text_.size()) {
-      if (blockedCharacter()) return;
-      if (escapes && text_[i_] == '\\') {
-        advance(std::min<std::size_t>(2, text_.size() - i_));
-      } else if (text_.compare(i_, end.size(), end) == 0) {
-        advance(end.size());
-        return;
-      } else if (end.size() == 1 && text_[i_] == '\n') {
-        return;
-      } else {
-        advance(1);
-      }
-    }
-  }
-
-  std::optional<Error> blockedCharacter() const {
-    if (i_ + 2 >= text_.size() || static_cast<unsigned char>(text_[i_]) != 0xEF) return std::nullopt;
-    const auto b1 = static_cast<unsigned char>(text_[i_ + 1]);
-    const auto b2 = static_cast<unsigned char>(text_[i_ + 2]);
-    const unsigned code = (0xFu << 12) | ((b1 & 0x3Fu) << 6) | (b2 & 0x3Fu);
-    if ((b1 & 0xC0u) != 0x80u || (b2 & 0xC0u) != 0x80u || code < 0xFE28 || code > 0xFEFE) return std::nullopt;
-    char hex[8];
-    std::snprintf(hex, sizeof hex, "%04X", code);
-    return refuse(std::string("character U+") + hex + " is not allowed in a configuration file");
-  }
-
-  Error refuse(const std::string& why) const {
-    return make_error(ErrorCode::kParseError, source_,
-                      source_ + ":" + std::to_string(line_) + ":" + std::to_string(column_) + ": " + why);
-  }
-
-  void advance(std::size_t bytes) {
-    for (std::size_t k = 0; k < bytes && i_ < text_.size(); ++k, ++i_) {
-      const auto byte = static_cast<unsigned char>(text_[i_]);
-      if (byte == '\n') {
-        ++line_;
-        column_ = 1;
-      } else if ((byte & 0xC0u) != 0x80u) {
-        ++column_;  // characters, not UTF-8 continuation bytes
-      }
-    }
-  }
-
-  const std::string& text_;
-  const std::string& source_;
-  std::size_t i_ = 0, line_ = 1, column_ = 1;
-  char last_significant_ = '\n';  // the last character outside strings and comments, not a blank
-};
-
 }  // namespace
 
 Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::string& source_name,
                                        DaemonConfig defaults) {
-  if (auto refused = TomlPrecheck(toml_text, source_name).run()) return *refused;
+  if (auto refused = findTomlHazard(toml_text, source_name)) return *refused;
   toml::table document;
   try {
     document = toml::parse(toml_text, source_name);

@@ -85,6 +85,20 @@ TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
   ASSERT_FALSE(quote.ok());
   EXPECT_NE(quote.error().message.find("quote.toml:2:13: a character outside"), std::string::npos)
       << quote.error().message;
+  // In a multi-line basic string, a non-ASCII character right after a backslash, or first after a
+  // line-ending backslash, is refused at its place; elsewhere in such a string it is text.
+  for (const char* text : {"[dds]\nservice_id = \"\"\"in\\\xC8\xA3\"\"\"\n",
+                           "[dds]\nservice_id = \"\"\"in\\ \n  \n \xC8\xA3\"\"\"\n",
+                           "[dds]\nservice_id = \"\"\"in\\  \xC8\xA3\"\"\"\n"}) {
+    auto escaped = parseDaemonConfig(text, "ml.toml");
+    ASSERT_FALSE(escaped.ok()) << text;
+    EXPECT_NE(escaped.error().message.find("ml.toml:"), std::string::npos) << escaped.error().message;
+    EXPECT_NE(escaped.error().message.find("non-ASCII character after a backslash"), std::string::npos)
+        << escaped.error().message;
+  }
+  auto multi = parseDaemonConfig("[dds]\nservice_id = \"\"\"a\\\\\n\xC8\xA3\\\n  b\xC3\xA4\"\"\"\n", "ml.toml");
+  ASSERT_TRUE(multi.ok()) << multi.error().describe();
+  EXPECT_EQ(multi->service_id, "a\\\n\xC8\xA3" "b\xC3\xA4");
   EXPECT_TRUE(parseDaemonConfig("[dds]\nservice_id = 'l\xC3\xA4' # \xC3\xA4\n[planning]\nseed = 3\n", "q.toml").ok());
   EXPECT_TRUE(parseDaemonConfig("\xEF\xBB\xBF[dds]\nservice_id = \"bom\"\n", "bom.toml").ok());
   auto fine = parseDaemonConfig("# h\xC3\xB6he \xEF\xBB\xBF\n[dds]\nservice_id = \"s\xC3\xBC" "d\"\n", "fine.toml");
