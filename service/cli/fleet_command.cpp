@@ -21,7 +21,8 @@
 #include "service/cli/fleet_common.hpp"
 #include "service/cli/fleet_grid.hpp"
 #include "service/daemon_config.hpp"
-#include "service/map_image.hpp"
+#include "service/map_figure.hpp"
+#include "service/trajectory_figure.hpp"
 #include "service/mission_pipeline.hpp"
 
 namespace skyroute::cli {
@@ -52,30 +53,30 @@ void refuse(const std::vector<CLI::Option*>& options, const std::string& why) {
   }
 }
 
-// The trajectories on the DEM's hillshade, one colour per vehicle (as in its KML), begins as
-// filled discs and each task as a ring in the colour of the vehicle that flies over it.
+// The trajectories over the terrain, one colour per vehicle (as in its KML): each vehicle's begin
+// as a depot square and each task as a ring in the colour of the vehicle that flies over it.
 void writePng(const std::string& path, const WorldModel& world, const FleetRequestData& request,
               const FleetPlanOutput& plan) {
-  auto image = MapImage::hillshade(world.terrain().dem());
-  if (!image.ok()) fail(kTool, kExitUsage, "--png " + image.error().describe());
-  const Heightfield& terrain = world.terrain();
+  MapFigureContent figure;
+  figure.title = "skyroute fleet: " + std::to_string(plan.trajectories.size()) + " vehicles, " +
+                 std::to_string(request.tasks.size()) + " tasks";
   for (std::size_t i = 0; i < plan.trajectories.size(); ++i) {
-    std::vector<Eigen::Vector3d> flown;
-    for (const TrajectorySampleData& s : plan.trajectories[i].samples) flown.push_back(s.position_enu_m);
-    image->drawPathEn(terrain, flown, vehicleRgb(i), 2);
+    const std::string& id = plan.trajectories[i].vehicle_id;
+    figure.lines.push_back(trajectoryLine(plan.trajectories[i], id.empty() ? "vehicle " + std::to_string(i + 1) : id,
+                                          vehicleRgb(i)));
   }
   for (std::size_t i = 0; i < plan.begins_m.size(); ++i) {
-    image->drawDisc(terrain.enToPixel(plan.begins_m[i].x(), plan.begins_m[i].y()), 5, vehicleRgb(i));
+    figure.markers.push_back({MarkerKind::kDepot, plan.begins_m[i].head<2>(), 0, vehicleRgb(i)});
   }
   for (std::size_t i = 0; i < plan.status.allocation.size(); ++i) {
     for (std::uint32_t task : plan.status.allocation[i].tasks) {
-      if (task >= request.tasks.size()) continue;
-      const Eigen::Vector2d at = terrain.enToPixel(plan.tasks_m[task].x(), plan.tasks_m[task].y());
-      image->drawDisc(at, 4, vehicleRgb(i));
-      image->drawDisc(at, 2, Rgb{255, 255, 255});
+      if (task >= plan.tasks_m.size()) continue;
+      figure.markers.push_back({MarkerKind::kTask, plan.tasks_m[task].head<2>(), 0, vehicleRgb(i)});
     }
   }
-  if (Status saved = image->savePng(path); !saved.ok()) fail(kTool, kExitUsage, "--png " + saved.error().describe());
+  if (Status saved = saveTerrainFigure(world.terrain(), figure, path); !saved.ok()) {
+    fail(kTool, kExitUsage, "--png " + saved.error().describe());
+  }
 }
 
 void runGeoFleet(const FleetCommandArgs& a) {

@@ -9,7 +9,7 @@
 
 #include "planning/fleet/fleet_planner.hpp"
 #include "service/cli/fleet_common.hpp"
-#include "service/map_image.hpp"
+#include "service/map_figure.hpp"
 #include "terrain/dem.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/movingai.hpp"
@@ -42,45 +42,26 @@ GridLayer loadGrid(const FleetGridArgs& o) {
   return std::move(built).value();
 }
 
-// Draws the grid (free white, blocked grey), every route as a line of cell centres in the
-// vehicle's colour, depots as filled squares and tasks as hollow squares in the colour of the
-// vehicle that does them. north_up: grid y grows north (terrain grids), so image rows flip.
+// The grid (free white, blocked grey) cropped to the fleet, every route in the vehicle's colour,
+// depots as filled squares and tasks as rings in the colour of the vehicle that serves them.
+// north_up: grid y grows north (terrain grids), so rows are drawn flipped.
 void writePng(const std::string& path, const GridLayer& grid, const FleetProblem& problem, const FleetPlan& plan,
               bool north_up) {
-  const int scale = std::clamp(1200 / std::max(grid.width(), grid.height()), 2, 24);
-  MapImage image = MapImage::blank(grid.width() * scale, grid.height() * scale, Rgb{255, 255, 255});
-  auto rowOf = [&](int y) { return north_up ? grid.height() - 1 - y : y; };
-  auto centre = [&](GridCell c) {
-    return Eigen::Vector2d(c.x * scale + scale / 2, rowOf(c.y) * scale + scale / 2);
-  };
-  for (int y = 0; y < grid.height(); ++y) {
-    for (int x = 0; x < grid.width(); ++x) {
-      if (!grid.blocked({x, y})) continue;
-      for (int dy = 0; dy < scale; ++dy) {
-        for (int dx = 0; dx < scale; ++dx) image.setPixel(x * scale + dx, rowOf(y) * scale + dy, Rgb{110, 110, 110});
-      }
-    }
-  }
-  const int half = std::max(1, scale / 3);
-  auto square = [&](GridCell c, Rgb colour, bool filled) {
-    const Eigen::Vector2d p = centre(c);
-    for (int dy = -half; dy <= half; ++dy) {
-      for (int dx = -half; dx <= half; ++dx) {
-        if (filled || std::abs(dx) == half || std::abs(dy) == half) {
-          image.setPixel(static_cast<int>(p.x()) + dx, static_cast<int>(p.y()) + dy, colour);
-        }
-      }
-    }
-  };
+  MapFigureContent figure;
+  figure.title = "skyroute fleet (grid): " + std::to_string(problem.vehicles.size()) + " vehicles, " +
+                 std::to_string(problem.tasks.size()) + " tasks, makespan " + std::to_string(plan.makespan());
+  auto at = [](GridCell c) { return Eigen::Vector2d(c.x, c.y); };
   for (const VehiclePlan& v : plan.paths.vehicles) {
     const Rgb colour = vehicleRgb(static_cast<std::size_t>(v.vehicle));
-    for (std::size_t t = 1; t < v.cells.size(); ++t) {
-      image.drawLine(centre(v.cells[t - 1]), centre(v.cells[t]), colour, std::max(1, scale / 4));
-    }
-    square(problem.vehicles[static_cast<std::size_t>(v.vehicle)].depot, colour, true);
-    for (int j : v.tasks) square(problem.tasks[static_cast<std::size_t>(j)].cell, colour, false);
+    FigureLine line{"vehicle " + std::to_string(v.vehicle), {}, colour, 3.0};
+    for (const GridCell& c : v.cells) line.points.push_back(at(c));
+    figure.lines.push_back(std::move(line));
+    figure.markers.push_back({MarkerKind::kDepot, at(problem.vehicles[static_cast<std::size_t>(v.vehicle)].depot), 0, colour});
+    for (int j : v.tasks) figure.markers.push_back({MarkerKind::kTask, at(problem.tasks[static_cast<std::size_t>(j)].cell), 0, colour});
   }
-  if (Status saved = image.savePng(path); !saved.ok()) fail(kTool, kExitUsage, "--png " + saved.error().describe());
+  if (Status saved = saveGridFigure(grid, north_up, figure, path); !saved.ok()) {
+    fail(kTool, kExitUsage, "--png " + saved.error().describe());
+  }
 }
 
 void writeJson(const std::string& path, const FleetProblem& problem, const FleetPlan& plan) {

@@ -16,6 +16,7 @@
 #include "planning/grid/any_angle_search.hpp"
 #include "service/cli/cli_parse.hpp"
 #include "service/cli/commands.hpp"
+#include "service/map_figure.hpp"
 #include "terrain/movingai.hpp"
 
 namespace skyroute::cli {
@@ -34,6 +35,7 @@ struct GridPathOptions {
   int window_segments = HabPpParameters{}.output_window_segments;  // HAB-PP output stage
   bool window_given = false;  // --window-segments on the command line
   std::string out;
+  std::string png;
 };
 
 GridCell parseCell(const std::string& option, const std::string& text) {
@@ -61,6 +63,7 @@ void run(const GridPathOptions& o) {
     fail(kTool, kExitUsage, "--window-segments: applies to hab-pp and hab-pp-rrt only, not " + o.algo);
   }
   checkOutputPath(kTool, "--out", o.out, {"json"});
+  checkOutputPath(kTool, "--png", o.png, {"png"});
   Result<GridLayer> grid = loadMovingAiMap(o.map);
   if (!grid) fail(kTool, kExitBadInput, "--map " + grid.error().describe());
   checkEndpoint(*grid, "--from", start);
@@ -104,6 +107,20 @@ void run(const GridPathOptions& o) {
     f << j.dump() << "\n";
     if (!f.flush()) fail(kTool, kExitUsage, "--out " + o.out + ": cannot write");
   }
+  if (!o.png.empty()) {
+    MapFigureContent figure;
+    char title[160];
+    std::snprintf(title, sizeof title, "%s: length %.2f cells", o.algo.c_str(), length);
+    figure.title = title;
+    FigureLine line{o.algo + " path", {}, Rgb{220, 20, 20}, 3.0};
+    for (GridCell c : path) line.points.emplace_back(c.x, c.y);
+    figure.lines.push_back(std::move(line));
+    figure.markers.push_back({MarkerKind::kStart, Eigen::Vector2d(start.x, start.y)});
+    figure.markers.push_back({MarkerKind::kEnd, Eigen::Vector2d(goal.x, goal.y)});
+    if (Status saved = saveGridFigure(*grid, false, figure, o.png); !saved.ok()) {
+      fail(kTool, kExitUsage, "--png " + saved.error().describe());
+    }
+  }
 }
 
 }  // namespace
@@ -127,6 +144,7 @@ void addGridPathCommand(CLI::App& grid) {
       "--window-segments", opts->window_segments,
       "HAB-PP output stage: re-plan windows of N path segments with Theta* (a local search; 0: off)");
   window->default_val(HabPpParameters{}.output_window_segments);
+  cmd->add_option("--png", opts->png, "draw the map around the path, with start, end, scale and legend, to this PNG");
   cmd->add_option("--out", opts->out, "write {\"length\": L, \"points\": [[x, y], ...]} to this JSON file");
   cmd->callback([opts, window] {
     if (opts->from.empty() || opts->to.empty()) fail(kTool, kExitUsage, "give --from X,Y and --to X,Y");

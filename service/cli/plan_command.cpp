@@ -1,6 +1,7 @@
 // skyroute plan: one mission through the mission pipeline (the daemon's own), written out as the
 // daemon would publish it. The mission comes from a mission file (the JSON `skyroute request
 // --file` publishes) or from --from/--via/--to; the configuration from --config (skyrouted's keys).
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -16,11 +17,12 @@
 #include "service/cli/height_ref_option.hpp"
 #include "service/cli/mission_args.hpp"
 #include "service/daemon_config.hpp"
-#include "service/map_image.hpp"
+#include "service/map_figure.hpp"
 #include "service/mission_json.hpp"
 #include "service/mission_pipeline.hpp"
 #include "service/qgc_plan.hpp"
 #include "service/trajectory_export.hpp"
+#include "service/trajectory_figure.hpp"
 
 namespace skyroute::cli {
 namespace {
@@ -51,25 +53,31 @@ MissionRequestData buildMission(const PlanArgs& a) {
   return m;
 }
 
+// The trajectory over the terrain under it, cropped to the route, with the planner's legs, the
+// mission points in visiting order and the altitude profile below.
 void writePng(const std::string& path, const WorldModel& world, const MissionPlan& plan, const TrajectoryData& data) {
-  auto image = MapImage::hillshade(world.terrain().dem());
-  if (!image.ok()) fail(kTool, kExitUsage, "--png " + image.error().describe());
   const Heightfield& terrain = world.terrain();
-  std::vector<Eigen::Vector3d> flown;
-  std::vector<double> altitude;
-  std::vector<double> ground;
-  for (const TrajectorySampleData& s : data.samples) {
-    flown.push_back(s.position_enu_m);
-    altitude.push_back(s.position_enu_m.z());
-    ground.push_back(terrain.heightAt(s.position_enu_m.x(), s.position_enu_m.y()));
+  MapFigureContent figure;
+  char title[160];
+  std::snprintf(title, sizeof title, "%s  \u00B7  %s  \u00B7  seed %llu  \u00B7  %.0f s", data.vehicle_id.c_str(),
+                std::string(plan.mission.planner->name).c_str(), static_cast<unsigned long long>(plan.seed),
+                data.samples.empty() ? 0.0 : data.samples.back().t_rel_s);
+  figure.title = title;
+  for (const RouteLeg& leg : plan.flight->route().legs) {
+    figure.lines.push_back({"planned legs", groundTrack(leg.rrt.path_m), Rgb{250, 220, 60}, 1.5, true});
   }
-  const PlannedRoute& route = plan.flight->route();
-  for (const RouteLeg& leg : route.legs) image->drawPathEn(terrain, leg.rrt.path_m, Rgb{250, 250, 120}, 1);
-  image->drawPathEn(terrain, flown, Rgb{220, 20, 20}, 3);
-  for (const Eigen::Vector3d& p : plan.mission.ordered_m) image->drawDisc(terrain.enToPixel(p.x(), p.y()), 5, Rgb{20, 20, 220});
-  image->appendProfile(altitude, ground, std::max(120, image->height() / 4));
-  Status saved = image->savePng(path);
-  if (!saved.ok()) fail(kTool, kExitUsage, "--png " + saved.error().describe());
+  figure.lines.push_back(trajectoryLine(data, "trajectory", Rgb{220, 20, 20}));
+  const std::vector<Eigen::Vector3d>& points = plan.mission.ordered_m;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const MarkerKind kind = i == 0 ? MarkerKind::kStart
+                            : i + 1 == points.size() ? MarkerKind::kEnd
+                                                     : MarkerKind::kMissionPoint;
+    figure.markers.push_back({kind, points[i].head<2>(), static_cast<int>(i), Rgb{30, 60, 200}});
+  }
+  figure.profile = trajectoryProfile(terrain, data);
+  if (Status saved = saveTerrainFigure(terrain, figure, path); !saved.ok()) {
+    fail(kTool, kExitUsage, "--png " + saved.error().describe());
+  }
 }
 
 void writeJson(const std::string& path, const MissionPlan& plan, const TrajectoryData& data) {

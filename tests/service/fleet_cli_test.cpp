@@ -131,7 +131,8 @@ TEST_F(FleetCli, WritesAConflictFreePlanAsJsonAndPng) {
   ASSERT_EQ(png->GetRasterCount(), 3);
   const int w = png->GetRasterXSize();
   const int h = png->GetRasterYSize();
-  EXPECT_EQ(w, h);  // square cells on a square grid
+  EXPECT_GE(w, 1000);  // the figure: a map 1000 pixels on its long side, cropped to the fleet, in its frame
+  EXPECT_GT(h, 300);
   std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * h * 3);
   ASSERT_EQ(png->RasterIO(GF_Read, 0, 0, w, h, rgb.data(), w, h, GDT_Byte, 3, nullptr, 3, 3 * w, 1, nullptr), CE_None);
   std::set<std::tuple<int, int, int>> colours;
@@ -253,7 +254,7 @@ TEST_F(FleetCli, GeoJsonKmlAndPngOfTheFleet) {
   std::unique_ptr<GDALDataset> image(static_cast<GDALDataset*>(GDALOpen(png.c_str(), GA_ReadOnly)));
   ASSERT_TRUE(image);
   EXPECT_EQ(image->GetRasterCount(), 3);
-  EXPECT_EQ(image->GetRasterXSize(), 320);  // the DEM's pixel grid
+  EXPECT_GE(image->GetRasterXSize(), 1000);  // a map 1000 pixels on its long side, in its frame
 }
 
 TEST_F(FleetCli, VehiclesAndTasksFromTheCommandLine) {
