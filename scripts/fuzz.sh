@@ -21,7 +21,7 @@ PACKAGES=(
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
   cmake ccache pkg-config
   libeigen3-dev libgdal-dev liboctomap-dev libfcl-dev cyclonedds-dev cyclonedds-tools
-  libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev libcairo2-dev
+  libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev libcairo2-dev libssl-dev openssl
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -102,6 +102,10 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"dds", "startup_probe_s",
        "before serving, listen this long for another daemon with this service_id (then refuse to start); 0 serves at once, seconds",
        &c.startup_probe_s, 0, 10},
+      {"security", "dir",
+       "DDS Security: the folder of this daemon's identity, certificates and signed permissions (scripts/make-pki.sh "
+       "makes DIR/daemon; docs/dds.md); \"\" = unsecured",
+       &c.security_dir},
       {"ros2", "enabled",
        "mirror each vehicle's current trajectory on ROS 2 topics rt/skyroute/<vehicle>/path (nav_msgs/Path) and "
        "/origin (geographic_msgs/GeoPoint); docs/interop.md",
@@ -247,7 +251,7 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
         std::any_of(keys.begin(), keys.end(), [&](const Key& k) { return section == k.section; });
     if (!known_section) {
       return make_error(ErrorCode::kInvalidArgument, section,
-                        "unknown section [" + section + "] (known: terrain, dds, ros2, planning, replanning, bounds, obstacles, log)");
+                        "unknown section [" + section + "] (known: terrain, dds, security, ros2, planning, replanning, bounds, obstacles, log)");
     }
     if (!table) return make_error(ErrorCode::kInvalidArgument, section, "must be a table [" + section + "]");
     for (const auto& [key_name, node] : *table) {

@@ -21,6 +21,8 @@ struct DaemonConfig {
   double heartbeat_period_s = 1.0;      // ServiceStatus period
   double flush_timeout_s = 0.5;         // on stop, writers wait this long (in all) for acknowledgements
   double startup_probe_s = 0.3;         // before serving, listen this long for another daemon with this service_id
+  // [security]
+  std::string security_dir;             // DDS Security identity folder (scripts/make-pki.sh); "" = unsecured
   // [ros2]
   bool ros2_enabled = true;             // mirror trajectories on ROS 2 topics (dds/ros2_mirror.hpp)
   // [planning], [replanning], [bounds] (engine.bounds) and [obstacles] (engine.obstacles)

@@ -103,6 +103,7 @@ void addCancelCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("cancel", "Cancel a vehicle's mission or one request on a running skyrouted");
   cmd->footer(helpFooter({"skyroute cancel --domain 0 --vehicle uav-1", "skyroute cancel --domain 0 --request demo-1"}));
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
+  addSecurityOption(*cmd);
   cmd->add_option("--vehicle", options->vehicle, "Vehicle whose requests and flight to cancel");
   cmd->add_option("--request", options->request_id, "Request to cancel (with --vehicle: only that vehicle's)");
   cmd->add_option("--wait", options->wait_s, "Seconds to wait for the service and its answer")

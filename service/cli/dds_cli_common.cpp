@@ -9,10 +9,13 @@
 
 #include <CLI/CLI.hpp>
 
+#include "service/cli/dds_commands.hpp"
+
 namespace skyroute::cli {
 
 namespace {
 std::atomic<dds_entity_t> g_stop_waitset{0};
+std::string g_security_dir;  // --security of the command being run
 
 extern "C" void onStopSignal(int) {
   const dds_entity_t ws = g_stop_waitset.load();
@@ -20,10 +23,19 @@ extern "C" void onStopSignal(int) {
 }
 }  // namespace
 
+CLI::Option* addSecurityOption(CLI::App& command) {
+  return command.add_option("--security", g_security_dir,
+                     "DDS Security: this program's identity folder, made by scripts/make-pki.sh (DIR/station to send "
+                     "requests, DIR/observer to watch); default: unsecured (docs/dds.md)");
+}
+
 dds::Entity openParticipant(const std::string& tool, int domain) {
   if (domain < 0 || domain > 232) fail(tool, kExitUsage, "--domain " + std::to_string(domain) + " is outside [0, 232]");
-  auto participant = dds::createParticipant(static_cast<dds_domainid_t>(domain));
-  if (!participant) fail(tool, kExitServiceUnavailable, "domain " + std::to_string(domain) + ": " + participant.error().describe());
+  auto participant = dds::createParticipant(static_cast<dds_domainid_t>(domain), "", g_security_dir);
+  if (!participant) {
+    if (!g_security_dir.empty()) fail(tool, kExitBadInput, "--security " + participant.error().describe());
+    fail(tool, kExitServiceUnavailable, "domain " + std::to_string(domain) + ": " + participant.error().describe());
+  }
   return std::move(*participant);
 }
 

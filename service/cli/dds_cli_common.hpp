@@ -1,5 +1,6 @@
-// What the DDS tools share: opening a participant (or failing with a message and exit code),
-// stopping a waitset on SIGINT/SIGTERM, and one-line descriptions of what arrives.
+// What the DDS tools share: opening a participant (with the identity folder of --security, see
+// dds_commands.hpp) or failing with a message and exit code, stopping a waitset on SIGINT/SIGTERM,
+// and one-line descriptions of what arrives.
 #pragma once
 
 #include <string>
@@ -11,6 +12,8 @@
 
 namespace skyroute::cli {
 
+// An identity folder that fails its checks, or that DDS Security refuses, exits 3 naming the file
+// or the reason; a domain out of range exits 2.
 dds::Entity openParticipant(const std::string& tool, int domain);
 
 // SIGINT and SIGTERM trigger this waitset (only that, as the Cyclone examples do).

@@ -5,6 +5,7 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace skyroute {
@@ -20,6 +21,11 @@ void addReplayCommand(CLI::App& app);   // replay: a feed file with its timing  
 void addPx4Command(CLI::App& app);      // px4: offboard setpoints for PX4           (px4_command.cpp)
 void addCancelCommand(CLI::App& app);   // cancel: a vehicle's mission or a request   (cancel_command.cpp)
 void addStatusCommand(CLI::App& app);   // status: live daemons from their heartbeats (status_command.cpp)
+
+// `--security DIR` on a DDS subcommand: the participant it opens uses that identity folder
+// (scripts/make-pki.sh; DIR/station to send requests). One command runs per process, so the
+// folder is kept for that participant (dds_cli_common.cpp).
+CLI::Option* addSecurityOption(CLI::App& command);
 
 // fleet --domain: publishes the fleet request, prints its statuses and, on success, the outcome
 // and each vehicle's trajectory (written to `out` when given); fails with the exit-code table's

@@ -189,6 +189,7 @@ void addModeOptions(CLI::App& cmd, FleetCommandArgs& a) {
       cmd.add_flag("--cells", a.cells, "The 2D problem on the DEM's flight-band grid, points as X,Y cells (x east, y north)"));
   a.dds_only.push_back(
       cmd.add_option("--domain", a.domain, "Send the request to a running skyrouted on this DDS domain instead"));
+  a.dds_only.push_back(addSecurityOption(cmd));
   a.dds_only.push_back(cmd.add_option("--wait", a.wait_s, "--domain: seconds to wait for the service and its answer")
                            ->check(CLI::PositiveNumber)
                            ->capture_default_str());

@@ -143,6 +143,7 @@ void addGcsCommand(CLI::App& app) {
   auto options = std::make_shared<GcsOptions>();
   CLI::App* cmd = app.add_subcommand("gcs", "Ground-station view: print trajectories and statuses, export them");
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
+  addSecurityOption(*cmd);
   cmd->add_option("--vehicle", options->vehicle, "Only this vehicle (default: every vehicle)");
   cmd->add_option("--count", options->count, "Stop after K trajectories (0 = no limit)")
       ->check(CLI::NonNegativeNumber)

@@ -215,6 +215,7 @@ void addPx4Command(CLI::App& app) {
                   "PX4's EKF origin (default: read from fmu/out/vehicle_local_position)")
       ->type_name("LAT,LON,ALT_AMSL");
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
+  addSecurityOption(*cmd);
   cmd->add_option("--silence-timeout", options->silence_timeout_s,
                   "Hold the last position when skyrouted is silent this long, seconds")
       ->capture_default_str();

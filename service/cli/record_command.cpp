@@ -67,6 +67,7 @@ void addRecordCommand(CLI::App& app) {
                           "skyroute record out/feed.jsonl --domain 0 --count 10"}));
   cmd->add_option("FILE", options->output, "Feed file to write (JSON lines)")->required();
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
+  addSecurityOption(*cmd);
   cmd->add_option("--count", options->count, "Stop after K updates (0 = no limit)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

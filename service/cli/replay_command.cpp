@@ -99,6 +99,7 @@ void addReplayCommand(CLI::App& app) {
                           "skyroute replay feed.jsonl --domain 0 --speed 2 --loop --dem white_mountains.tif"}));
   cmd->add_option("FILE", options->input, "Feed file (JSON lines, docs/obstacle_feed.md)")->required();
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
+  addSecurityOption(*cmd);
   cmd->add_option("--dem", options->dem,
                   "The daemon's DEM: its frame places the feed's position_deg obstacles (default: the embedded terrain)");
   cmd->add_option("--speed", options->speed, "Time scale: 2 plays twice as fast")->capture_default_str()->check(CLI::PositiveNumber);

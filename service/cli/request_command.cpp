@@ -219,6 +219,7 @@ void addRequestCommand(CLI::App& app) {
                           "skyroute request --vehicle uav-1 --from 46.90,15.03,1100 --via '46.95,15.06,1150' "
                           "--to 46.97,15.12,1100 --max-speed-mps 25"}));
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
+  addSecurityOption(*cmd);
   cmd->add_option("--vehicle", options->vehicle, "Vehicle id (default: the file's vehicle_id)");
   cmd->add_option("--file", mission.mission_file, "Mission JSON (docs/dds.md); the options below override it");
   cmd->add_option("--from", mission.from, "Start LAT,LON,ALT (degrees, degrees, metres AMSL)");

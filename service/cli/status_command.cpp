@@ -133,6 +133,7 @@ void addStatusCommand(CLI::App& app) {
       "status", "The planning services live on a domain: queue length, active vehicles and uptime from their heartbeats");
   cmd->footer(helpFooter({"skyroute status --domain 0", "skyroute status --domain 0 --json"}));
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
+  addSecurityOption(*cmd);
   cmd->add_option("--wait", options->wait_s, "Seconds to listen for heartbeats at most")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

@@ -31,6 +31,7 @@ struct Overrides {
   std::string config_path;
   std::optional<std::string> dem;
   std::optional<int> domain;
+  std::optional<std::string> security_dir;
   std::optional<std::string> log_level;
   std::optional<std::string> log_format;
   std::optional<std::uint64_t> seed;
@@ -43,6 +44,7 @@ skyroute::Result<skyroute::DaemonConfig> buildConfig(const Overrides& o) {
   skyroute::DaemonConfig config = std::move(*loaded);
   if (o.dem) config.dem_path = *o.dem;
   if (o.domain) config.domain = *o.domain;
+  if (o.security_dir) config.security_dir = *o.security_dir;
   if (o.log_level) config.log_level = *o.log_level;
   if (o.log_format) config.log_format = *o.log_format;
   if (o.seed) config.engine.pipeline.seed = *o.seed;
@@ -78,6 +80,9 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--dem", overrides.dem, "DEM raster (any GDAL raster) (config terrain.dem; default: the embedded terrain)");
   app.add_option("--domain", overrides.domain, "DDS domain id (config dds.domain, default 0)")->check(CLI::Range(0, 232));
+  app.add_option("--security", overrides.security_dir,
+                 "DDS Security: this daemon's identity folder, made by scripts/make-pki.sh (DIR/daemon) (config "
+                 "security.dir; default: unsecured)");
   app.add_option("--seed", overrides.seed, "Seed of every plan (config planning.seed, default 1)");
   app.add_option("--log-level", overrides.log_level, "trace | debug | info | warn | error (config log.level, default info)");
   app.add_option("--log-format", overrides.log_format, "text | json (config log.format, default text)");
@@ -115,7 +120,8 @@ int main(int argc, char** argv) {
     std::cerr << "skyrouted: " << s.error().describe() << std::endl;
     return 2;
   }
-  spdlog::info("event=starting version={} dem={} domain={}", SKYROUTE_VERSION, config->dem_path, config->domain);
+  spdlog::info("event=starting version={} dem={} domain={} security={}", SKYROUTE_VERSION, config->dem_path,
+               config->domain, config->security_dir.empty() ? "off" : config->security_dir);
 
   skyroute::dds::MissionService service;
   std::string conflict;  // why the node must stop for another daemon (written before SIGUSR1)

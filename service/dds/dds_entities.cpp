@@ -1,5 +1,7 @@
 #include "service/dds/dds_entities.hpp"
 
+#include "service/dds/dds_security.hpp"
+
 namespace skyroute::dds {
 
 Error ddsError(dds_return_t rc, const std::string& operation) {
@@ -35,10 +37,27 @@ Result<Entity> owned(dds_entity_t handle, const char* operation) {
 
 }  // namespace
 
-Result<Entity> createParticipant(dds_domainid_t domain, const std::string& user_data) {
-  if (user_data.empty()) return owned(dds_create_participant(domain, nullptr, nullptr), "dds_create_participant");
+Result<Entity> createParticipant(dds_domainid_t domain, const std::string& user_data, const std::string& security_dir) {
+  if (user_data.empty() && security_dir.empty()) {
+    return owned(dds_create_participant(domain, nullptr, nullptr), "dds_create_participant");
+  }
   Qos qos(dds_create_qos());
-  dds_qset_userdata(qos.get(), user_data.data(), user_data.size());
+  if (!user_data.empty()) dds_qset_userdata(qos.get(), user_data.data(), user_data.size());
+  if (!security_dir.empty()) {
+    if (Status checked = checkSecurityFolder(security_dir); !checked.ok()) return checked.error();
+    addSecurityProperties(qos.get(), security_dir);
+    const dds_entity_t participant = dds_create_participant(domain, qos.get(), nullptr);
+    if (participant < 0) {
+      // The files passed their checks: what is left is the plugins' judgement (permissions or
+      // governance not signed by permissions_ca.pem, or no grant for this domain or subject).
+      return make_error(ErrorCode::kInvalidArgument, security_dir,
+                        std::string("DDS Security refused the identity in ") + security_dir + ": " +
+                            dds_strretcode(participant) +
+                            " (are governance.p7s and permissions.p7s signed by permissions_ca.pem, and do the "
+                            "permissions grant this identity's subject and domain " + std::to_string(domain) + "?)");
+    }
+    return Entity(participant);
+  }
   return owned(dds_create_participant(domain, qos.get(), nullptr), "dds_create_participant");
 }
 
@@ -57,7 +76,15 @@ Result<Entity> createReader(dds_entity_t participant, dds_entity_t topic, const 
 }
 
 Result<Entity> createWriter(dds_entity_t participant, dds_entity_t topic, const dds_qos_t* qos) {
-  return owned(dds_create_writer(participant, topic, qos, nullptr), "dds_create_writer");
+  const dds_entity_t writer = dds_create_writer(participant, topic, qos, nullptr);
+  if (writer == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY) {
+    char name[256] = "";
+    (void)dds_get_name(topic, name, sizeof name);
+    return make_error(ErrorCode::kInvalidArgument, std::string("topic ") + name,
+                      std::string("DDS Security: this identity's permissions grant no publish on topic '") + name +
+                          "' (scripts/make-pki.sh gives that grant to the station identity)");
+  }
+  return owned(writer, "dds_create_writer");
 }
 
 Result<Entity> createWaitset(dds_entity_t participant) {

@@ -63,13 +63,16 @@ Endpoint matchedPublication(dds_entity_t reader, dds_instance_handle_t publicati
 
 // Each returns the owned entity or an Error naming the operation and Cyclone's reason.
 // user_data: the participant's USER_DATA QoS, which every other participant on the domain reads at
-// discovery (the daemon names its instance there).
-Result<Entity> createParticipant(dds_domainid_t domain, const std::string& user_data = "");
+// discovery (the daemon names its instance there). security_dir: an identity folder
+// (service/dds/dds_security.hpp), checked before use; empty for an unsecured participant.
+Result<Entity> createParticipant(dds_domainid_t domain, const std::string& user_data = "",
+                                 const std::string& security_dir = "");
 // A reader of the built-in DCPSParticipant topic: every participant discovered on the domain.
 Result<Entity> createParticipantReader(dds_entity_t participant);
 Result<Entity> createTopic(dds_entity_t participant, const dds_topic_descriptor_t* descriptor,
                            const std::string& name, const dds_qos_t* qos);
 Result<Entity> createReader(dds_entity_t participant, dds_entity_t topic, const dds_qos_t* qos);
+// Refused by DDS Security: the error names the topic the identity's permissions do not grant.
 Result<Entity> createWriter(dds_entity_t participant, dds_entity_t topic, const dds_qos_t* qos);
 Result<Entity> createWaitset(dds_entity_t participant);
 Result<Entity> createGuardCondition(dds_entity_t participant);

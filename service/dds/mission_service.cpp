@@ -38,10 +38,11 @@ bool terrainChanged(const DaemonConfig& a, const DaemonConfig& b) {
          a.world.constant_velocity_horizon_s != b.world.constant_velocity_horizon_s;
 }
 
-// The DDS entities are made anew: another domain or service id, or another ROS 2 mirror (on or
-// off, or the origin of another terrain).
+// The DDS entities are made anew: another domain, service id or security identity, or another
+// ROS 2 mirror (on or off, or the origin of another terrain).
 bool edgeChanged(const DaemonConfig& a, const DaemonConfig& b) {
-  return a.domain != b.domain || a.service_id != b.service_id || a.ros2_enabled != b.ros2_enabled ||
+  return a.domain != b.domain || a.service_id != b.service_id || a.security_dir != b.security_dir ||
+         a.ros2_enabled != b.ros2_enabled ||
          (b.ros2_enabled && terrainChanged(a, b));
 }
 
@@ -88,10 +89,19 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   ServiceInstance me = instance_;
   me.service_id = config.service_id;
   me.heartbeat_period_s = config.heartbeat_period_s;
-  auto participant = createParticipant(static_cast<dds_domainid_t>(config.domain), me.userData());
+  // A participant's announcement travels in clear even under DDS Security (the specification's
+  // SPDP), so a secured daemon names itself only in its heartbeat writer's USER_DATA, which secure
+  // discovery encrypts; peers then learn of it at endpoint discovery instead of participant discovery.
+  const std::string participant_data = config.security_dir.empty() ? me.userData() : std::string();
+  auto participant = createParticipant(static_cast<dds_domainid_t>(config.domain), participant_data, config.security_dir);
   if (!participant.ok()) {
     Error e = participant.error();
-    e.field = "dds.domain";
+    if (config.security_dir.empty()) {
+      e.field = "dds.domain";
+    } else {
+      e.message = e.describe();
+      e.field = "security.dir";
+    }
     return e;
   }
   edge->participant = std::move(*participant);
