@@ -75,15 +75,11 @@ void runRequest(const RequestOptions& o) {
   const MissionRequestData mission = buildMission(o);
   dds::Entity participant = openParticipant(tool, o.domain);
   // The status reader exists before the request is written, so no reply can be missed.
-  auto statuses = dds::Reader<PlanStatusData>::create(participant.get());
-  if (!statuses) fail(tool, kExitServiceUnavailable, statuses.error().describe());
-  auto heartbeats = dds::Reader<ServiceStatusData>::create(participant.get());
-  if (!heartbeats) fail(tool, kExitServiceUnavailable, heartbeats.error().describe());
-  auto writer = dds::Writer<MissionRequestData>::create(participant.get());
-  if (!writer) fail(tool, kExitServiceUnavailable, writer.error().describe());
-  auto loop = dds::WaitLoop::create(participant.get());
-  if (!loop) fail(tool, kExitServiceUnavailable, loop.error().describe());
-  const std::string me = dds::entityGuid(writer->handle());
+  auto statuses = openReader<PlanStatusData>(tool, participant);
+  auto heartbeats = openReader<ServiceStatusData>(tool, participant);
+  auto writer = openWriter<MissionRequestData>(tool, participant);
+  auto loop = openWaitLoop(tool, participant);
+  const std::string me = dds::entityGuid(writer.handle());
 
   const auto start = Clock::now();
   auto left_s = [&] { return o.wait_s - std::chrono::duration<double>(Clock::now() - start).count(); };
@@ -93,16 +89,15 @@ void runRequest(const RequestOptions& o) {
   // participant may be a little behind the first one's endpoints).
   auto daemons = dds::createParticipantReader(participant.get());
   if (!daemons) fail(tool, kExitServiceUnavailable, daemons.error().describe());
-  auto discovery = dds::WaitLoop::create(participant.get());
-  if (!discovery) fail(tool, kExitServiceUnavailable, discovery.error().describe());
-  for (auto [entity, mask] : {std::pair{writer->handle(), DDS_PUBLICATION_MATCHED_STATUS},
-                              std::pair{statuses->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS},
-                              std::pair{heartbeats->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS},
+  auto discovery = openWaitLoop(tool, participant);
+  for (auto [entity, mask] : {std::pair{writer.handle(), DDS_PUBLICATION_MATCHED_STATUS},
+                              std::pair{statuses.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS},
+                              std::pair{heartbeats.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS},
                               std::pair{daemons->get(), DDS_DATA_AVAILABLE_STATUS}}) {
-    if (Status watched = discovery->addStatus(entity, mask, [] {}); !watched)
+    if (Status watched = discovery.addStatus(entity, mask, [] {}); !watched)
       fail(tool, kExitServiceUnavailable, watched.error().describe());
   }
-  stopOnSignals(discovery->waitsetHandle());
+  stopOnSignals(discovery.waitsetHandle());
   constexpr double kSettleS = 0.1;
   std::set<std::string> services;
   std::map<std::string, double> periods_s;  // instance id -> heartbeat period it announced
@@ -110,15 +105,15 @@ void runRequest(const RequestOptions& o) {
   Clock::time_point settled_since;
   for (;;) {
     std::set<std::string> reached;
-    for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats->handle())) {
+    for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats.handle())) {
       reached.insert(s.instance_id);
       periods_s[s.instance_id] = s.heartbeat_period_s;
     }
     services = reached;
     for (const dds::ServiceInstance& s : dds::discoveredInstances(daemons->get())) services.insert(s.instance_id);
     const auto n = static_cast<uint32_t>(services.size());
-    const bool all = n > 0 && reached.size() == services.size() && dds::matchedReaders(writer->handle()) >= n &&
-                     dds::matchedWriters(statuses->handle()) >= n;
+    const bool all = n > 0 && reached.size() == services.size() && dds::matchedReaders(writer.handle()) >= n &&
+                     dds::matchedWriters(statuses.handle()) >= n;
     if (!all) {
       settled = false;
     } else if (!settled) {
@@ -135,12 +130,12 @@ void runRequest(const RequestOptions& o) {
                                      " but not all of them matched this client within " + numberText(o.wait_s) + " s");
     }
     const double wait_s = settled ? 0.02 : std::max(0.01, left_s());
-    auto outcome = discovery->runOnce(std::min(wait_s, std::max(0.01, left_s())));
+    auto outcome = discovery.runOnce(std::min(wait_s, std::max(0.01, left_s())));
     if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
     if (*outcome == dds::WaitLoop::Outcome::kStopped) fail(tool, kExitPlanningFailed, "interrupted before the request was sent");
   }
-  stopOnSignals(loop->waitsetHandle());
-  Status written = writer->write(mission);
+  stopOnSignals(loop.waitsetHandle());
+  Status written = writer.write(mission);
   if (!written) fail(tool, kExitServiceUnavailable, written.error().describe());
   std::cout << "sent request=" << mission.request_id << " vehicle=" << mission.vehicle_id
             << " points=" << mission.points.size() << " services=" << services.size() << std::endl;
@@ -148,8 +143,8 @@ void runRequest(const RequestOptions& o) {
   std::map<std::string, Heard> heard;           // instance id -> its last heartbeat
   std::set<std::string> accepted_by;            // instances answering this request
   std::optional<PlanStatusData> final_status;
-  Status added = loop->add<PlanStatusData>(
-      *statuses,
+  Status added = loop.add<PlanStatusData>(
+      statuses,
       [&](PlanStatusData&& s) {
         if (s.request_id != mission.request_id) return;
         if (!s.requester.empty() && s.requester != me) return;  // another client's request with this id
@@ -161,27 +156,27 @@ void runRequest(const RequestOptions& o) {
         }
         if (isTerminal(s.state)) {
           final_status = std::move(s);
-          loop->stop();
+          loop.stop();
         }
       },
       [](const Error& e) { std::cerr << "skyroute request: skipped a bad status: " << e.describe() << std::endl; });
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
-  added = loop->add<ServiceStatusData>(
-      *heartbeats,
+  added = loop.add<ServiceStatusData>(
+      heartbeats,
       [&](ServiceStatusData&& s) {
         if (!s.instance_id.empty()) heard[s.instance_id] = Heard{Clock::now(), s.heartbeat_period_s};
       },
       [](const Error&) {});
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
   while (!final_status && left_s() > 0.0) {
-    auto outcome = loop->runOnce(std::min(0.1, std::max(0.01, left_s())));
+    auto outcome = loop.runOnce(std::min(0.1, std::max(0.01, left_s())));
     if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
     if (*outcome == dds::WaitLoop::Outcome::kStopped) break;
     // Every service that answered this request must still be alive: heartbeats on time, and
     // (before its first heartbeat reached us) still discovered.
     if (accepted_by.empty()) continue;
     std::set<std::string> discovered;
-    for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats->handle())) discovered.insert(s.instance_id);
+    for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats.handle())) discovered.insert(s.instance_id);
     for (const std::string& instance : accepted_by) {
       std::string why;
       if (auto h = heard.find(instance); h != heard.end()) {
