@@ -16,6 +16,7 @@
 #include "service/world_model.hpp"
 #include "terrain/terrain_world.hpp"
 #include "tests/daemon/daemon_fixture.hpp"
+#include "tests/spoiled_request.hpp"
 #include "tests/terrain_data.hpp"
 
 namespace skyroute {
@@ -156,12 +157,7 @@ TEST_F(SkyroutedE2E, ReplayedObstacleFeedCrossingTheRouteGivesANewRevisionThatAv
 
 TEST_F(SkyroutedE2E, BadRequestsGetTheirErrorAndTheServiceGoesOnServing) {
   startDaemon(143);
-  struct Case {
-    std::string name;
-    std::function<void(MissionRequestData&)> spoil;
-    PlanErrorCode code;
-    std::string field;
-  };
+  using Case = testing::SpoiledRequest;
   const std::vector<Case> cases = {
       {"planner", [](auto& m) { m.planner = "astar-9000"; }, PlanErrorCode::kUnknownPlanner, "planner"},
       {"nan", [](auto& m) { m.points[0].enu_m.y() = std::nan(""); }, PlanErrorCode::kInvalidArgument, "points[0]"},
