@@ -14,21 +14,11 @@
 namespace skyroute {
 namespace {
 
-using testing::ChildProcess;
-
-struct Ran {
-  int code = -1;
-  std::string out, err;
-};
+using testing::Ran;
 
 Ran runCli(std::vector<std::string> args, const std::string& name, double timeout_s = 60.0) {
   args.insert(args.begin(), SKYROUTE_CLI);
-  ChildProcess child = ChildProcess::spawn(args, name);
-  Ran r;
-  r.code = child.wait(timeout_s);
-  r.out = child.out();
-  r.err = child.err();
-  return r;
+  return testing::runToEnd(args, name, timeout_s);
 }
 
 class CancelStatusE2E : public testing::DaemonFixture {
