@@ -1,5 +1,6 @@
 #include "service/dds/conversions.hpp"
 
+#include "planning/core/assign_result.hpp"
 #include "service/number_text.hpp"
 
 #include <cmath>
@@ -210,14 +211,6 @@ void sequenceToWire(const std::vector<Plain>& in, Seq& out, Convert convert) {
   for (std::size_t i = 0; i < in.size(); ++i) buffer[i] = convert(in[i]);
 }
 
-// Moves a converted member into place; the conversion's error when it failed.
-template <class T>
-std::optional<Error> assign(Result<T> converted, T& member) {
-  if (!converted) return converted.error();
-  member = std::move(*converted);
-  return std::nullopt;
-}
-
 }  // namespace
 
 // ------------------------------------------------------------------------------------------------
@@ -235,10 +228,10 @@ Result<MissionRequestData> fromWire(const skyroute_msgs_MissionRequest& in) {
   if (auto e = required(in.vehicle_id, "vehicle_id")) return *e;
   MissionRequestData out;
   SKYROUTE_MISSION_REQUEST_MEMBERS(SKYROUTE_MEMBER_FROM_WIRE)
-  if (auto e = assign(pointFromWire(in.begin, "begin"), out.begin)) return *e;
-  if (auto e = assign(pointsFromWire(in.points, "points"), out.points)) return *e;
-  if (auto e = assign(pointFromWire(in.end, "end"), out.end)) return *e;
-  if (auto e = assign(limitsFromWire(in.limits, "limits"), out.limits)) return *e;
+  if (auto e = assignResult(pointFromWire(in.begin, "begin"), out.begin)) return *e;
+  if (auto e = assignResult(pointsFromWire(in.points, "points"), out.points)) return *e;
+  if (auto e = assignResult(pointFromWire(in.end, "end"), out.end)) return *e;
+  if (auto e = assignResult(limitsFromWire(in.limits, "limits"), out.limits)) return *e;
   return out;
 }
 
@@ -441,10 +434,10 @@ Result<FleetRequestData> fromWire(const skyroute_msgs_FleetRequest& in) {
     if (auto e = required(in.vehicle_ids._buffer[i], field)) return *e;
     out.vehicle_ids.emplace_back(in.vehicle_ids._buffer[i]);
   }
-  if (auto e = assign(pointsFromWire(in.begins, "begins"), out.begins)) return *e;
-  if (auto e = assign(pointsFromWire(in.tasks, "tasks"), out.tasks)) return *e;
-  if (auto e = assign(pointsFromWire(in.ends, "ends"), out.ends)) return *e;
-  if (auto e = assign(limitsFromWire(in.limits, "limits"), out.limits)) return *e;
+  if (auto e = assignResult(pointsFromWire(in.begins, "begins"), out.begins)) return *e;
+  if (auto e = assignResult(pointsFromWire(in.tasks, "tasks"), out.tasks)) return *e;
+  if (auto e = assignResult(pointsFromWire(in.ends, "ends"), out.ends)) return *e;
+  if (auto e = assignResult(limitsFromWire(in.limits, "limits"), out.limits)) return *e;
   out.planner = text(in.planner);
   return out;
 }
