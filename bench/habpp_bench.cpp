@@ -33,6 +33,7 @@
 #include <ctime>
 #include <numeric>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/support/grid_motion_validator.hpp"
@@ -182,31 +183,26 @@ int main(int argc, char** argv) {
   std::string dump_dir;     // --dump DIR: each HAB-PP path as DIR/<map>_<planner>_<seed>.txt ("x y" per line)
   double weights[3] = {-1.0, -1.0, -1.0};  // w_L, w_A, w_P of eq. (2); negative: the paper's 1/3 each
   std::vector<std::string> wanted;
+  // The options that take one integer.
+  const std::pair<const char*, int*> int_options[] = {
+      {"--runs", &runs}, {"--stable", &stable}, {"--near-k", &near_k}, {"--output-routes", &output_routes},
+      {"--stop-top", &stop_top}, {"--draws", &draws}, {"--shared-tree", &shared_tree}, {"--sample-eta", &sample_eta},
+      {"--rest", &rest}, {"--node-redraws", &node_redraws}, {"--tree-route", &tree_route}, {"--corridor", &corridor},
+      {"--after-solution", &after_solution}, {"--only", &only}, {"--window-segments", &window_segments},
+      {"--window-margin", &window_margin}};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--runs" && i + 1 < argc) runs = std::atoi(argv[++i]);
+    int* int_option = nullptr;
+    for (const auto& [name, target] : int_options)
+      if (a == name) int_option = target;
+    if (int_option != nullptr && i + 1 < argc) *int_option = std::atoi(argv[++i]);
     else if (a == "--map" && i + 1 < argc) wanted.push_back(argv[++i]);
     else if (a == "--budget-s" && i + 1 < argc) budget_s = std::atof(argv[++i]);
-    else if (a == "--stable" && i + 1 < argc) stable = std::atoi(argv[++i]);
     else if (a == "--rrt-iterations" && i + 1 < argc) rrt_iterations = std::atoll(argv[++i]);
     else if (a == "--no-hab") hab = false;
-    else if (a == "--near-k" && i + 1 < argc) near_k = std::atoi(argv[++i]);
-    else if (a == "--output-routes" && i + 1 < argc) output_routes = std::atoi(argv[++i]);
-    else if (a == "--stop-top" && i + 1 < argc) stop_top = std::atoi(argv[++i]);
-    else if (a == "--draws" && i + 1 < argc) draws = std::atoi(argv[++i]);
-    else if (a == "--shared-tree" && i + 1 < argc) shared_tree = std::atoi(argv[++i]);
-    else if (a == "--sample-eta" && i + 1 < argc) sample_eta = std::atoi(argv[++i]);
     else if (a == "--published") published = true;
-    else if (a == "--rest" && i + 1 < argc) rest = std::atoi(argv[++i]);
-    else if (a == "--node-redraws" && i + 1 < argc) node_redraws = std::atoi(argv[++i]);
-    else if (a == "--tree-route" && i + 1 < argc) tree_route = std::atoi(argv[++i]);
-    else if (a == "--corridor" && i + 1 < argc) corridor = std::atoi(argv[++i]);
-    else if (a == "--after-solution" && i + 1 < argc) after_solution = std::atoi(argv[++i]);
-    else if (a == "--only" && i + 1 < argc) only = std::atoi(argv[++i]);
     else if (a == "--dump" && i + 1 < argc) dump_dir = argv[++i];
     else if (a == "--window" && i + 1 < argc) window = std::atof(argv[++i]);
-    else if (a == "--window-segments" && i + 1 < argc) window_segments = std::atoi(argv[++i]);
-    else if (a == "--window-margin" && i + 1 < argc) window_margin = std::atoi(argv[++i]);
     else if (a == "--tau-min" && i + 1 < argc) tau_min = std::atof(argv[++i]);
     else if (a == "--weights" && i + 1 < argc) {
       if (std::sscanf(argv[++i], "%lf,%lf,%lf", &weights[0], &weights[1], &weights[2]) != 3) return 2;

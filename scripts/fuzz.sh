@@ -7,6 +7,8 @@
 # Usage: scripts/fuzz.sh [SECONDS] [HARNESS...]   (harnesses: the tests/fuzz/*_fuzzer.cpp names)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# shellcheck source=scripts/lib/install_packages.sh
+source scripts/lib/install_packages.sh
 
 seconds="${1:-30}"
 if [ $# -gt 0 ]; then shift; fi
@@ -23,17 +25,7 @@ PACKAGES=(
   libeigen3-dev libgdal-dev liboctomap-dev libfcl-dev cyclonedds-dev cyclonedds-tools
   libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev libcairo2-dev libssl-dev openssl
 )
-missing=()
-for p in "${PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "fuzz: installing ${missing[*]}"
-  SUDO=""
-  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+install_missing_packages fuzz "${PACKAGES[@]}"
 
 started=$(date +%s)
 cmake --preset fuzz >/dev/null

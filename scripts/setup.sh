@@ -4,6 +4,8 @@
 # Usage: scripts/setup.sh [--preset default|asan] [extra cmake --build args, e.g. --target skyroute]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# shellcheck source=scripts/lib/install_packages.sh
+source scripts/lib/install_packages.sh
 
 PACKAGES=(
   build-essential cmake ccache pkg-config
@@ -18,17 +20,7 @@ PACKAGES=(
   systemd  # systemd-analyze checks the installed unit (tests/install/install_test.sh)
 )
 
-missing=()
-for p in "${PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "setup: installing ${missing[*]}"
-  SUDO=""
-  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+install_missing_packages setup "${PACKAGES[@]}"
 
 preset=default
 if [ "${1:-}" = "--preset" ]; then preset="$2"; shift 2; fi

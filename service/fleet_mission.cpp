@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "planning/fleet/fleet_planner.hpp"
+#include "service/fleet_vehicle_route.hpp"
 #include "service/request_footprint.hpp"
 #include "service/trajectory_data.hpp"
 #include "terrain/grid_from_terrain.hpp"
@@ -17,7 +18,7 @@ namespace skyroute {
 
 namespace {
 
-std::string indexed(const char* name, std::size_t i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
+std::string indexed(const char* name, std::size_t i) { return indexedField(name, i); }
 
 PlanError fail(PlanErrorCode code, std::string field, std::string message) {
   return PlanError{code, std::move(field), std::move(message)};
@@ -47,8 +48,6 @@ std::string requestField(const std::string& field) {
   if (const auto space = rest.find(' '); space != std::string::npos) rest = rest.substr(0, space);
   return rest;
 }
-
-bool nearlyEqual2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return (a - b).norm() < 1e-6; }
 
 }  // namespace
 
@@ -305,6 +304,136 @@ std::optional<PlanError> validateFleetRequest(const FleetRequestData& r, const F
 
 namespace {
 
+// The route points in ENU, each checked against the world, into out; the highest one's height.
+Result<double, PlanError> placeRoutePoints(const FleetRequestData& r, const CollisionWorld& world,
+                                           const LocalFrame& frame, FleetPlanOutput& out) {
+  double top_m = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < r.vehicle_ids.size(); ++i) {
+    out.begins_m.push_back(r.begins[i].toEnu(frame));
+    out.ends_m.push_back(r.ends[i].toEnu(frame));
+    if (Status ok = checkRoutePoint(world, out.begins_m[i], indexed("begins", i)); !ok.ok()) return toPlanError(ok.error());
+    if (Status ok = checkRoutePoint(world, out.ends_m[i], indexed("ends", i)); !ok.ok()) return toPlanError(ok.error());
+    top_m = std::max({top_m, out.begins_m[i].z(), out.ends_m[i].z()});
+  }
+  for (std::size_t j = 0; j < r.tasks.size(); ++j) {
+    out.tasks_m.push_back(r.tasks[j].toEnu(frame));
+    if (Status ok = checkRoutePoint(world, out.tasks_m[j], indexed("tasks", j)); !ok.ok()) return toPlanError(ok.error());
+    top_m = std::max(top_m, out.tasks_m[j].z());
+  }
+  return top_m;
+}
+
+// The flight band's grid (as the HAB-PP legs build theirs), just above the highest route point.
+Result<GridLayer, PlanError> buildFlightBand(const WorldModel& world_model, const CollisionWorld& world,
+                                             const FleetMissionOptions& o, double top_m,
+                                             const TerminationCondition& stop, FleetPlanOutput& out) {
+  const Heightfield& terrain = world_model.terrain();
+  const CollisionWorldOptions& wo = world.options();
+  out.cell_size_m = std::max(terrain.dem().resolutionM().minCoeff(),
+                             1.0001 * terrain.boundsEn().sizes().maxCoeff() / o.max_cells_per_axis);
+  out.cruise_altitude_m = std::min(wo.ceiling_m - 1.0, top_m + o.band_margin_m);
+  TerrainGridOptions go;
+  go.cell_size_m = out.cell_size_m;
+  go.flight_ceiling_m = out.cruise_altitude_m;
+  go.min_clearance_m = wo.min_clearance_m + wo.vehicle_radius_m;
+  go.cancel = stop.cancelFlag();
+  auto grid = buildTerrainGrid(terrain, go);
+  if (!grid.ok()) return toPlanError(grid.error());
+  return std::move(*grid);
+}
+
+// Depots must already be apart: a held vehicle cannot be moved by a delay.
+std::optional<PlanError> checkDepotSeparation(const FleetPlanOutput& out, double separation_m) {
+  const std::string apart = "closer than the minimum separation (" + std::to_string(static_cast<int>(separation_m)) + " m) to ";
+  for (std::size_t i = 0; i < out.begins_m.size(); ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if ((out.begins_m[i] - out.begins_m[k]).norm() < separation_m)
+        return fail(PlanErrorCode::kInvalidArgument, indexed("begins", i), apart + indexed("begins", k));
+      if ((out.ends_m[i] - out.ends_m[k]).norm() < separation_m)
+        return fail(PlanErrorCode::kInvalidArgument, indexed("ends", i), apart + indexed("ends", k));
+    }
+  }
+  return std::nullopt;
+}
+
+// GMTPA on the flight band: which vehicle does which tasks, and their collision-free grid paths.
+Result<FleetPlan, PlanError> allocateTasks(const GridLayer& grid, const FleetPlanOutput& out,
+                                           const TerminationCondition& stop) {
+  FleetProblem problem;
+  for (std::size_t i = 0; i < out.begins_m.size(); ++i) {
+    const auto cell = grid.cellAt(out.begins_m[i].head<2>());
+    if (!cell) return fail(PlanErrorCode::kOutsideMap, indexed("begins", i), "is off the flight-band grid");
+    problem.vehicles.push_back({indexed("begins", i), *cell, 0});
+  }
+  for (std::size_t j = 0; j < out.tasks_m.size(); ++j) {
+    const auto cell = grid.cellAt(out.tasks_m[j].head<2>());
+    if (!cell) return fail(PlanErrorCode::kOutsideMap, indexed("tasks", j), "is off the flight-band grid");
+    problem.tasks.push_back({indexed("tasks", j), *cell});
+  }
+  auto plan = planFleet(grid, problem, FleetPlannerOptions{}, stop);
+  if (!plan.ok()) {
+    PlanError e = toPlanError(plan.error());
+    e.field = requestField(plan.error().field);
+    e.message = plan.error().message + " (on the " + std::to_string(static_cast<int>(out.cell_size_m)) +
+                " m flight-band grid under " + std::to_string(static_cast<int>(out.cruise_altitude_m)) + " m)";
+    return e;
+  }
+  return std::move(*plan);
+}
+
+// Each trajectory's size against the caps, before the separation check samples them all.
+std::optional<PlanError> checkTrajectorySizes(const FleetRequestData& r, const FleetMissionOptions& o,
+                                              const FleetPlanOutput& out) {
+  for (std::size_t i = 0; i < out.flown.size(); ++i) {
+    if (auto too_large = checkTrajectorySize(out.flown[i].duration_s(), o.sample_dt_s, o.trajectory_bounds)) {
+      too_large->field = indexed("vehicle_ids", i);
+      too_large->message = r.vehicle_ids[i] + ": " + too_large->message;
+      return too_large;
+    }
+  }
+  return std::nullopt;
+}
+
+// Separation over continuous time, repaired by delaying starts (see the header); the delays.
+Result<SeparationRepair, PlanError> separateVehicles(const FleetRequestData& r, const FleetMissionOptions& o,
+                                                     double separation_m, const TerminationCondition& stop,
+                                                     FleetPlanOutput& out) {
+  SeparationCheckOptions so;
+  so.separation_m = separation_m;
+  so.sample_dt_s = o.separation_dt_s;
+  so.min_interval_s = o.separation_min_interval_s;
+  SeparationRepair repair = repairFleetSeparation(out.flown, so, o.delay_step_s, o.max_delay_s, stop);
+  if (repair.stopped) return fail(PlanErrorCode::kCancelled, "", "stopped during the separation repair");
+  if (repair.failed_vehicle) {
+    const std::size_t i = *repair.failed_vehicle;
+    return fail(PlanErrorCode::kUnreachable, indexed("vehicle_ids", i),
+                r.vehicle_ids[i] + " cannot keep " + std::to_string(static_cast<int>(separation_m)) +
+                    " m from the vehicles before it within a delay of " + std::to_string(static_cast<int>(o.max_delay_s)) +
+                    " s (its route passes too close to a point where another holds)");
+  }
+  out.status.separation_repairs = static_cast<std::uint32_t>(repair.repaired);
+  out.status.achieved_separation_m = out.flown.size() > 1 ? repair.closest_m : 0.0;
+  return repair;
+}
+
+// Each vehicle's trajectory sampled from its delayed start, keeping its visiting order and legs.
+void sampleDelayedTrajectories(const FleetRequestData& r, const LocalFrame& frame, const FleetMissionOptions& o,
+                               std::int64_t start_utc_ns, const std::vector<double>& delays_s, FleetPlanOutput& out) {
+  for (std::size_t i = 0; i < out.flown.size(); ++i) {
+    const double delay_s = delays_s[i];
+    out.delays_s.push_back(delay_s);
+    out.status.allocation[i].delay_s = delay_s;
+    out.status.makespan_s = std::max(out.status.makespan_s, delay_s + out.flown[i].duration_s());
+    TrajectoryData& d = out.trajectories[i];
+    TrajectoryIdentity id{r.vehicle_ids[i], r.request_id + "-" + r.vehicle_ids[i], 0, r.request_id};
+    TrajectoryData sampled = toTrajectoryData(out.flown[i], frame, o.sample_dt_s,
+                                              start_utc_ns + static_cast<std::int64_t>(std::llround(delay_s * 1e9)), id);
+    sampled.visiting_order = std::move(d.visiting_order);
+    sampled.legs = std::move(d.legs);
+    d = std::move(sampled);
+  }
+}
+
 // The planning proper; throws nothing, reports through `out.status` (error fields) or fills out.
 std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_model, const FleetMissionOptions& o,
                                   std::int64_t start_utc_ns, const TerminationCondition& stop, FleetPlanOutput& out) {
@@ -317,265 +446,28 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
   if (!world_r.ok()) return fail(PlanErrorCode::kLimitsOutOfRange, world_r.error().field, world_r.error().message);
   const std::shared_ptr<const CollisionWorld> world = *world_r;
   const LocalFrame& frame = world_model.frame();
-  const std::size_t nv = r.vehicle_ids.size();
-  const std::size_t nt = r.tasks.size();
-  double top_m = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < nv; ++i) {
-    out.begins_m.push_back(r.begins[i].toEnu(frame));
-    out.ends_m.push_back(r.ends[i].toEnu(frame));
-    if (Status ok = checkRoutePoint(*world, out.begins_m[i], indexed("begins", i)); !ok.ok()) return toPlanError(ok.error());
-    if (Status ok = checkRoutePoint(*world, out.ends_m[i], indexed("ends", i)); !ok.ok()) return toPlanError(ok.error());
-    top_m = std::max({top_m, out.begins_m[i].z(), out.ends_m[i].z()});
-  }
-  for (std::size_t j = 0; j < nt; ++j) {
-    out.tasks_m.push_back(r.tasks[j].toEnu(frame));
-    if (Status ok = checkRoutePoint(*world, out.tasks_m[j], indexed("tasks", j)); !ok.ok()) return toPlanError(ok.error());
-    top_m = std::max(top_m, out.tasks_m[j].z());
-  }
 
-  // The flight band's grid (as the HAB-PP legs build theirs).
-  const Heightfield& terrain = world_model.terrain();
-  const CollisionWorldOptions& wo = world->options();
-  out.cell_size_m = std::max(terrain.dem().resolutionM().minCoeff(),
-                             1.0001 * terrain.boundsEn().sizes().maxCoeff() / o.max_cells_per_axis);
-  out.cruise_altitude_m = std::min(wo.ceiling_m - 1.0, top_m + o.band_margin_m);
-  const double cruise_m = out.cruise_altitude_m;
-  TerrainGridOptions go;
-  go.cell_size_m = out.cell_size_m;
-  go.flight_ceiling_m = cruise_m;
-  go.min_clearance_m = wo.min_clearance_m + wo.vehicle_radius_m;
-  go.cancel = stop.cancelFlag();
-  auto grid = buildTerrainGrid(terrain, go);
-  if (!grid.ok()) return toPlanError(grid.error());
+  auto top_m = placeRoutePoints(r, *world, frame, out);
+  if (!top_m.ok()) return top_m.error();
+  auto grid = buildFlightBand(world_model, *world, o, *top_m, stop, out);
+  if (!grid.ok()) return grid.error();
   const double separation_m = o.min_separation_m > 0.0 ? o.min_separation_m : out.cell_size_m;
   out.status.min_separation_m = separation_m;
-
-  // Depots must already be apart: a held vehicle cannot be moved by a delay.
-  for (std::size_t i = 0; i < nv; ++i) {
-    for (std::size_t k = 0; k < i; ++k) {
-      if ((out.begins_m[i] - out.begins_m[k]).norm() < separation_m) {
-        return fail(PlanErrorCode::kInvalidArgument, indexed("begins", i),
-                    "closer than the minimum separation (" + std::to_string(static_cast<int>(separation_m)) + " m) to begins[" +
-                        std::to_string(k) + "]");
-      }
-      if ((out.ends_m[i] - out.ends_m[k]).norm() < separation_m) {
-        return fail(PlanErrorCode::kInvalidArgument, indexed("ends", i),
-                    "closer than the minimum separation (" + std::to_string(static_cast<int>(separation_m)) + " m) to ends[" +
-                        std::to_string(k) + "]");
-      }
-    }
-  }
-
-  FleetProblem problem;
-  for (std::size_t i = 0; i < nv; ++i) {
-    const auto cell = grid->cellAt(out.begins_m[i].head<2>());
-    if (!cell) return fail(PlanErrorCode::kOutsideMap, indexed("begins", i), "is off the flight-band grid");
-    problem.vehicles.push_back({indexed("begins", i), *cell, 0});
-  }
-  for (std::size_t j = 0; j < nt; ++j) {
-    const auto cell = grid->cellAt(out.tasks_m[j].head<2>());
-    if (!cell) return fail(PlanErrorCode::kOutsideMap, indexed("tasks", j), "is off the flight-band grid");
-    problem.tasks.push_back({indexed("tasks", j), *cell});
-  }
-  auto plan = planFleet(*grid, problem, FleetPlannerOptions{}, stop);
-  if (!plan.ok()) {
-    PlanError e = toPlanError(plan.error());
-    e.field = requestField(plan.error().field);
-    e.message = plan.error().message + " (on the " + std::to_string(static_cast<int>(out.cell_size_m)) +
-                " m flight-band grid under " + std::to_string(static_cast<int>(cruise_m)) + " m)";
-    return e;
-  }
+  if (auto e = checkDepotSeparation(out, separation_m)) return e;
+  auto plan = allocateTasks(*grid, out, stop);
+  if (!plan.ok()) return plan.error();
   out.status.makespan_steps = plan->makespan();
 
   // Each vehicle's route in 3D through the trajectory stage.
-  const VehicleLimits limits = toVehicleLimits(r.limits);
-  for (std::size_t i = 0; i < nv; ++i) {
+  const FleetRouteContext context{r, *grid, world, out.cruise_altitude_m, toVehicleLimits(r.limits), o};
+  for (std::size_t i = 0; i < r.vehicle_ids.size(); ++i) {
     if (stop.shouldStop()) return fail(PlanErrorCode::kCancelled, "", "stopped while building trajectories");
-    const VehiclePlan& vp = plan->paths.vehicles[i];
-    const Eigen::Vector3d& begin = out.begins_m[i];
-    const Eigen::Vector3d& end = out.ends_m[i];
-    // The horizontal route: begin, the cells (a task's own position at its step), begin again.
-    std::vector<Eigen::Vector2d> xy{begin.head<2>()};
-    std::vector<int> route_point(1, 0);  // route point id per xy entry (-1 = plain cell), 0 = begin
-    std::vector<GridCell> cell_of{vp.cells.front()};
-    std::size_t next_task = 0;
-    for (int t = 1; t <= vp.finish_step && t < static_cast<int>(vp.cells.size()); ++t) {
-      const GridCell c = vp.cells[static_cast<std::size_t>(t)];
-      cell_of.push_back(c);
-      if (next_task < vp.tasks.size() && vp.task_steps[next_task] == t) {
-        xy.push_back(out.tasks_m[static_cast<std::size_t>(vp.tasks[next_task])].head<2>());
-        route_point.push_back(vp.tasks[next_task] + 1);
-        ++next_task;
-      } else {
-        xy.push_back(t == vp.finish_step ? Eigen::Vector2d(begin.head<2>()) : grid->cellCenter(c));
-        route_point.push_back(-1);
-      }
-    }
-    if (next_task != vp.tasks.size()) return fail(PlanErrorCode::kInternal, indexed("vehicle_ids", i), "task steps out of order");
-    // Waits and straight runs collapse: within one cell the route point (begin, task) stands for
-    // the cell, and a plain cell is kept only where the route turns.
-    std::vector<Eigen::Vector2d> kept_xy;
-    std::vector<int> kept_id;
-    GridCell last_cell{-1, -1};
-    for (std::size_t k = 0; k < xy.size(); ++k) {
-      const bool same_cell = !kept_xy.empty() && cell_of[k] == last_cell;
-      last_cell = cell_of[k];
-      if (same_cell && route_point[k] < 0) continue;
-      if (same_cell && kept_id.back() < 0) {
-        kept_xy.back() = xy[k];
-        kept_id.back() = route_point[k];
-        continue;
-      }
-      if (same_cell && nearlyEqual2(kept_xy.back(), xy[k])) {
-        continue;  // two tasks at one position: one overflight does both (the second is not a new leg)
-      }
-      if (kept_xy.size() >= 2 && kept_id.back() < 0 && route_point[k] < 0) {
-        const Eigen::Vector2d a = kept_xy[kept_xy.size() - 2];
-        const Eigen::Vector2d b = kept_xy.back();
-        const Eigen::Vector2d d1 = b - a;
-        const Eigen::Vector2d d2 = xy[k] - b;
-        if (std::abs(d1.x() * d2.y() - d1.y() * d2.x()) < 1e-6 * d1.norm() * d2.norm() && d1.dot(d2) > 0.0) {
-          kept_xy.back() = xy[k];  // b lies on the straight line from a to here
-          continue;
-        }
-      }
-      kept_xy.push_back(xy[k]);
-      kept_id.push_back(route_point[k]);
-    }
-    // Lift: climb over the begin, cruise, fly on to over the end, descend.
-    std::vector<Eigen::Vector3d> points{begin};  // route points: begin, tasks (at cruise), end
-    std::vector<std::vector<Eigen::Vector3d>> leg_paths(1, std::vector<Eigen::Vector3d>{begin});
-    std::vector<std::uint32_t> order{0};
-    auto add = [&](const Eigen::Vector3d& p) {
-      if ((leg_paths.back().back() - p).norm() > 1e-6) leg_paths.back().push_back(p);
-    };
-    add(Eigen::Vector3d(begin.x(), begin.y(), cruise_m));
-    for (std::size_t k = 1; k < kept_xy.size(); ++k) {
-      const Eigen::Vector3d p(kept_xy[k].x(), kept_xy[k].y(), cruise_m);
-      add(p);
-      if (kept_id[k] > 0) {  // a task: a route point, and a new leg starts there
-        points.push_back(p);
-        order.push_back(static_cast<std::uint32_t>(kept_id[k]));
-        leg_paths.push_back({p});
-      }
-    }
-    if (vp.tasks.empty() && (end - begin).norm() < 1e-3) {
-      // Idle: no tasks and home already. The vehicle stays where it is (a constant trajectory
-      // of one sample interval) rather than climbing to the cruise altitude and back.
-      Segment hold;
-      hold.duration_s = o.sample_dt_s;
-      for (int axis = 0; axis < 3; ++axis) {
-        Polynomial7::Coefficients c{};
-        c[0] = begin[axis];
-        hold.axes[static_cast<std::size_t>(axis)] = Polynomial7(c);
-      }
-      out.flown.emplace_back(std::vector<Segment>{hold});
-      TrajectoryData data;
-      data.vehicle_id = r.vehicle_ids[i];
-      data.visiting_order = {0, static_cast<std::uint32_t>(nt + 1)};
-      data.legs.push_back(LegBoundaryData{0, static_cast<std::uint32_t>(nt + 1), 0.0, o.sample_dt_s});
-      out.trajectories.push_back(std::move(data));
-      out.status.allocation.push_back(FleetVehicleAllocationData{r.vehicle_ids[i], {}, 0.0});
-      continue;
-    }
-    const Eigen::Vector3d over_end(end.x(), end.y(), cruise_m);
-    if (!world->isSegmentValid(leg_paths.back().back(), over_end)) {
-      return fail(PlanErrorCode::kUnreachable, indexed("ends", i),
-                  "cannot be reached straight at the cruise altitude from over begins[" + std::to_string(i) +
-                      "] (the vehicle's depot, where GMTPA returns it)");
-    }
-    add(over_end);
-    add(end);
-    // A straight climb from the begin to the first cruise vertex (and descent from the last one
-    // to the end) where it is clear: the vertical climb's right-angle turn into the cruise makes
-    // the spline overshoot near the ground, which the trajectory stage then repairs by slowing.
-    auto straighten = [&](std::vector<Eigen::Vector3d>& path, std::size_t corner) {
-      if (corner == 0 || corner + 1 >= path.size()) return;
-      if (world->isSegmentValid(path[corner - 1], path[corner + 1])) path.erase(path.begin() + static_cast<long>(corner));
-    };
-    straighten(leg_paths.front(), 1);
-    straighten(leg_paths.back(), leg_paths.back().size() - 2);
-    points.push_back(end);
-    order.push_back(static_cast<std::uint32_t>(nt + 1));
-
-    PlannedRoute route;
-    for (std::size_t l = 0; l < leg_paths.size(); ++l) {
-      RouteLeg leg;
-      leg.from_point = l;
-      leg.to_point = l + 1;
-      leg.path_m = leg_paths[l];  // from route point l to route point l + 1
-      for (std::size_t k = (l == 0 ? 0 : 1); k < leg.path_m.size(); ++k) route.waypoints_m.push_back(leg.path_m[k]);
-      route.legs.push_back(std::move(leg));
-    }
-    RouteOptions ro = o.route;
-    ro.snapshot.reset();
-    ro.trajectory_start_world_s.reset();
-    if (Status built = buildRouteTrajectory(world, points, limits, ro, route); !built.ok()) {
-      PlanError e = toPlanError(built.error());
-      e.message = r.vehicle_ids[i] + ": " + e.message;
-      e.field = indexed("vehicle_ids", i);
-      return e;
-    }
-    {
-      std::string repairs;
-      for (const std::string& line : route.built.report.repairs) repairs += (repairs.empty() ? "" : "; ") + line;
-      spdlog::debug("event=fleet_trajectory request={} vehicle={} duration_s={:.1f} status={} repairs=\"{}\"",
-                    r.request_id, r.vehicle_ids[i], route.built.trajectory.duration_s(),
-                    to_string(route.built.report.status), repairs);
-    }
-    out.flown.push_back(route.built.trajectory);
-    TrajectoryData data;
-    data.vehicle_id = r.vehicle_ids[i];
-    data.visiting_order = order;
-    for (const RouteLeg& leg : route.legs) {
-      data.legs.push_back(LegBoundaryData{order[leg.from_point], order[leg.to_point], leg.start_s, leg.end_s});
-    }
-    out.trajectories.push_back(std::move(data));
-    FleetVehicleAllocationData a;
-    a.vehicle_id = r.vehicle_ids[i];
-    for (int j : vp.tasks) a.tasks.push_back(static_cast<std::uint32_t>(j));
-    out.status.allocation.push_back(std::move(a));
+    if (auto e = addFleetVehicleRoute(context, i, plan->paths.vehicles[i], out)) return e;
   }
-
-  // Each trajectory's size against the caps, before the separation check samples them all.
-  for (std::size_t i = 0; i < nv; ++i) {
-    if (auto too_large = checkTrajectorySize(out.flown[i].duration_s(), o.sample_dt_s, o.trajectory_bounds)) {
-      too_large->field = indexed("vehicle_ids", i);
-      too_large->message = r.vehicle_ids[i] + ": " + too_large->message;
-      return too_large;
-    }
-  }
-
-  // Separation over continuous time, repaired by delaying starts (see the header).
-  SeparationCheckOptions so;
-  so.separation_m = separation_m;
-  so.sample_dt_s = o.separation_dt_s;
-  so.min_interval_s = o.separation_min_interval_s;
-  const SeparationRepair repair = repairFleetSeparation(out.flown, so, o.delay_step_s, o.max_delay_s, stop);
-  if (repair.stopped) return fail(PlanErrorCode::kCancelled, "", "stopped during the separation repair");
-  if (repair.failed_vehicle) {
-    const std::size_t i = *repair.failed_vehicle;
-    return fail(PlanErrorCode::kUnreachable, indexed("vehicle_ids", i),
-                r.vehicle_ids[i] + " cannot keep " + std::to_string(static_cast<int>(separation_m)) +
-                    " m from the vehicles before it within a delay of " + std::to_string(static_cast<int>(o.max_delay_s)) +
-                    " s (its route passes too close to a point where another holds)");
-  }
-  out.status.separation_repairs = static_cast<std::uint32_t>(repair.repaired);
-  out.status.achieved_separation_m = nv > 1 ? repair.closest_m : 0.0;
-
-  for (std::size_t i = 0; i < nv; ++i) {
-    const double delay_s = repair.delays_s[i];
-    out.delays_s.push_back(delay_s);
-    out.status.allocation[i].delay_s = delay_s;
-    out.status.makespan_s = std::max(out.status.makespan_s, delay_s + out.flown[i].duration_s());
-    TrajectoryData& d = out.trajectories[i];
-    TrajectoryIdentity id{r.vehicle_ids[i], r.request_id + "-" + r.vehicle_ids[i], 0, r.request_id};
-    TrajectoryData sampled = toTrajectoryData(out.flown[i], frame, o.sample_dt_s,
-                                              start_utc_ns + static_cast<std::int64_t>(std::llround(delay_s * 1e9)), id);
-    sampled.visiting_order = std::move(d.visiting_order);
-    sampled.legs = std::move(d.legs);
-    d = std::move(sampled);
-  }
+  if (auto e = checkTrajectorySizes(r, o, out)) return e;
+  auto repair = separateVehicles(r, o, separation_m, stop, out);
+  if (!repair.ok()) return repair.error();
+  sampleDelayedTrajectories(r, frame, o, start_utc_ns, repair->delays_s, out);
   return std::nullopt;
 }
 

@@ -5,6 +5,8 @@
 
 #include <proj.h>
 
+#include "planning/core/enum_names.hpp"
+
 namespace skyroute {
 
 namespace {
@@ -43,18 +45,13 @@ Status checkLatLon(double lat_deg, double lon_deg, const std::string& field) {
 
 }  // namespace
 
-std::string_view to_string(HeightReference reference) {
-  switch (reference) {
-    case HeightReference::kAmsl: return "amsl";
-    case HeightReference::kEllipsoid: return "ellipsoid";
-  }
-  return "amsl";
-}
+constexpr EnumName<HeightReference> kHeightReferenceNames[] = {{HeightReference::kAmsl, "amsl"},
+                                                                {HeightReference::kEllipsoid, "ellipsoid"}};
+
+std::string_view to_string(HeightReference reference) { return enumName(kHeightReferenceNames, reference, "amsl"); }
 
 std::optional<HeightReference> parseHeightReference(std::string_view text) {
-  if (text == "amsl") return HeightReference::kAmsl;
-  if (text == "ellipsoid") return HeightReference::kEllipsoid;
-  return std::nullopt;
+  return enumNamed(kHeightReferenceNames, text);
 }
 
 struct Egm96Geoid::Impl {

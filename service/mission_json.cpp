@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include "planning/core/assign_result.hpp"
+
 namespace skyroute {
 
 namespace {
@@ -99,6 +101,22 @@ std::optional<Error> limitsFromJson(const json& j, VehicleLimitsData& limits) {
   return std::nullopt;
 }
 
+// Whether j has any of the three keys.
+bool containsAny(const json& j, const char* const (&keys)[3]) {
+  return j.contains(keys[0]) || j.contains(keys[1]) || j.contains(keys[2]);
+}
+
+// The numbers at the three keys, read in order (the first failure is the error).
+Result<Eigen::Vector3d> numbers(const json& j, const char* const (&keys)[3], const std::string& parent) {
+  Eigen::Vector3d v;
+  for (int k = 0; k < 3; ++k) {
+    auto x = number(j, keys[k], parent);
+    if (!x) return x.error();
+    v[k] = *x;
+  }
+  return v;
+}
+
 // j[key] as an array of points named key[i] (absent: empty when optional).
 Result<std::vector<MissionPointData>> pointArray(const json& j, const std::string& key, bool required) {
   std::vector<MissionPointData> points;
@@ -126,23 +144,17 @@ json missionPointToJson(const MissionPointData& point) {
 
 Result<MissionPointData> missionPointFromJson(const json& j, const std::string& field) {
   if (!j.is_object()) return invalid(field, "must be an object with lat_deg, lon_deg, alt_amsl_m or east_m, north_m, up_m");
-  if (j.contains("lat_deg") || j.contains("lon_deg") || j.contains("alt_amsl_m")) {
-    auto lat = number(j, "lat_deg", field);
-    if (!lat) return lat.error();
-    auto lon = number(j, "lon_deg", field);
-    if (!lon) return lon.error();
-    auto alt = number(j, "alt_amsl_m", field);
-    if (!alt) return alt.error();
-    return MissionPointData::wgs84(*lat, *lon, *alt);
+  const char* const geo_keys[] = {"lat_deg", "lon_deg", "alt_amsl_m"};
+  if (containsAny(j, geo_keys)) {
+    auto geo = numbers(j, geo_keys, field);
+    if (!geo) return geo.error();
+    return MissionPointData::wgs84(geo->x(), geo->y(), geo->z());
   }
-  if (j.contains("east_m") || j.contains("north_m") || j.contains("up_m")) {
-    auto e = number(j, "east_m", field);
-    if (!e) return e.error();
-    auto n = number(j, "north_m", field);
-    if (!n) return n.error();
-    auto u = number(j, "up_m", field);
-    if (!u) return u.error();
-    return MissionPointData::enu({*e, *n, *u});
+  const char* const enu_keys[] = {"east_m", "north_m", "up_m"};
+  if (containsAny(j, enu_keys)) {
+    auto enu = numbers(j, enu_keys, field);
+    if (!enu) return enu.error();
+    return MissionPointData::enu(*enu);
   }
   return invalid(field, "has neither lat_deg/lon_deg/alt_amsl_m nor east_m/north_m/up_m");
 }
@@ -163,30 +175,16 @@ json missionToJson(const MissionRequestData& m) {
 Result<MissionRequestData> missionFromJson(const json& j) {
   if (!j.is_object()) return invalid("mission", "must be a JSON object");
   MissionRequestData m;
-  auto request_id = text(j, "request_id", "", "");
-  if (!request_id) return request_id.error();
-  m.request_id = *request_id;
-  auto vehicle_id = text(j, "vehicle_id", "", "");
-  if (!vehicle_id) return vehicle_id.error();
-  m.vehicle_id = *vehicle_id;
+  if (auto e = assignResult(text(j, "request_id", "", ""), m.request_id)) return *e;
+  if (auto e = assignResult(text(j, "vehicle_id", "", ""), m.vehicle_id)) return *e;
   for (const char* key : {"begin", "end"})
     if (!j.contains(key)) return invalid(key, "is missing");
-  auto begin = missionPointFromJson(j.at("begin"), "begin");
-  if (!begin) return begin.error();
-  m.begin = *begin;
-  auto end = missionPointFromJson(j.at("end"), "end");
-  if (!end) return end.error();
-  m.end = *end;
-  auto points = pointArray(j, "points", false);
-  if (!points) return points.error();
-  m.points = std::move(*points);
+  if (auto e = assignResult(missionPointFromJson(j.at("begin"), "begin"), m.begin)) return *e;
+  if (auto e = assignResult(missionPointFromJson(j.at("end"), "end"), m.end)) return *e;
+  if (auto e = assignResult(pointArray(j, "points", false), m.points)) return *e;
   if (auto bad = limitsFromJson(j, m.limits)) return *bad;
-  auto planner = text(j, "planner", "", "");
-  if (!planner) return planner.error();
-  m.planner = *planner;
-  auto fixed = boolean(j, "fixed_order", "", false);
-  if (!fixed) return fixed.error();
-  m.fixed_order = *fixed;
+  if (auto e = assignResult(text(j, "planner", "", ""), m.planner)) return *e;
+  if (auto e = assignResult(boolean(j, "fixed_order", "", false), m.fixed_order)) return *e;
   return m;
 }
 
@@ -204,12 +202,8 @@ json fleetToJson(const FleetRequestData& f) {
 Result<FleetRequestData> fleetFromJson(const json& j) {
   if (!j.is_object()) return invalid("fleet", "must be a JSON object");
   FleetRequestData f;
-  auto request_id = text(j, "request_id", "", "");
-  if (!request_id) return request_id.error();
-  f.request_id = *request_id;
-  auto begins = pointArray(j, "begins", true);
-  if (!begins) return begins.error();
-  f.begins = std::move(*begins);
+  if (auto e = assignResult(text(j, "request_id", "", ""), f.request_id)) return *e;
+  if (auto e = assignResult(pointArray(j, "begins", true), f.begins)) return *e;
   if (auto ids = j.find("vehicle_ids"); ids != j.end()) {
     if (!ids->is_array()) return invalid("vehicle_ids", "must be an array of strings");
     for (std::size_t i = 0; i < ids->size(); ++i) {
@@ -223,9 +217,7 @@ Result<FleetRequestData> fleetFromJson(const json& j) {
   } else {
     for (std::size_t i = 0; i < f.begins.size(); ++i) f.vehicle_ids.push_back("uav-" + std::to_string(i + 1));
   }
-  auto tasks = pointArray(j, "tasks", true);
-  if (!tasks) return tasks.error();
-  f.tasks = std::move(*tasks);
+  if (auto e = assignResult(pointArray(j, "tasks", true), f.tasks)) return *e;
   auto ends = pointArray(j, "ends", false);
   if (!ends) return ends.error();
   f.ends = j.contains("ends") ? std::move(*ends) : f.begins;
@@ -234,9 +226,7 @@ Result<FleetRequestData> fleetFromJson(const json& j) {
                                " begins");
   }
   if (auto bad = limitsFromJson(j, f.limits)) return *bad;
-  auto planner = text(j, "planner", "", "");
-  if (!planner) return planner.error();
-  f.planner = *planner;
+  if (auto e = assignResult(text(j, "planner", "", ""), f.planner)) return *e;
   return f;
 }
 
@@ -264,9 +254,7 @@ Result<ObstacleUpdateData> obstacleFromJson(const json& j, const std::string& fi
   if (id == j.end()) return invalid(join(field, "id"), "is missing");
   if (!id->is_number_unsigned()) return invalid(join(field, "id"), "must be a non-negative integer");
   u.obstacle.id = id->get<std::uint64_t>();
-  auto remove = boolean(j, "remove", field, false);
-  if (!remove) return remove.error();
-  u.remove = *remove;
+  if (auto e = assignResult(boolean(j, "remove", field, false), u.remove)) return *e;
   if (u.remove) return u;
 
   auto shape_name = text(j, "shape", field, "");

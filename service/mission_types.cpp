@@ -1,5 +1,8 @@
 #include "service/mission_types.hpp"
 
+#include "planning/core/enum_names.hpp"
+#include "planning/core/field_problem.hpp"
+
 #include "service/number_text.hpp"
 
 #include <algorithm>
@@ -70,22 +73,14 @@ std::string_view to_string(PlanErrorCode code) {
 }
 
 std::string_view to_string(PlanStage stage) {
-  switch (stage) {
-    case PlanStage::kNone: return "none";
-    case PlanStage::kValidate: return "validate";
-    case PlanStage::kOrder: return "order";
-    case PlanStage::kLegs: return "legs";
-    case PlanStage::kTrajectory: return "trajectory";
-    case PlanStage::kSampling: return "sampling";
-    case PlanStage::kReplan: return "replan";
-  }
-  return "unknown";
+  constexpr EnumName<PlanStage> kNames[] = {
+      {PlanStage::kNone, "none"},         {PlanStage::kValidate, "validate"},     {PlanStage::kOrder, "order"},
+      {PlanStage::kLegs, "legs"},         {PlanStage::kTrajectory, "trajectory"}, {PlanStage::kSampling, "sampling"},
+      {PlanStage::kReplan, "replan"}};
+  return enumName(kNames, stage);
 }
 
-std::string PlanError::describe() const {
-  if (field.empty()) return message;
-  return field + ": " + message;
-}
+std::string PlanError::describe() const { return describeFieldProblem(field, message); }
 
 VehicleLimits toVehicleLimits(const VehicleLimitsData& d) {
   VehicleLimits l;
@@ -213,14 +208,11 @@ std::optional<PlanError> validateMissionRequest(const MissionRequestData& reques
   return checkVehicleLimits(request.limits, bounds.limits);
 }
 
-std::string_view to_string(ObstacleMotionKind kind) {
-  switch (kind) {
-    case ObstacleMotionKind::kStatic: return "static";
-    case ObstacleMotionKind::kConstantVelocity: return "constant_velocity";
-    case ObstacleMotionKind::kBackAndForth: return "back_and_forth";
-  }
-  return "unknown";
-}
+constexpr EnumName<ObstacleMotionKind> kMotionKindNames[] = {{ObstacleMotionKind::kStatic, "static"},
+                                                             {ObstacleMotionKind::kConstantVelocity, "constant_velocity"},
+                                                             {ObstacleMotionKind::kBackAndForth, "back_and_forth"}};
+
+std::string_view to_string(ObstacleMotionKind kind) { return enumName(kMotionKindNames, kind); }
 
 ObstacleMotionKind ObstacleUpdateData::motionKind() const {
   if (obstacle.motion) return ObstacleMotionKind::kBackAndForth;
@@ -235,9 +227,7 @@ std::optional<ObstacleShape> parseObstacleShape(std::string_view name) {
 }
 
 std::optional<ObstacleMotionKind> parseObstacleMotionKind(std::string_view name) {
-  for (ObstacleMotionKind k : {ObstacleMotionKind::kStatic, ObstacleMotionKind::kConstantVelocity, ObstacleMotionKind::kBackAndForth})
-    if (to_string(k) == name) return k;
-  return std::nullopt;
+  return enumNamed(kMotionKindNames, name);
 }
 
 std::optional<PlanError> validateObstacleUpdate(const ObstacleUpdateData& update) {

@@ -14,6 +14,74 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Longest piece of a segment treated as straight in pixel space (the ENU -> pixel map bends by
 // far less than a millimetre over this length on any DEM tile).
 constexpr double kMaxStraightPieceM = 2000.0;
+
+// The DEM's footprint in ENU: the box inside its four edges (a cell's width in from where they
+// bow) and the box around them.
+struct Footprint {
+  Eigen::AlignedBox2d inner;
+  Eigen::AlignedBox2d outer;
+};
+
+// From pixel centres sampled along the four edges.
+Result<Footprint> enuFootprint(const Dem& dem, OGRCoordinateTransformation& dem_to_wgs84, const LocalFrame& frame) {
+  const int w = dem.width();
+  const int h = dem.height();
+  const int edge_samples = 64;
+  std::vector<double> ex;
+  std::vector<double> ny;
+  std::vector<int> edge_of;  // 0 = first column, 1 = last column, 2 = first row, 3 = last row
+  for (int k = 0; k <= edge_samples; ++k) {
+    const double f = static_cast<double>(k) / edge_samples;
+    const double col = f * (w - 1);
+    const double row = f * (h - 1);
+    const std::pair<Eigen::Vector2d, int> pts[4] = {{{0.0, row}, 0}, {{w - 1.0, row}, 1}, {{col, 0.0}, 2},
+                                                    {{col, h - 1.0}, 3}};
+    for (const auto& [px, edge] : pts) {
+      const Eigen::Vector2d c = dem.pixelToCrs(px.x() + 0.5, px.y() + 0.5);
+      ex.push_back(c.x());
+      ny.push_back(c.y());
+      edge_of.push_back(edge);
+    }
+  }
+  if (!dem_to_wgs84.Transform(static_cast<int>(ex.size()), ex.data(), ny.data())) {
+    return make_error(ErrorCode::kNoCrs, dem.path(), "edges cannot be transformed to WGS84");
+  }
+  frame.lonLatToEastNorth(ex.data(), ny.data(), ex.size());
+  double mean_e[4] = {0, 0, 0, 0};
+  double mean_n[4] = {0, 0, 0, 0};
+  for (std::size_t i = 0; i < ex.size(); ++i) {
+    mean_e[edge_of[i]] += ex[i];
+    mean_n[edge_of[i]] += ny[i];
+  }
+  // Which pixel edges face west, east, south, north.
+  const bool cols_west_to_east = mean_e[0] < mean_e[1];
+  const bool rows_north_to_south = mean_n[2] > mean_n[3];
+  const int west = cols_west_to_east ? 0 : 1;
+  const int east = cols_west_to_east ? 1 : 0;
+  const int north = rows_north_to_south ? 2 : 3;
+  const int south = rows_north_to_south ? 3 : 2;
+  double e_min = -std::numeric_limits<double>::infinity();
+  double e_max = std::numeric_limits<double>::infinity();
+  double n_min = -std::numeric_limits<double>::infinity();
+  double n_max = std::numeric_limits<double>::infinity();
+  Eigen::AlignedBox2d outer;
+  for (std::size_t i = 0; i < ex.size(); ++i) {
+    outer.extend(Eigen::Vector2d(ex[i], ny[i]));
+    if (edge_of[i] == west) e_min = std::max(e_min, ex[i]);
+    if (edge_of[i] == east) e_max = std::min(e_max, ex[i]);
+    if (edge_of[i] == south) n_min = std::max(n_min, ny[i]);
+    if (edge_of[i] == north) n_max = std::min(n_max, ny[i]);
+  }
+  // The edges bow slightly between samples: keep a cell's width inside.
+  const Eigen::Vector2d res = dem.resolutionM();
+  Footprint footprint;
+  footprint.inner = Eigen::AlignedBox2d(Eigen::Vector2d(e_min + res.x(), n_min + res.y()),
+                                        Eigen::Vector2d(e_max - res.x(), n_max - res.y()));
+  footprint.outer = outer;
+  if (footprint.inner.isEmpty()) return make_error(ErrorCode::kInvalidArgument, dem.path(), "footprint is empty");
+  return footprint;
+}
+
 }  // namespace
 
 struct Heightfield::CrsTransforms {
@@ -62,60 +130,13 @@ Result<std::shared_ptr<const Heightfield>> Heightfield::build(std::shared_ptr<co
   }
   hf->frame_ = *frame;
 
-  // Footprint: pixel centres along the four edges, in ENU.
+  auto footprint = enuFootprint(*dem, *crs->dem_to_wgs84, hf->frame_);
+  if (!footprint.ok()) return footprint.error();
+  hf->bounds_en_ = footprint->inner;
+  const Eigen::AlignedBox2d& outer = footprint->outer;
+  const Eigen::Vector2d res = dem->resolutionM();
   const int w = dem->width();
   const int h = dem->height();
-  const int edge_samples = 64;
-  std::vector<double> ex;
-  std::vector<double> ny;
-  std::vector<int> edge_of;  // 0 = first column, 1 = last column, 2 = first row, 3 = last row
-  for (int k = 0; k <= edge_samples; ++k) {
-    const double f = static_cast<double>(k) / edge_samples;
-    const double col = f * (w - 1);
-    const double row = f * (h - 1);
-    const std::pair<Eigen::Vector2d, int> pts[4] = {{{0.0, row}, 0}, {{w - 1.0, row}, 1}, {{col, 0.0}, 2},
-                                                    {{col, h - 1.0}, 3}};
-    for (const auto& [px, edge] : pts) {
-      const Eigen::Vector2d c = dem->pixelToCrs(px.x() + 0.5, px.y() + 0.5);
-      ex.push_back(c.x());
-      ny.push_back(c.y());
-      edge_of.push_back(edge);
-    }
-  }
-  if (!crs->dem_to_wgs84->Transform(static_cast<int>(ex.size()), ex.data(), ny.data())) {
-    return make_error(ErrorCode::kNoCrs, dem->path(), "edges cannot be transformed to WGS84");
-  }
-  hf->frame_.lonLatToEastNorth(ex.data(), ny.data(), ex.size());
-  double mean_e[4] = {0, 0, 0, 0};
-  double mean_n[4] = {0, 0, 0, 0};
-  for (std::size_t i = 0; i < ex.size(); ++i) {
-    mean_e[edge_of[i]] += ex[i];
-    mean_n[edge_of[i]] += ny[i];
-  }
-  // Which pixel edges face west, east, south, north.
-  const bool cols_west_to_east = mean_e[0] < mean_e[1];
-  const bool rows_north_to_south = mean_n[2] > mean_n[3];
-  const int west = cols_west_to_east ? 0 : 1;
-  const int east = cols_west_to_east ? 1 : 0;
-  const int north = rows_north_to_south ? 2 : 3;
-  const int south = rows_north_to_south ? 3 : 2;
-  double e_min = -std::numeric_limits<double>::infinity();
-  double e_max = std::numeric_limits<double>::infinity();
-  double n_min = -std::numeric_limits<double>::infinity();
-  double n_max = std::numeric_limits<double>::infinity();
-  Eigen::AlignedBox2d outer;
-  for (std::size_t i = 0; i < ex.size(); ++i) {
-    outer.extend(Eigen::Vector2d(ex[i], ny[i]));
-    if (edge_of[i] == west) e_min = std::max(e_min, ex[i]);
-    if (edge_of[i] == east) e_max = std::min(e_max, ex[i]);
-    if (edge_of[i] == south) n_min = std::max(n_min, ny[i]);
-    if (edge_of[i] == north) n_max = std::min(n_max, ny[i]);
-  }
-  // The edges bow slightly between samples: keep a cell's width inside.
-  const Eigen::Vector2d res = dem->resolutionM();
-  hf->bounds_en_ = Eigen::AlignedBox2d(Eigen::Vector2d(e_min + res.x(), n_min + res.y()),
-                                       Eigen::Vector2d(e_max - res.x(), n_max - res.y()));
-  if (hf->bounds_en_.isEmpty()) return make_error(ErrorCode::kInvalidArgument, dem->path(), "footprint is empty");
 
   // Lattice ENU -> pixel, exact at the nodes: every 8 cells of the finer axis, but never more nodes
   // than a quarter of the DEM's cells (a DEM has about a 64th; cells far longer than wide, from a

@@ -6,14 +6,14 @@
 
 #include <Eigen/Geometry>
 
+#include "planning/core/enum_names.hpp"
+
 namespace skyroute {
 
 std::string_view to_string(CornerMethod method) {
-  switch (method) {
-    case CornerMethod::kFillet: return "fillet";
-    case CornerMethod::kPassThrough: return "pass-through";
-  }
-  return "unknown";
+  constexpr EnumName<CornerMethod> kNames[] = {{CornerMethod::kFillet, "fillet"},
+                                               {CornerMethod::kPassThrough, "pass-through"}};
+  return enumName(kNames, method);
 }
 
 double deflectionAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& p, const Eigen::Vector3d& b) {

@@ -4,14 +4,14 @@
 #include <cmath>
 #include <string>
 
+#include "planning/core/enum_names.hpp"
+
 namespace skyroute {
 
 std::string_view to_string(TimeAllocationMethod method) {
-  switch (method) {
-    case TimeAllocationMethod::kConstantSpeed: return "constant_speed";
-    case TimeAllocationMethod::kTrapezoidal: return "trapezoidal";
-  }
-  return "unknown";
+  constexpr EnumName<TimeAllocationMethod> kNames[] = {{TimeAllocationMethod::kConstantSpeed, "constant_speed"},
+                                                       {TimeAllocationMethod::kTrapezoidal, "trapezoidal"}};
+  return enumName(kNames, method);
 }
 
 Status validateWaypoints(const std::vector<Eigen::Vector3d>& waypoints, double min_separation_m) {

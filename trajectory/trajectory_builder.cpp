@@ -10,15 +10,15 @@
 #include <optional>
 #include <set>
 
+#include "planning/core/enum_names.hpp"
+
 namespace skyroute {
 
 std::string_view to_string(TrajectoryStatus status) {
-  switch (status) {
-    case TrajectoryStatus::kFeasible: return "feasible";
-    case TrajectoryStatus::kRepaired: return "repaired";
-    case TrajectoryStatus::kInfeasible: return "infeasible";
-  }
-  return "unknown";
+  constexpr EnumName<TrajectoryStatus> kNames[] = {{TrajectoryStatus::kFeasible, "feasible"},
+                                                   {TrajectoryStatus::kRepaired, "repaired"},
+                                                   {TrajectoryStatus::kInfeasible, "infeasible"}};
+  return enumName(kNames, status);
 }
 
 namespace {

@@ -1,5 +1,7 @@
 #include "planning/core/result.hpp"
 
+#include "planning/core/field_problem.hpp"
+
 namespace skyroute {
 
 std::string_view to_string(ErrorCode code) {
@@ -22,9 +24,11 @@ std::string_view to_string(ErrorCode code) {
   return "unknown";
 }
 
-std::string Error::describe() const {
+std::string describeFieldProblem(const std::string& field, const std::string& message) {
   if (field.empty()) return message;
   return field + ": " + message;
 }
+
+std::string Error::describe() const { return describeFieldProblem(field, message); }
 
 }  // namespace skyroute

@@ -2,25 +2,19 @@
 
 #include <chrono>
 
+#include "planning/core/enum_names.hpp"
 #include "planning/fleet/gmtpa.hpp"
 
 namespace skyroute {
 
-std::string_view to_string(FleetAllocator allocator) {
-  switch (allocator) {
-    case FleetAllocator::kGreedy: return "greedy";
-    case FleetAllocator::kGenetic: return "ga";
-    case FleetAllocator::kExact: return "exact";
-  }
-  return "unknown";
-}
+namespace {
+constexpr EnumName<FleetAllocator> kAllocatorNames[] = {
+    {FleetAllocator::kGreedy, "greedy"}, {FleetAllocator::kGenetic, "ga"}, {FleetAllocator::kExact, "exact"}};
+}  // namespace
 
-std::optional<FleetAllocator> parseFleetAllocator(std::string_view name) {
-  if (name == "greedy") return FleetAllocator::kGreedy;
-  if (name == "ga") return FleetAllocator::kGenetic;
-  if (name == "exact") return FleetAllocator::kExact;
-  return std::nullopt;
-}
+std::string_view to_string(FleetAllocator allocator) { return enumName(kAllocatorNames, allocator); }
+
+std::optional<FleetAllocator> parseFleetAllocator(std::string_view name) { return enumNamed(kAllocatorNames, name); }
 
 std::vector<std::vector<GridCell>> pathsOf(const FleetPaths& paths) {
   std::vector<std::vector<GridCell>> out;

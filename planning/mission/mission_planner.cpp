@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "planning/core/enum_names.hpp"
 #include "planning/mission/mmdstar_lite.hpp"
 #include "planning/mission/pairwise_dstar_lite.hpp"
 
@@ -26,11 +27,9 @@ std::string nameOf(int point, int point_count) {
 }  // namespace
 
 std::string_view to_string(MissionAlgorithm algorithm) {
-  switch (algorithm) {
-    case MissionAlgorithm::kMmdStarLite: return "mmdstar";
-    case MissionAlgorithm::kDStarLite: return "dstar-lite";
-  }
-  return "unknown";
+  constexpr EnumName<MissionAlgorithm> kNames[] = {{MissionAlgorithm::kMmdStarLite, "mmdstar"},
+                                                   {MissionAlgorithm::kDStarLite, "dstar-lite"}};
+  return enumName(kNames, algorithm);
 }
 
 Status validateMission(const GridLayer& grid, GridCell begin, const std::vector<GridCell>& missions, GridCell end,

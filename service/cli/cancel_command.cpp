@@ -39,26 +39,23 @@ void runCancel(const CancelOptions& o) {
   if (o.vehicle.empty() && o.request_id.empty()) fail(kTool, kExitUsage, "give --vehicle V, --request ID, or both");
   dds::Entity participant = openParticipant(kTool, o.domain);
   // The status reader exists before the cancel is written, so no answer can be missed.
-  auto statuses = dds::Reader<PlanStatusData>::create(participant.get());
-  if (!statuses) fail(kTool, kExitServiceUnavailable, statuses.error().describe());
-  auto writer = dds::Writer<CancelRequestData>::create(participant.get());
-  if (!writer) fail(kTool, kExitServiceUnavailable, writer.error().describe());
-  auto loop = dds::WaitLoop::create(participant.get());
-  if (!loop) fail(kTool, kExitServiceUnavailable, loop.error().describe());
-  stopOnSignals(loop->waitsetHandle());
+  auto statuses = openReader<PlanStatusData>(kTool, participant);
+  auto writer = openWriter<CancelRequestData>(kTool, participant);
+  auto loop = openWaitLoop(kTool, participant);
+  stopOnSignals(loop.waitsetHandle());
 
   const auto start = std::chrono::steady_clock::now();
   auto left_s = [&] { return o.wait_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   const std::string on_domain = " on domain " + std::to_string(o.domain);
-  if (!writer->waitForReaders(1, o.wait_s)) {
+  if (!writer.waitForReaders(1, o.wait_s)) {
     fail(kTool, kExitServiceUnavailable,
          "no planning service is listening for cancels" + on_domain + " (waited " + numberText(o.wait_s) + " s)");
   }
-  if (!statuses->waitForWriters(1, std::max(0.0, left_s()))) {
+  if (!statuses.waitForWriters(1, std::max(0.0, left_s()))) {
     fail(kTool, kExitServiceUnavailable, "the planning service has no status writer" + on_domain);
   }
-  const CancelRequestData cancel{o.request_id, o.vehicle, dds::entityGuid(writer->handle())};
-  if (Status written = writer->write(cancel); !written) fail(kTool, kExitServiceUnavailable, written.error().describe());
+  const CancelRequestData cancel{o.request_id, o.vehicle, dds::entityGuid(writer.handle())};
+  if (Status written = writer.write(cancel); !written) fail(kTool, kExitServiceUnavailable, written.error().describe());
   std::cout << "sent cancel" << (o.vehicle.empty() ? "" : " vehicle=" + o.vehicle)
             << (o.request_id.empty() ? "" : " request=" + o.request_id) << std::endl;
 
@@ -67,8 +64,8 @@ void runCancel(const CancelOptions& o) {
   constexpr double kMoreAnswersS = 0.3;
   int cancelled = 0;
   std::optional<PlanStatusData> refused;
-  Status added = loop->add<PlanStatusData>(
-      *statuses,
+  Status added = loop.add<PlanStatusData>(
+      statuses,
       [&](PlanStatusData&& s) {
         if (!answers(cancel, s)) return;
         std::cout << describe(s) << std::endl;
@@ -83,7 +80,7 @@ void runCancel(const CancelOptions& o) {
   std::optional<std::chrono::steady_clock::time_point> first_answer;
   while (left_s() > 0.0) {
     if (first_answer && std::chrono::duration<double>(std::chrono::steady_clock::now() - *first_answer).count() >= kMoreAnswersS) break;
-    auto outcome = loop->runOnce(std::min(0.05, std::max(0.01, left_s())));
+    auto outcome = loop.runOnce(std::min(0.05, std::max(0.01, left_s())));
     if (!outcome) fail(kTool, kExitServiceUnavailable, outcome.error().describe());
     if (*outcome == dds::WaitLoop::Outcome::kStopped) break;
     if (!first_answer && (cancelled > 0 || refused)) first_answer = std::chrono::steady_clock::now();

@@ -47,54 +47,50 @@ void requestFleetOverDds(const std::string& tool, const FleetRequestData& reques
                          const std::string& out) {
   dds::Entity participant = openParticipant(tool, domain);
   // Both readers exist before the request is written, so no reply can be missed.
-  auto statuses = dds::Reader<FleetStatusData>::create(participant.get());
-  if (!statuses) fail(tool, kExitServiceUnavailable, statuses.error().describe());
-  auto trajectories = dds::Reader<TrajectoryData>::create(participant.get());
-  if (!trajectories) fail(tool, kExitServiceUnavailable, trajectories.error().describe());
-  auto writer = dds::Writer<FleetRequestData>::create(participant.get());
-  if (!writer) fail(tool, kExitServiceUnavailable, writer.error().describe());
-  auto loop = dds::WaitLoop::create(participant.get());
-  if (!loop) fail(tool, kExitServiceUnavailable, loop.error().describe());
-  stopOnSignals(loop->waitsetHandle());
+  auto statuses = openReader<FleetStatusData>(tool, participant);
+  auto trajectories = openReader<TrajectoryData>(tool, participant);
+  auto writer = openWriter<FleetRequestData>(tool, participant);
+  auto loop = openWaitLoop(tool, participant);
+  stopOnSignals(loop.waitsetHandle());
 
   const auto start = std::chrono::steady_clock::now();
   auto left_s = [&] { return wait_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   const std::string on_domain = " on domain " + std::to_string(domain);
-  if (!writer->waitForReaders(1, wait_s)) {
+  if (!writer.waitForReaders(1, wait_s)) {
     fail(tool, kExitServiceUnavailable,
          "no planning service is listening for fleet requests" + on_domain + " (waited " + numberText(wait_s) + " s)");
   }
   // The service's writers must have matched our readers too, or its first replies could be lost.
-  if (!statuses->waitForWriters(1, std::max(0.0, left_s())) || !trajectories->waitForWriters(1, std::max(0.0, left_s()))) {
+  if (!statuses.waitForWriters(1, std::max(0.0, left_s())) || !trajectories.waitForWriters(1, std::max(0.0, left_s()))) {
     fail(tool, kExitServiceUnavailable, "the planning service has no fleet status or trajectory writer" + on_domain);
   }
-  if (Status written = writer->write(request); !written) fail(tool, kExitServiceUnavailable, written.error().describe());
+  if (Status written = writer.write(request); !written) fail(tool, kExitServiceUnavailable, written.error().describe());
   std::cout << "sent fleet request=" << request.request_id << " vehicles=" << request.vehicle_ids.size()
             << " tasks=" << request.tasks.size() << std::endl;
 
   FleetReplies replies;
   auto on_bad = [&tool](const Error& e) { std::cerr << "skyroute " << tool << ": skipped a bad sample: " << e.describe() << std::endl; };
-  Status added = loop->add<FleetStatusData>(
-      *statuses,
+  Status added = loop.add<FleetStatusData>(
+      statuses,
       [&](FleetStatusData&& s) {
         if (s.request_id != request.request_id) return;
         std::cout << describe(s) << std::endl;
         if (isTerminal(s.state)) replies.final_status = std::move(s);
-        if (replies.complete(request)) loop->stop();
+        if (replies.complete(request)) loop.stop();
       },
       on_bad);
   if (added) {
-    added = loop->add<TrajectoryData>(
-        *trajectories,
+    added = loop.add<TrajectoryData>(
+        trajectories,
         [&](TrajectoryData&& t) {
           if (t.request_id != request.request_id) return;  // another request's, or an earlier plan's
           replies.trajectories[t.vehicle_id] = std::move(t);
-          if (replies.complete(request)) loop->stop();
+          if (replies.complete(request)) loop.stop();
         },
         on_bad);
   }
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
-  auto outcome = loop->run(std::max(0.01, left_s()));
+  auto outcome = loop.run(std::max(0.01, left_s()));
   if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
 
   const std::string waited = " within " + numberText(wait_s) + " s";

@@ -42,32 +42,29 @@ void runGcs(const GcsOptions& o) {
   const std::string tool = "gcs";
   std::unique_ptr<GcsLiveMap> live = o.serve.empty() ? nullptr : GcsLiveMap::start(tool, o.serve, o.dem);
   dds::Entity participant = openParticipant(tool, o.domain);
-  auto trajectories = dds::Reader<TrajectoryData>::create(participant.get());
-  if (!trajectories) fail(tool, kExitServiceUnavailable, trajectories.error().describe());
-  auto statuses = dds::Reader<PlanStatusData>::create(participant.get());
-  if (!statuses) fail(tool, kExitServiceUnavailable, statuses.error().describe());
-  auto loop = dds::WaitLoop::create(participant.get());
-  if (!loop) fail(tool, kExitServiceUnavailable, loop.error().describe());
-  stopOnSignals(loop->waitsetHandle());
+  auto trajectories = openReader<TrajectoryData>(tool, participant);
+  auto statuses = openReader<PlanStatusData>(tool, participant);
+  auto loop = openWaitLoop(tool, participant);
+  stopOnSignals(loop.waitsetHandle());
 
   std::map<std::string, TrajectoryData> latest;  // per vehicle
   StatusTransitions printed_statuses;
   int received = 0;
   auto on_bad = [](const Error& e) { std::cerr << "skyroute gcs: skipped a bad sample: " << e.describe() << std::endl; };
-  Status added = loop->add<TrajectoryData>(
-      *trajectories,
+  Status added = loop.add<TrajectoryData>(
+      trajectories,
       [&](TrajectoryData&& t) {
         if (!o.vehicle.empty() && t.vehicle_id != o.vehicle) return;
         std::cout << describe(t) << std::endl;
         if (live) live->state().onTrajectory(t);
         latest[t.vehicle_id] = std::move(t);
         ++received;
-        if (o.count > 0 && received >= o.count) loop->stop();
+        if (o.count > 0 && received >= o.count) loop.stop();
       },
       on_bad);
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
-  added = loop->add<PlanStatusData>(
-      *statuses,
+  added = loop.add<PlanStatusData>(
+      statuses,
       [&](PlanStatusData&& s) {
         if (!o.vehicle.empty() && s.vehicle_id != o.vehicle) return;
         if (!printed_statuses.firstTime(s)) return;
@@ -78,10 +75,8 @@ void runGcs(const GcsOptions& o) {
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
   std::optional<dds::Reader<ObstacleUpdateData>> obstacles;  // only the map shows them
   if (live) {
-    auto reader = dds::Reader<ObstacleUpdateData>::create(participant.get());
-    if (!reader) fail(tool, kExitServiceUnavailable, reader.error().describe());
-    obstacles.emplace(std::move(*reader));
-    added = loop->add<ObstacleUpdateData>(*obstacles, [&](ObstacleUpdateData&& u) { live->state().onObstacle(u); }, on_bad);
+    obstacles.emplace(openReader<ObstacleUpdateData>(tool, participant));
+    added = loop.add<ObstacleUpdateData>(*obstacles, [&](ObstacleUpdateData&& u) { live->state().onObstacle(u); }, on_bad);
     if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
   }
 
@@ -93,7 +88,7 @@ void runGcs(const GcsOptions& o) {
     double slice_s = kProgressEveryS;
     if (o.timeout_s > 0) slice_s = std::min(slice_s, o.timeout_s - waited_s);
     if (slice_s <= 0.0) break;
-    auto outcome = loop->runOnce(slice_s);
+    auto outcome = loop.runOnce(slice_s);
     if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
     if (*outcome == dds::WaitLoop::Outcome::kStopped) break;
     const double now_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

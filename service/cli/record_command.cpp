@@ -26,16 +26,14 @@ void runRecord(const RecordOptions& o) {
   auto feed = ObstacleFeedWriter::open(o.output);
   if (!feed) fail(tool, kExitBadInput, feed.error().describe());
   dds::Entity participant = openParticipant(tool, o.domain);
-  auto updates = dds::Reader<ObstacleUpdateData>::create(participant.get());
-  if (!updates) fail(tool, kExitServiceUnavailable, updates.error().describe());
-  auto loop = dds::WaitLoop::create(participant.get());
-  if (!loop) fail(tool, kExitServiceUnavailable, loop.error().describe());
-  stopOnSignals(loop->waitsetHandle());
+  auto updates = openReader<ObstacleUpdateData>(tool, participant);
+  auto loop = openWaitLoop(tool, participant);
+  stopOnSignals(loop.waitsetHandle());
 
   std::optional<std::int64_t> first_ns;
   std::optional<Error> write_error;
-  Status added = loop->add<ObstacleUpdateData>(
-      *updates,
+  Status added = loop.add<ObstacleUpdateData>(
+      updates,
       [&](ObstacleUpdateData&& u) {
         const std::int64_t now_ns = utcNowNs();
         if (!first_ns) first_ns = now_ns;
@@ -43,14 +41,14 @@ void runRecord(const RecordOptions& o) {
         Status s = feed->append(FeedEntry::fromUpdate(u, t_s, now_ns));
         if (!s) {
           write_error = s.error();
-          loop->stop();
+          loop.stop();
           return;
         }
-        if (o.count > 0 && static_cast<int>(feed->entriesWritten()) >= o.count) loop->stop();
+        if (o.count > 0 && static_cast<int>(feed->entriesWritten()) >= o.count) loop.stop();
       },
       [](const Error& e) { std::cerr << "skyroute record: skipped a bad update: " << e.describe() << std::endl; });
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
-  auto outcome = loop->run(o.timeout_s > 0 ? std::optional<double>(o.timeout_s) : std::nullopt);
+  auto outcome = loop.run(o.timeout_s > 0 ? std::optional<double>(o.timeout_s) : std::nullopt);
   if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
   if (write_error) fail(tool, kExitUsage, write_error->describe());
   std::cout << "recorded " << feed->entriesWritten() << " obstacle updates to " << o.output << std::endl;

@@ -50,14 +50,12 @@ void runReplay(const ReplayOptions& o) {
   }
 
   dds::Entity participant = openParticipant(tool, o.domain);
-  auto writer = dds::Writer<ObstacleUpdateData>::create(participant.get());
-  if (!writer) fail(tool, kExitServiceUnavailable, writer.error().describe());
+  auto writer = openWriter<ObstacleUpdateData>(tool, participant);
   // The waitset only serves as an interruptible sleep: Ctrl-C triggers it.
-  auto sleeper = dds::WaitLoop::create(participant.get());
-  if (!sleeper) fail(tool, kExitServiceUnavailable, sleeper.error().describe());
-  stopOnSignals(sleeper->waitsetHandle());
+  auto sleeper = openWaitLoop(tool, participant);
+  stopOnSignals(sleeper.waitsetHandle());
   if (o.readers > 0) {
-    Status matched = writer->waitForReaders(static_cast<uint32_t>(o.readers), o.wait_s);
+    Status matched = writer.waitForReaders(static_cast<uint32_t>(o.readers), o.wait_s);
     if (!matched) fail(tool, kExitServiceUnavailable, matched.error().message);
   }
 
@@ -71,7 +69,7 @@ void runReplay(const ReplayOptions& o) {
       for (;;) {
         const double wait_s = std::chrono::duration<double>(due - std::chrono::steady_clock::now()).count();
         if (wait_s <= 0.0) break;
-        auto outcome = sleeper->runOnce(wait_s);
+        auto outcome = sleeper.runOnce(wait_s);
         if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
         if (*outcome == dds::WaitLoop::Outcome::kStopped) {
           stopped = true;
@@ -79,13 +77,13 @@ void runReplay(const ReplayOptions& o) {
         }
       }
       if (stopped) break;
-      Status s = writer->write(entry.stamped(utcNowNs()));
+      Status s = writer.write(entry.stamped(utcNowNs()));
       if (!s) fail(tool, kExitServiceUnavailable, s.error().describe());
       ++published;
     }
   } while (o.loop && !stopped);
   // Reliable delivery of the last updates before the writer goes away.
-  Status acked = writer->waitForAcks(5.0);
+  Status acked = writer.waitForAcks(5.0);
   if (!acked) std::cerr << "skyroute replay: " << acked.error().describe() << std::endl;
   std::cout << "published " << published << " obstacle updates from " << o.input << std::endl;
 }

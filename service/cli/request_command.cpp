@@ -10,6 +10,7 @@
 // the request: silence for 2.5 heartbeat periods means that daemon is gone.
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -70,62 +71,60 @@ struct Heard {
   double period_s = 1.0;
 };
 
-void runRequest(const RequestOptions& o) {
-  const std::string tool = "request";
-  const MissionRequestData mission = buildMission(o);
-  dds::Entity participant = openParticipant(tool, o.domain);
-  // The status reader exists before the request is written, so no reply can be missed.
-  auto statuses = dds::Reader<PlanStatusData>::create(participant.get());
-  if (!statuses) fail(tool, kExitServiceUnavailable, statuses.error().describe());
-  auto heartbeats = dds::Reader<ServiceStatusData>::create(participant.get());
-  if (!heartbeats) fail(tool, kExitServiceUnavailable, heartbeats.error().describe());
-  auto writer = dds::Writer<MissionRequestData>::create(participant.get());
-  if (!writer) fail(tool, kExitServiceUnavailable, writer.error().describe());
-  auto loop = dds::WaitLoop::create(participant.get());
-  if (!loop) fail(tool, kExitServiceUnavailable, loop.error().describe());
-  const std::string me = dds::entityGuid(writer->handle());
+// The DDS endpoints of one request: the status reader exists before the request is written, so
+// no reply can be missed.
+struct RequestEndpoints {
+  dds::Reader<PlanStatusData> statuses;
+  dds::Reader<ServiceStatusData> heartbeats;
+  dds::Writer<MissionRequestData> writer;
+};
 
-  const auto start = Clock::now();
-  auto left_s = [&] { return o.wait_s - std::chrono::duration<double>(Clock::now() - start).count(); };
+// The live planning services: instance ids, and the heartbeat period each announced.
+struct LiveServices {
+  std::set<std::string> instances;
+  std::map<std::string, double> periods_s;
+};
+
+// Waits until every live service reads our requests and writes statuses to us (see the top).
+LiveServices waitForEveryService(const std::string& tool, const RequestOptions& o, const dds::Entity& participant,
+                                 const RequestEndpoints& e, const std::function<double()>& left_s) {
   // Every live service, from discovery: the daemons among the participants (known first), and
   // the heartbeat writers they serve by. Each must read our requests and write statuses to us
   // before the request goes out; the counts must then hold for a moment (another daemon's
   // participant may be a little behind the first one's endpoints).
   auto daemons = dds::createParticipantReader(participant.get());
   if (!daemons) fail(tool, kExitServiceUnavailable, daemons.error().describe());
-  auto discovery = dds::WaitLoop::create(participant.get());
-  if (!discovery) fail(tool, kExitServiceUnavailable, discovery.error().describe());
-  for (auto [entity, mask] : {std::pair{writer->handle(), DDS_PUBLICATION_MATCHED_STATUS},
-                              std::pair{statuses->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS},
-                              std::pair{heartbeats->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS},
+  auto discovery = openWaitLoop(tool, participant);
+  for (auto [entity, mask] : {std::pair{e.writer.handle(), DDS_PUBLICATION_MATCHED_STATUS},
+                              std::pair{e.statuses.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS},
+                              std::pair{e.heartbeats.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS},
                               std::pair{daemons->get(), DDS_DATA_AVAILABLE_STATUS}}) {
-    if (Status watched = discovery->addStatus(entity, mask, [] {}); !watched)
+    if (Status watched = discovery.addStatus(entity, mask, [] {}); !watched)
       fail(tool, kExitServiceUnavailable, watched.error().describe());
   }
-  stopOnSignals(discovery->waitsetHandle());
+  stopOnSignals(discovery.waitsetHandle());
   constexpr double kSettleS = 0.1;
-  std::set<std::string> services;
-  std::map<std::string, double> periods_s;  // instance id -> heartbeat period it announced
+  LiveServices live;
   bool settled = false;  // the counts held since settled_since
   Clock::time_point settled_since;
   for (;;) {
     std::set<std::string> reached;
-    for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats->handle())) {
+    for (const dds::ServiceInstance& s : dds::matchedInstances(e.heartbeats.handle())) {
       reached.insert(s.instance_id);
-      periods_s[s.instance_id] = s.heartbeat_period_s;
+      live.periods_s[s.instance_id] = s.heartbeat_period_s;
     }
-    services = reached;
-    for (const dds::ServiceInstance& s : dds::discoveredInstances(daemons->get())) services.insert(s.instance_id);
-    const auto n = static_cast<uint32_t>(services.size());
-    const bool all = n > 0 && reached.size() == services.size() && dds::matchedReaders(writer->handle()) >= n &&
-                     dds::matchedWriters(statuses->handle()) >= n;
+    live.instances = reached;
+    for (const dds::ServiceInstance& s : dds::discoveredInstances(daemons->get())) live.instances.insert(s.instance_id);
+    const auto n = static_cast<uint32_t>(live.instances.size());
+    const bool all = n > 0 && reached.size() == live.instances.size() && dds::matchedReaders(e.writer.handle()) >= n &&
+                     dds::matchedWriters(e.statuses.handle()) >= n;
     if (!all) {
       settled = false;
     } else if (!settled) {
       settled = true;
       settled_since = Clock::now();
     } else if (std::chrono::duration<double>(Clock::now() - settled_since).count() >= kSettleS) {
-      break;
+      return live;
     }
     if (left_s() <= 0.0) {
       if (n == 0)
@@ -135,69 +134,91 @@ void runRequest(const RequestOptions& o) {
                                      " but not all of them matched this client within " + numberText(o.wait_s) + " s");
     }
     const double wait_s = settled ? 0.02 : std::max(0.01, left_s());
-    auto outcome = discovery->runOnce(std::min(wait_s, std::max(0.01, left_s())));
+    auto outcome = discovery.runOnce(std::min(wait_s, std::max(0.01, left_s())));
     if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
     if (*outcome == dds::WaitLoop::Outcome::kStopped) fail(tool, kExitPlanningFailed, "interrupted before the request was sent");
   }
-  stopOnSignals(loop->waitsetHandle());
-  Status written = writer->write(mission);
+}
+
+// Why a service that accepted the request is lost ("" while every one is alive): heartbeats on
+// time, and (before its first heartbeat reached us) still discovered.
+std::string lostService(const std::set<std::string>& accepted_by, const std::map<std::string, Heard>& heard,
+                        const dds::Reader<ServiceStatusData>& heartbeats, std::string* lost_instance) {
+  std::set<std::string> discovered;
+  for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats.handle())) discovered.insert(s.instance_id);
+  for (const std::string& instance : accepted_by) {
+    *lost_instance = instance;
+    if (auto h = heard.find(instance); h != heard.end()) {
+      const double silent_s = std::chrono::duration<double>(Clock::now() - h->second.at).count();
+      if (silent_s > std::max(kMinLostAfterS, kLostAfterPeriods * h->second.period_s)) {
+        return "sent no heartbeat for " + numberText(silent_s, 3) + " s (its period is " +
+               numberText(h->second.period_s) + " s)";
+      }
+    } else if (discovered.count(instance) == 0) {
+      return "is no longer discovered on the domain";
+    }
+  }
+  return "";
+}
+
+void runRequest(const RequestOptions& o) {
+  const std::string tool = "request";
+  const MissionRequestData mission = buildMission(o);
+  dds::Entity participant = openParticipant(tool, o.domain);
+  RequestEndpoints endpoints{openReader<PlanStatusData>(tool, participant), openReader<ServiceStatusData>(tool, participant),
+                             openWriter<MissionRequestData>(tool, participant)};
+  auto loop = openWaitLoop(tool, participant);
+  const std::string me = dds::entityGuid(endpoints.writer.handle());
+  const auto start = Clock::now();
+  const std::function<double()> left_s = [&] {
+    return o.wait_s - std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  LiveServices live = waitForEveryService(tool, o, participant, endpoints, left_s);
+
+  stopOnSignals(loop.waitsetHandle());
+  Status written = endpoints.writer.write(mission);
   if (!written) fail(tool, kExitServiceUnavailable, written.error().describe());
   std::cout << "sent request=" << mission.request_id << " vehicle=" << mission.vehicle_id
-            << " points=" << mission.points.size() << " services=" << services.size() << std::endl;
+            << " points=" << mission.points.size() << " services=" << live.instances.size() << std::endl;
 
   std::map<std::string, Heard> heard;           // instance id -> its last heartbeat
   std::set<std::string> accepted_by;            // instances answering this request
   std::optional<PlanStatusData> final_status;
-  Status added = loop->add<PlanStatusData>(
-      *statuses,
+  Status added = loop.add<PlanStatusData>(
+      endpoints.statuses,
       [&](PlanStatusData&& s) {
         if (s.request_id != mission.request_id) return;
         if (!s.requester.empty() && s.requester != me) return;  // another client's request with this id
         std::cout << describe(s) << std::endl;
         // Until its next heartbeat, a service is timed from its answer, with the period it announced.
         if (!s.service_instance.empty() && accepted_by.insert(s.service_instance).second &&
-            heard.count(s.service_instance) == 0 && periods_s.count(s.service_instance) > 0) {
-          heard[s.service_instance] = Heard{Clock::now(), periods_s[s.service_instance]};
+            heard.count(s.service_instance) == 0 && live.periods_s.count(s.service_instance) > 0) {
+          heard[s.service_instance] = Heard{Clock::now(), live.periods_s[s.service_instance]};
         }
         if (isTerminal(s.state)) {
           final_status = std::move(s);
-          loop->stop();
+          loop.stop();
         }
       },
       [](const Error& e) { std::cerr << "skyroute request: skipped a bad status: " << e.describe() << std::endl; });
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
-  added = loop->add<ServiceStatusData>(
-      *heartbeats,
+  added = loop.add<ServiceStatusData>(
+      endpoints.heartbeats,
       [&](ServiceStatusData&& s) {
         if (!s.instance_id.empty()) heard[s.instance_id] = Heard{Clock::now(), s.heartbeat_period_s};
       },
       [](const Error&) {});
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
   while (!final_status && left_s() > 0.0) {
-    auto outcome = loop->runOnce(std::min(0.1, std::max(0.01, left_s())));
+    auto outcome = loop.runOnce(std::min(0.1, std::max(0.01, left_s())));
     if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
     if (*outcome == dds::WaitLoop::Outcome::kStopped) break;
-    // Every service that answered this request must still be alive: heartbeats on time, and
-    // (before its first heartbeat reached us) still discovered.
     if (accepted_by.empty()) continue;
-    std::set<std::string> discovered;
-    for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats->handle())) discovered.insert(s.instance_id);
-    for (const std::string& instance : accepted_by) {
-      std::string why;
-      if (auto h = heard.find(instance); h != heard.end()) {
-        const double silent_s = std::chrono::duration<double>(Clock::now() - h->second.at).count();
-        if (silent_s > std::max(kMinLostAfterS, kLostAfterPeriods * h->second.period_s)) {
-          why = "sent no heartbeat for " + numberText(silent_s, 3) + " s (its period is " +
-                numberText(h->second.period_s) + " s)";
-        }
-      } else if (discovered.count(instance) == 0) {
-        why = "is no longer discovered on the domain";
-      }
-      if (!why.empty()) {
-        fail(tool, kExitServiceLost, "service lost: the planning service (instance " + instance +
-                                         ") that accepted request " + mission.request_id + " " + why +
-                                         "; the request is lost");
-      }
+    std::string instance;
+    if (const std::string why = lostService(accepted_by, heard, endpoints.heartbeats, &instance); !why.empty()) {
+      fail(tool, kExitServiceLost, "service lost: the planning service (instance " + instance +
+                                       ") that accepted request " + mission.request_id + " " + why +
+                                       "; the request is lost");
     }
   }
   if (!final_status)

@@ -61,17 +61,15 @@ std::string describeLine(const LiveService& l) {
 
 void runStatus(const StatusOptions& o) {
   dds::Entity participant = openParticipant(kTool, o.domain);
-  auto heartbeats = dds::Reader<ServiceStatusData>::create(participant.get());
-  if (!heartbeats) fail(kTool, kExitServiceUnavailable, heartbeats.error().describe());
+  auto heartbeats = openReader<ServiceStatusData>(kTool, participant);
   auto daemons = dds::createParticipantReader(participant.get());
   if (!daemons) fail(kTool, kExitServiceUnavailable, daemons.error().describe());
-  auto loop = dds::WaitLoop::create(participant.get());
-  if (!loop) fail(kTool, kExitServiceUnavailable, loop.error().describe());
-  stopOnSignals(loop->waitsetHandle());
+  auto loop = openWaitLoop(kTool, participant);
+  stopOnSignals(loop.waitsetHandle());
 
   std::map<std::string, LiveService> heard;  // instance id -> its latest heartbeat
-  Status added = loop->add<ServiceStatusData>(
-      *heartbeats,
+  Status added = loop.add<ServiceStatusData>(
+      heartbeats,
       [&](ServiceStatusData&& s) {
         if (s.instance_id.empty()) return;
         const std::string id = s.instance_id;
@@ -88,7 +86,7 @@ void runStatus(const StatusOptions& o) {
   std::map<std::string, dds::ServiceInstance> discovered;
   double all_heard_since_s = -1.0;  // < 0: not every daemon heard yet
   while (elapsed_s() < o.wait_s) {
-    auto outcome = loop->runOnce(std::min(0.05, std::max(0.01, o.wait_s - elapsed_s())));
+    auto outcome = loop.runOnce(std::min(0.05, std::max(0.01, o.wait_s - elapsed_s())));
     if (!outcome) fail(kTool, kExitServiceUnavailable, outcome.error().describe());
     if (*outcome == dds::WaitLoop::Outcome::kStopped) break;
     for (dds::ServiceInstance& i : dds::discoveredInstances(daemons->get())) discovered[i.instance_id] = std::move(i);

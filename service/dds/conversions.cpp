@@ -1,5 +1,6 @@
 #include "service/dds/conversions.hpp"
 
+#include "planning/core/assign_result.hpp"
 #include "service/number_text.hpp"
 
 #include <cmath>
@@ -152,82 +153,136 @@ Result<VehicleLimitsData> limitsFromWire(const skyroute_msgs_VehicleLimits& in, 
                            in.min_clearance_agl_m, in.ceiling_amsl_m};
 }
 
+// ---- both directions: each message's plain members are listed once ----
+
+// Copies a member from the plain struct to the wire message: strings are dds_alloc'ed, enums
+// travel as their integer value.
+struct CopyToWire {
+  void operator()(const std::string& plain, char*& wire) const { wire = dup(plain); }
+  template <class Plain, class Wire>
+  void operator()(const Plain& plain, Wire& wire) const {
+    if constexpr (std::is_enum_v<Plain>) {
+      wire = static_cast<Wire>(static_cast<int>(plain));
+    } else {
+      wire = plain;
+    }
+  }
+};
+
+// Copies a member from the wire message to the plain struct (a null string reads as "").
+// Enums are range-checked before this runs.
+struct CopyFromWire {
+  void operator()(std::string& plain, char* const& wire) const { plain = text(wire); }
+  template <class Plain, class Wire>
+  void operator()(Plain& plain, const Wire& wire) const {
+    if constexpr (std::is_enum_v<Plain>) {
+      plain = static_cast<Plain>(static_cast<int>(wire));
+    } else {
+      plain = wire;
+    }
+  }
+};
+
+// Each message's members that cross unchanged, named once for both directions (the plain
+// structs spell them as the IDL does): MEMBER(name) stands for one member.
+#define SKYROUTE_MISSION_REQUEST_MEMBERS(MEMBER) \
+  MEMBER(request_id) MEMBER(vehicle_id) MEMBER(planner) MEMBER(fixed_order)
+#define SKYROUTE_TRAJECTORY_MEMBERS(MEMBER) \
+  MEMBER(vehicle_id) MEMBER(plan_id) MEMBER(revision) MEMBER(request_id) MEMBER(created_utc_ns)
+#define SKYROUTE_PLAN_STATUS_MEMBERS(MEMBER)                                                                 \
+  MEMBER(request_id) MEMBER(vehicle_id) MEMBER(state) MEMBER(error_code) MEMBER(field) MEMBER(message) \
+  MEMBER(planning_time_s) MEMBER(stage) MEMBER(leg_index) MEMBER(point_index) MEMBER(requester) MEMBER(service_instance)
+#define SKYROUTE_SERVICE_STATUS_MEMBERS(MEMBER)                                                                \
+  MEMBER(service_id) MEMBER(instance_id) MEMBER(started_utc_ns) MEMBER(heartbeat_period_s) MEMBER(stamp_utc_ns) \
+  MEMBER(terrain_loaded) MEMBER(terrain_name) MEMBER(vehicles) MEMBER(replans) MEMBER(queue_length)           \
+  MEMBER(obstacles) MEMBER(service_version) MEMBER(idl_version)
+#define SKYROUTE_FLEET_STATUS_MEMBERS(MEMBER)                                                                 \
+  MEMBER(request_id) MEMBER(state) MEMBER(error_code) MEMBER(field) MEMBER(message) MEMBER(makespan_steps) \
+  MEMBER(makespan_s) MEMBER(min_separation_m) MEMBER(achieved_separation_m) MEMBER(separation_repairs)      \
+  MEMBER(planning_time_s)
+// Used inside toWire(in, out) and fromWire(in) (filling `out`) respectively.
+#define SKYROUTE_MEMBER_TO_WIRE(name) CopyToWire{}(in.name, out.name);
+#define SKYROUTE_MEMBER_FROM_WIRE(name) CopyFromWire{}(out.name, in.name);
+
+// Fills a wire sequence with one converted element per plain element.
+template <class Elem, class Seq, class Plain, class Convert>
+void sequenceToWire(const std::vector<Plain>& in, Seq& out, Convert convert) {
+  Elem* buffer = allocSequence<Seq, Elem>(out, in.size());
+  for (std::size_t i = 0; i < in.size(); ++i) buffer[i] = convert(in[i]);
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------------------------------------
 
 void toWire(const MissionRequestData& in, skyroute_msgs_MissionRequest& out) {
-  out.request_id = dup(in.request_id);
-  out.vehicle_id = dup(in.vehicle_id);
+  SKYROUTE_MISSION_REQUEST_MEMBERS(SKYROUTE_MEMBER_TO_WIRE)
   pointToWire(in.begin, out.begin);
   pointsToWire(in.points, out.points);
   pointToWire(in.end, out.end);
   out.limits = limitsToWire(in.limits);
-  out.planner = dup(in.planner);
-  out.fixed_order = in.fixed_order;
 }
 
 Result<MissionRequestData> fromWire(const skyroute_msgs_MissionRequest& in) {
   if (auto e = required(in.request_id, "request_id")) return *e;
   if (auto e = required(in.vehicle_id, "vehicle_id")) return *e;
   MissionRequestData out;
-  out.request_id = in.request_id;
-  out.vehicle_id = in.vehicle_id;
-  auto begin = pointFromWire(in.begin, "begin");
-  if (!begin) return begin.error();
-  out.begin = *begin;
-  auto points = pointsFromWire(in.points, "points");
-  if (!points) return points.error();
-  out.points = std::move(*points);
-  auto end = pointFromWire(in.end, "end");
-  if (!end) return end.error();
-  out.end = *end;
-  auto limits = limitsFromWire(in.limits, "limits");
-  if (!limits) return limits.error();
-  out.limits = *limits;
-  out.planner = text(in.planner);
-  out.fixed_order = in.fixed_order;
+  SKYROUTE_MISSION_REQUEST_MEMBERS(SKYROUTE_MEMBER_FROM_WIRE)
+  if (auto e = assignResult(pointFromWire(in.begin, "begin"), out.begin)) return *e;
+  if (auto e = assignResult(pointsFromWire(in.points, "points"), out.points)) return *e;
+  if (auto e = assignResult(pointFromWire(in.end, "end"), out.end)) return *e;
+  if (auto e = assignResult(limitsFromWire(in.limits, "limits"), out.limits)) return *e;
   return out;
 }
 
 void toWire(const TrajectoryData& in, skyroute_msgs_Trajectory& out) {
-  out.vehicle_id = dup(in.vehicle_id);
-  out.plan_id = dup(in.plan_id);
-  out.revision = in.revision;
-  out.request_id = dup(in.request_id);
-  out.created_utc_ns = in.created_utc_ns;
-  auto* order = allocSequence<dds_sequence_uint32, uint32_t>(out.visiting_order, in.visiting_order.size());
-  for (std::size_t i = 0; i < in.visiting_order.size(); ++i) order[i] = in.visiting_order[i];
-  auto* legs = allocSequence<dds_sequence_skyroute_msgs_LegBoundary, skyroute_msgs_LegBoundary>(out.legs, in.legs.size());
-  for (std::size_t i = 0; i < in.legs.size(); ++i) {
-    const LegBoundaryData& l = in.legs[i];
-    legs[i] = skyroute_msgs_LegBoundary{l.from_point, l.to_point, l.start_s, l.end_s};
-  }
-  auto* samples = allocSequence<dds_sequence_skyroute_msgs_TrajectorySample, skyroute_msgs_TrajectorySample>(
-      out.samples, in.samples.size());
-  for (std::size_t i = 0; i < in.samples.size(); ++i) {
-    const TrajectorySampleData& s = in.samples[i];
-    samples[i] = skyroute_msgs_TrajectorySample{s.t_rel_s,
-                                                s.utc_ns,
-                                                vec(s.position_enu_m),
-                                                vec(s.velocity_enu_mps),
-                                                vec(s.acceleration_enu_mps2),
-                                                s.heading_deg,
-                                                s.geo.lat_deg,
-                                                s.geo.lon_deg,
-                                                s.geo.alt_amsl_m};
-  }
+  SKYROUTE_TRAJECTORY_MEMBERS(SKYROUTE_MEMBER_TO_WIRE)
+  sequenceToWire<uint32_t>(in.visiting_order, out.visiting_order, [](std::uint32_t v) { return v; });
+  sequenceToWire<skyroute_msgs_LegBoundary>(in.legs, out.legs, [](const LegBoundaryData& l) {
+    return skyroute_msgs_LegBoundary{l.from_point, l.to_point, l.start_s, l.end_s};
+  });
+  sequenceToWire<skyroute_msgs_TrajectorySample>(in.samples, out.samples, [](const TrajectorySampleData& s) {
+    return skyroute_msgs_TrajectorySample{s.t_rel_s,
+                                          s.utc_ns,
+                                          vec(s.position_enu_m),
+                                          vec(s.velocity_enu_mps),
+                                          vec(s.acceleration_enu_mps2),
+                                          s.heading_deg,
+                                          s.geo.lat_deg,
+                                          s.geo.lon_deg,
+                                          s.geo.alt_amsl_m};
+  });
 }
+
+namespace {
+
+// The first non-finite member of samples[index], named in full.
+std::optional<Error> sampleFiniteness(const skyroute_msgs_TrajectorySample& s, uint32_t index) {
+  const double values[] = {s.t_rel_s, s.position_enu_m.x, s.position_enu_m.y, s.position_enu_m.z,
+                           s.velocity_enu_mps.x, s.velocity_enu_mps.y, s.velocity_enu_mps.z,
+                           s.acceleration_enu_mps2.x, s.acceleration_enu_mps2.y, s.acceleration_enu_mps2.z,
+                           s.heading_deg, s.lat_deg, s.lon_deg, s.alt_amsl_m};
+  bool all_finite = true;
+  for (double v : values) all_finite = all_finite && std::isfinite(v);
+  if (all_finite) return std::nullopt;  // the common case builds no field names
+  const std::string field = "samples[" + std::to_string(index) + "]";
+  if (auto e = finite(s.t_rel_s, field + ".t_rel_s")) return e;
+  if (auto e = finite(s.position_enu_m, field + ".position_enu_m")) return e;
+  if (auto e = finite(s.velocity_enu_mps, field + ".velocity_enu_mps")) return e;
+  if (auto e = finite(s.acceleration_enu_mps2, field + ".acceleration_enu_mps2")) return e;
+  if (auto e = finite(s.heading_deg, field + ".heading_deg")) return e;
+  if (auto e = finite(s.lat_deg, field + ".lat_deg")) return e;
+  if (auto e = finite(s.lon_deg, field + ".lon_deg")) return e;
+  return finite(s.alt_amsl_m, field + ".alt_amsl_m");
+}
+
+}  // namespace
 
 Result<TrajectoryData> fromWire(const skyroute_msgs_Trajectory& in) {
   if (auto e = required(in.vehicle_id, "vehicle_id")) return *e;
   if (auto e = required(in.plan_id, "plan_id")) return *e;
   TrajectoryData out;
-  out.vehicle_id = in.vehicle_id;
-  out.plan_id = in.plan_id;
-  out.revision = in.revision;
-  out.request_id = text(in.request_id);
-  out.created_utc_ns = in.created_utc_ns;
+  SKYROUTE_TRAJECTORY_MEMBERS(SKYROUTE_MEMBER_FROM_WIRE)
   out.visiting_order.assign(in.visiting_order._buffer, in.visiting_order._buffer + in.visiting_order._length);
   out.legs.reserve(in.legs._length);
   for (uint32_t i = 0; i < in.legs._length; ++i) {
@@ -240,23 +295,7 @@ Result<TrajectoryData> fromWire(const skyroute_msgs_Trajectory& in) {
   out.samples.reserve(in.samples._length);
   for (uint32_t i = 0; i < in.samples._length; ++i) {
     const skyroute_msgs_TrajectorySample& s = in.samples._buffer[i];
-    const double values[] = {s.t_rel_s, s.position_enu_m.x, s.position_enu_m.y, s.position_enu_m.z,
-                             s.velocity_enu_mps.x, s.velocity_enu_mps.y, s.velocity_enu_mps.z,
-                             s.acceleration_enu_mps2.x, s.acceleration_enu_mps2.y, s.acceleration_enu_mps2.z,
-                             s.heading_deg, s.lat_deg, s.lon_deg, s.alt_amsl_m};
-    bool all_finite = true;
-    for (double v : values) all_finite = all_finite && std::isfinite(v);
-    if (!all_finite) {  // slow path: name the member
-      const std::string field = "samples[" + std::to_string(i) + "]";
-      if (auto e = finite(s.t_rel_s, field + ".t_rel_s")) return *e;
-      if (auto e = finite(s.position_enu_m, field + ".position_enu_m")) return *e;
-      if (auto e = finite(s.velocity_enu_mps, field + ".velocity_enu_mps")) return *e;
-      if (auto e = finite(s.acceleration_enu_mps2, field + ".acceleration_enu_mps2")) return *e;
-      if (auto e = finite(s.heading_deg, field + ".heading_deg")) return *e;
-      if (auto e = finite(s.lat_deg, field + ".lat_deg")) return *e;
-      if (auto e = finite(s.lon_deg, field + ".lon_deg")) return *e;
-      if (auto e = finite(s.alt_amsl_m, field + ".alt_amsl_m")) return *e;
-    }
+    if (auto e = sampleFiniteness(s, i)) return *e;
     TrajectorySampleData d;
     d.t_rel_s = s.t_rel_s;
     d.utc_ns = s.utc_ns;
@@ -271,18 +310,7 @@ Result<TrajectoryData> fromWire(const skyroute_msgs_Trajectory& in) {
 }
 
 void toWire(const PlanStatusData& in, skyroute_msgs_PlanStatus& out) {
-  out.request_id = dup(in.request_id);
-  out.vehicle_id = dup(in.vehicle_id);
-  out.state = static_cast<skyroute_msgs_PlanState>(static_cast<int>(in.state));
-  out.error_code = static_cast<skyroute_msgs_PlanErrorCode>(static_cast<int>(in.error_code));
-  out.field = dup(in.field);
-  out.message = dup(in.message);
-  out.planning_time_s = in.planning_time_s;
-  out.stage = static_cast<skyroute_msgs_PlanStage>(static_cast<int>(in.stage));
-  out.leg_index = in.leg_index;
-  out.point_index = in.point_index;
-  out.requester = dup(in.requester);
-  out.service_instance = dup(in.service_instance);
+  SKYROUTE_PLAN_STATUS_MEMBERS(SKYROUTE_MEMBER_TO_WIRE)
 }
 
 // The plain enums list their values in the IDL's order; these pin that down at compile time.
@@ -305,18 +333,7 @@ Result<PlanStatusData> fromWire(const skyroute_msgs_PlanStatus& in) {
   if (auto e = enumInRange(in.stage, skyroute_msgs_STAGE_REPLAN, "stage")) return *e;
   if (auto e = finite(in.planning_time_s, "planning_time_s")) return *e;
   PlanStatusData out;
-  out.request_id = text(in.request_id);
-  out.vehicle_id = text(in.vehicle_id);
-  out.state = static_cast<PlanState>(static_cast<int>(in.state));
-  out.error_code = static_cast<PlanErrorCode>(static_cast<int>(in.error_code));
-  out.field = text(in.field);
-  out.message = text(in.message);
-  out.planning_time_s = in.planning_time_s;
-  out.stage = static_cast<PlanStage>(static_cast<int>(in.stage));
-  out.leg_index = in.leg_index;
-  out.point_index = in.point_index;
-  out.requester = text(in.requester);
-  out.service_instance = text(in.service_instance);
+  SKYROUTE_PLAN_STATUS_MEMBERS(SKYROUTE_MEMBER_FROM_WIRE)
   return out;
 }
 
@@ -387,45 +404,20 @@ Result<CancelRequestData> fromWire(const skyroute_msgs_CancelRequest& in) {
 }
 
 void toWire(const ServiceStatusData& in, skyroute_msgs_ServiceStatus& out) {
-  out.service_id = dup(in.service_id);
-  out.instance_id = dup(in.instance_id);
-  out.started_utc_ns = in.started_utc_ns;
-  out.heartbeat_period_s = in.heartbeat_period_s;
-  out.stamp_utc_ns = in.stamp_utc_ns;
-  out.terrain_loaded = in.terrain_loaded;
-  out.terrain_name = dup(in.terrain_name);
-  out.vehicles = in.vehicles;
-  out.replans = in.replans;
-  out.queue_length = in.queue_length;
-  out.obstacles = in.obstacles;
-  out.service_version = dup(in.service_version);
-  out.idl_version = dup(in.idl_version);
+  SKYROUTE_SERVICE_STATUS_MEMBERS(SKYROUTE_MEMBER_TO_WIRE)
 }
 
 Result<ServiceStatusData> fromWire(const skyroute_msgs_ServiceStatus& in) {
   if (auto e = required(in.service_id, "service_id")) return *e;
   if (auto e = finite(in.heartbeat_period_s, "heartbeat_period_s")) return *e;
   ServiceStatusData out;
-  out.service_id = in.service_id;
-  out.instance_id = text(in.instance_id);
-  out.started_utc_ns = in.started_utc_ns;
-  out.heartbeat_period_s = in.heartbeat_period_s;
-  out.stamp_utc_ns = in.stamp_utc_ns;
-  out.terrain_loaded = in.terrain_loaded;
-  out.terrain_name = text(in.terrain_name);
-  out.vehicles = in.vehicles;
-  out.replans = in.replans;
-  out.queue_length = in.queue_length;
-  out.obstacles = in.obstacles;
-  out.service_version = text(in.service_version);
-  out.idl_version = text(in.idl_version);
+  SKYROUTE_SERVICE_STATUS_MEMBERS(SKYROUTE_MEMBER_FROM_WIRE)
   return out;
 }
 
 void toWire(const FleetRequestData& in, skyroute_msgs_FleetRequest& out) {
   out.request_id = dup(in.request_id);
-  auto* ids = allocSequence<dds_sequence_string, char*>(out.vehicle_ids, in.vehicle_ids.size());
-  for (std::size_t i = 0; i < in.vehicle_ids.size(); ++i) ids[i] = dup(in.vehicle_ids[i]);
+  sequenceToWire<char*>(in.vehicle_ids, out.vehicle_ids, [](const std::string& id) { return dup(id); });
   pointsToWire(in.begins, out.begins);
   pointsToWire(in.tasks, out.tasks);
   pointsToWire(in.ends, out.ends);
@@ -442,18 +434,10 @@ Result<FleetRequestData> fromWire(const skyroute_msgs_FleetRequest& in) {
     if (auto e = required(in.vehicle_ids._buffer[i], field)) return *e;
     out.vehicle_ids.emplace_back(in.vehicle_ids._buffer[i]);
   }
-  auto begins = pointsFromWire(in.begins, "begins");
-  if (!begins) return begins.error();
-  auto tasks = pointsFromWire(in.tasks, "tasks");
-  if (!tasks) return tasks.error();
-  auto ends = pointsFromWire(in.ends, "ends");
-  if (!ends) return ends.error();
-  auto limits = limitsFromWire(in.limits, "limits");
-  if (!limits) return limits.error();
-  out.begins = std::move(*begins);
-  out.tasks = std::move(*tasks);
-  out.ends = std::move(*ends);
-  out.limits = *limits;
+  if (auto e = assignResult(pointsFromWire(in.begins, "begins"), out.begins)) return *e;
+  if (auto e = assignResult(pointsFromWire(in.tasks, "tasks"), out.tasks)) return *e;
+  if (auto e = assignResult(pointsFromWire(in.ends, "ends"), out.ends)) return *e;
+  if (auto e = assignResult(limitsFromWire(in.limits, "limits"), out.limits)) return *e;
   out.planner = text(in.planner);
   return out;
 }
@@ -466,10 +450,7 @@ MissionRequestData identityFromWire(const skyroute_msgs_MissionRequest& in) {
 }
 
 CancelRequestData identityFromWire(const skyroute_msgs_CancelRequest& in) {
-  CancelRequestData out;
-  out.request_id = text(in.request_id);
-  out.vehicle_id = text(in.vehicle_id);
-  return out;
+  return CancelRequestData{text(in.request_id), text(in.vehicle_id)};
 }
 
 FleetRequestData identityFromWire(const skyroute_msgs_FleetRequest& in) {
@@ -479,26 +460,15 @@ FleetRequestData identityFromWire(const skyroute_msgs_FleetRequest& in) {
 }
 
 void toWire(const FleetStatusData& in, skyroute_msgs_FleetStatus& out) {
-  out.request_id = dup(in.request_id);
-  out.state = static_cast<skyroute_msgs_PlanState>(static_cast<int>(in.state));
-  out.error_code = static_cast<skyroute_msgs_PlanErrorCode>(static_cast<int>(in.error_code));
-  out.field = dup(in.field);
-  out.message = dup(in.message);
-  auto* vehicles = allocSequence<dds_sequence_skyroute_msgs_FleetVehicleAllocation, skyroute_msgs_FleetVehicleAllocation>(
-      out.allocation, in.allocation.size());
-  for (std::size_t i = 0; i < in.allocation.size(); ++i) {
-    const FleetVehicleAllocationData& a = in.allocation[i];
-    vehicles[i].vehicle_id = dup(a.vehicle_id);
-    auto* tasks = allocSequence<dds_sequence_uint32, uint32_t>(vehicles[i].tasks, a.tasks.size());
-    for (std::size_t k = 0; k < a.tasks.size(); ++k) tasks[k] = a.tasks[k];
-    vehicles[i].delay_s = a.delay_s;
-  }
-  out.makespan_steps = in.makespan_steps;
-  out.makespan_s = in.makespan_s;
-  out.min_separation_m = in.min_separation_m;
-  out.achieved_separation_m = in.achieved_separation_m;
-  out.separation_repairs = in.separation_repairs;
-  out.planning_time_s = in.planning_time_s;
+  SKYROUTE_FLEET_STATUS_MEMBERS(SKYROUTE_MEMBER_TO_WIRE)
+  using WireAllocation = skyroute_msgs_FleetVehicleAllocation;
+  sequenceToWire<WireAllocation>(in.allocation, out.allocation, [](const FleetVehicleAllocationData& a) {
+    WireAllocation wire{};
+    wire.vehicle_id = dup(a.vehicle_id);
+    sequenceToWire<uint32_t>(a.tasks, wire.tasks, [](std::uint32_t task) { return task; });
+    wire.delay_s = a.delay_s;
+    return wire;
+  });
 }
 
 Result<FleetStatusData> fromWire(const skyroute_msgs_FleetStatus& in) {
@@ -510,11 +480,7 @@ Result<FleetStatusData> fromWire(const skyroute_msgs_FleetStatus& in) {
   if (auto e = finite(in.achieved_separation_m, "achieved_separation_m")) return *e;
   if (auto e = finite(in.planning_time_s, "planning_time_s")) return *e;
   FleetStatusData out;
-  out.request_id = in.request_id;
-  out.state = static_cast<PlanState>(static_cast<int>(in.state));
-  out.error_code = static_cast<PlanErrorCode>(static_cast<int>(in.error_code));
-  out.field = text(in.field);
-  out.message = text(in.message);
+  SKYROUTE_FLEET_STATUS_MEMBERS(SKYROUTE_MEMBER_FROM_WIRE)
   for (uint32_t i = 0; i < in.allocation._length; ++i) {
     const skyroute_msgs_FleetVehicleAllocation& w = in.allocation._buffer[i];
     const std::string field = "allocation[" + std::to_string(i) + "]";
@@ -526,13 +492,15 @@ Result<FleetStatusData> fromWire(const skyroute_msgs_FleetStatus& in) {
     a.delay_s = w.delay_s;
     out.allocation.push_back(std::move(a));
   }
-  out.makespan_steps = in.makespan_steps;
-  out.makespan_s = in.makespan_s;
-  out.min_separation_m = in.min_separation_m;
-  out.achieved_separation_m = in.achieved_separation_m;
-  out.separation_repairs = in.separation_repairs;
-  out.planning_time_s = in.planning_time_s;
   return out;
 }
+
+#undef SKYROUTE_MEMBER_FROM_WIRE
+#undef SKYROUTE_MEMBER_TO_WIRE
+#undef SKYROUTE_FLEET_STATUS_MEMBERS
+#undef SKYROUTE_SERVICE_STATUS_MEMBERS
+#undef SKYROUTE_PLAN_STATUS_MEMBERS
+#undef SKYROUTE_TRAJECTORY_MEMBERS
+#undef SKYROUTE_MISSION_REQUEST_MEMBERS
 
 }  // namespace skyroute::dds

@@ -10,6 +10,14 @@
 namespace skyroute::dds {
 namespace {
 
+// Moves what a create call made into its place in the edge; the creation's error otherwise.
+template <class T>
+std::optional<Error> emplaceCreated(std::optional<T>& member, Result<T> created) {
+  if (!created.ok()) return created.error();
+  member.emplace(std::move(*created));
+  return std::nullopt;
+}
+
 // The IDL revision of idl/skyroute.idl: bump when a message changes incompatibly.
 constexpr const char* kIdlVersion = "skyroute_msgs/2";
 
@@ -107,37 +115,17 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   edge->participant = std::move(*participant);
   const dds_entity_t p = edge->participant.get();
 
-  auto requests = Reader<MissionRequestData>::create(p);
-  if (!requests.ok()) return requests.error();
-  edge->requests.emplace(std::move(*requests));
-  auto cancels = Reader<CancelRequestData>::create(p);
-  if (!cancels.ok()) return cancels.error();
-  edge->cancels.emplace(std::move(*cancels));
-  auto obstacles = Reader<ObstacleUpdateData>::create(p);
-  if (!obstacles.ok()) return obstacles.error();
-  edge->obstacles.emplace(std::move(*obstacles));
-  auto trajectories = Writer<TrajectoryData>::create(p);
-  if (!trajectories.ok()) return trajectories.error();
-  edge->trajectories.emplace(std::move(*trajectories));
-  auto statuses = Writer<PlanStatusData>::create(p);
-  if (!statuses.ok()) return statuses.error();
-  edge->statuses.emplace(std::move(*statuses));
-  auto heartbeat = Writer<ServiceStatusData>::create(p, me.userData());
-  if (!heartbeat.ok()) return heartbeat.error();
-  edge->heartbeat.emplace(std::move(*heartbeat));
-  auto rivals = Reader<ServiceStatusData>::create(p);
-  if (!rivals.ok()) return rivals.error();
-  edge->rivals.emplace(std::move(*rivals));
-  auto fleet_requests = Reader<FleetRequestData>::create(p);
-  if (!fleet_requests.ok()) return fleet_requests.error();
-  edge->fleet_requests.emplace(std::move(*fleet_requests));
-  auto fleet_statuses = Writer<FleetStatusData>::create(p);
-  if (!fleet_statuses.ok()) return fleet_statuses.error();
-  edge->fleet_statuses.emplace(std::move(*fleet_statuses));
+  if (auto e = emplaceCreated(edge->requests, Reader<MissionRequestData>::create(p))) return *e;
+  if (auto e = emplaceCreated(edge->cancels, Reader<CancelRequestData>::create(p))) return *e;
+  if (auto e = emplaceCreated(edge->obstacles, Reader<ObstacleUpdateData>::create(p))) return *e;
+  if (auto e = emplaceCreated(edge->trajectories, Writer<TrajectoryData>::create(p))) return *e;
+  if (auto e = emplaceCreated(edge->statuses, Writer<PlanStatusData>::create(p))) return *e;
+  if (auto e = emplaceCreated(edge->heartbeat, Writer<ServiceStatusData>::create(p, me.userData()))) return *e;
+  if (auto e = emplaceCreated(edge->rivals, Reader<ServiceStatusData>::create(p))) return *e;
+  if (auto e = emplaceCreated(edge->fleet_requests, Reader<FleetRequestData>::create(p))) return *e;
+  if (auto e = emplaceCreated(edge->fleet_statuses, Writer<FleetStatusData>::create(p))) return *e;
   if (config.ros2_enabled) edge->ros2 = Ros2Mirror::create(p, world.frame().anchor());
-  auto loop = WaitLoop::create(p);
-  if (!loop.ok()) return loop.error();
-  edge->loop.emplace(std::move(*loop));
+  if (auto e = emplaceCreated(edge->loop, WaitLoop::create(p))) return *e;
 
   // Handlers only queue or flag: planning happens on the engine's threads. A refused sample is
   // logged (rate-limited per reason) and answered where its topic has a reply.

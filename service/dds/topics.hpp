@@ -10,68 +10,25 @@ namespace skyroute::dds {
 template <class Plain>
 struct TopicTraits;
 
-template <>
-struct TopicTraits<MissionRequestData> {
-  using Wire = skyroute_msgs_MissionRequest;
-  static constexpr const char* kName = "skyroute_mission_request";
-  static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_MissionRequest_desc; }
-  static Qos qos() { return commandQos(); }
-};
+// One topic: its plain type, the IDL struct (skyroute_msgs_<IDL>), the topic name and the QoS.
+#define SKYROUTE_TOPIC(PLAIN, IDL, NAME, QOS)                                               \
+  template <>                                                                               \
+  struct TopicTraits<PLAIN> {                                                               \
+    using Wire = skyroute_msgs_##IDL;                                                       \
+    static constexpr const char* kName = NAME;                                              \
+    static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_##IDL##_desc; } \
+    static Qos qos() { return QOS(); }                                                      \
+  };
 
-template <>
-struct TopicTraits<TrajectoryData> {
-  using Wire = skyroute_msgs_Trajectory;
-  static constexpr const char* kName = "skyroute_trajectory";
-  static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_Trajectory_desc; }
-  static Qos qos() { return trajectoryQos(); }
-};
+SKYROUTE_TOPIC(MissionRequestData, MissionRequest, "skyroute_mission_request", commandQos)
+SKYROUTE_TOPIC(TrajectoryData, Trajectory, "skyroute_trajectory", trajectoryQos)
+SKYROUTE_TOPIC(PlanStatusData, PlanStatus, "skyroute_plan_status", commandQos)
+SKYROUTE_TOPIC(ObstacleUpdateData, ObstacleUpdate, "skyroute_obstacle_update", obstacleQos)
+SKYROUTE_TOPIC(CancelRequestData, CancelRequest, "skyroute_cancel_request", commandQos)
+SKYROUTE_TOPIC(ServiceStatusData, ServiceStatus, "skyroute_service_status", heartbeatQos)
+SKYROUTE_TOPIC(FleetRequestData, FleetRequest, "skyroute_fleet_request", commandQos)
+SKYROUTE_TOPIC(FleetStatusData, FleetStatus, "skyroute_fleet_status", commandQos)
 
-template <>
-struct TopicTraits<PlanStatusData> {
-  using Wire = skyroute_msgs_PlanStatus;
-  static constexpr const char* kName = "skyroute_plan_status";
-  static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_PlanStatus_desc; }
-  static Qos qos() { return commandQos(); }
-};
-
-template <>
-struct TopicTraits<ObstacleUpdateData> {
-  using Wire = skyroute_msgs_ObstacleUpdate;
-  static constexpr const char* kName = "skyroute_obstacle_update";
-  static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_ObstacleUpdate_desc; }
-  static Qos qos() { return obstacleQos(); }
-};
-
-template <>
-struct TopicTraits<CancelRequestData> {
-  using Wire = skyroute_msgs_CancelRequest;
-  static constexpr const char* kName = "skyroute_cancel_request";
-  static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_CancelRequest_desc; }
-  static Qos qos() { return commandQos(); }
-};
-
-template <>
-struct TopicTraits<ServiceStatusData> {
-  using Wire = skyroute_msgs_ServiceStatus;
-  static constexpr const char* kName = "skyroute_service_status";
-  static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_ServiceStatus_desc; }
-  static Qos qos() { return heartbeatQos(); }
-};
-
-template <>
-struct TopicTraits<FleetRequestData> {
-  using Wire = skyroute_msgs_FleetRequest;
-  static constexpr const char* kName = "skyroute_fleet_request";
-  static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_FleetRequest_desc; }
-  static Qos qos() { return commandQos(); }
-};
-
-template <>
-struct TopicTraits<FleetStatusData> {
-  using Wire = skyroute_msgs_FleetStatus;
-  static constexpr const char* kName = "skyroute_fleet_status";
-  static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_FleetStatus_desc; }
-  static Qos qos() { return commandQos(); }
-};
+#undef SKYROUTE_TOPIC
 
 }  // namespace skyroute::dds

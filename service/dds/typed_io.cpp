@@ -6,10 +6,14 @@ namespace skyroute::dds {
 
 namespace {
 
+// dds_get_publication_matched_status or dds_get_subscription_matched_status.
+template <class MatchedStatus>
+using GetMatchedStatus = dds_return_t (*)(dds_entity_t, MatchedStatus*);
+
 // Waits on a private waitset for the entity's matched status to reach `count` current matches.
-template <class GetCount>
-Status waitForMatched(dds_entity_t entity, uint32_t status_mask, uint32_t count, double timeout_s,
-                      const char* what, GetCount get_count) {
+template <class MatchedStatus>
+Status waitForMatched(dds_entity_t entity, uint32_t status_mask, GetMatchedStatus<MatchedStatus> get_status,
+                      uint32_t count, double timeout_s, const char* what) {
   dds_return_t rc = dds_set_status_mask(entity, status_mask);
   if (rc != DDS_RETCODE_OK) return ddsError(rc, "dds_set_status_mask");
   const dds_entity_t participant = dds_get_participant(entity);
@@ -21,9 +25,10 @@ Status waitForMatched(dds_entity_t entity, uint32_t status_mask, uint32_t count,
 
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   for (;;) {
-    uint32_t current = 0;
-    rc = get_count(entity, &current);
+    MatchedStatus status{};
+    rc = get_status(entity, &status);
     if (rc != DDS_RETCODE_OK) return ddsError(rc, what);
+    const uint32_t current = status.current_count;
     if (current >= count) return Status::success();
     const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0)
@@ -35,37 +40,28 @@ Status waitForMatched(dds_entity_t entity, uint32_t status_mask, uint32_t count,
   }
 }
 
+// The current match count; 0 when it cannot be read.
+template <class MatchedStatus>
+uint32_t currentMatches(dds_entity_t entity, GetMatchedStatus<MatchedStatus> get_status) {
+  MatchedStatus status{};
+  return get_status(entity, &status) == DDS_RETCODE_OK ? status.current_count : 0;
+}
+
 }  // namespace
 
 Status waitForPublicationMatched(dds_entity_t writer, uint32_t count, double timeout_s) {
-  return waitForMatched(writer, DDS_PUBLICATION_MATCHED_STATUS, count, timeout_s, "publication matched",
-                        [](dds_entity_t w, uint32_t* current) {
-                          dds_publication_matched_status_t status;
-                          const dds_return_t rc = dds_get_publication_matched_status(w, &status);
-                          *current = status.current_count;
-                          return rc;
-                        });
+  return waitForMatched(writer, DDS_PUBLICATION_MATCHED_STATUS, dds_get_publication_matched_status, count, timeout_s,
+                        "publication matched");
 }
 
 Status waitForSubscriptionMatched(dds_entity_t reader, uint32_t count, double timeout_s) {
-  return waitForMatched(reader, DDS_SUBSCRIPTION_MATCHED_STATUS, count, timeout_s, "subscription matched",
-                        [](dds_entity_t r, uint32_t* current) {
-                          dds_subscription_matched_status_t status;
-                          const dds_return_t rc = dds_get_subscription_matched_status(r, &status);
-                          *current = status.current_count;
-                          return rc;
-                        });
+  return waitForMatched(reader, DDS_SUBSCRIPTION_MATCHED_STATUS, dds_get_subscription_matched_status, count,
+                        timeout_s, "subscription matched");
 }
 
-uint32_t matchedReaders(dds_entity_t writer) {
-  dds_publication_matched_status_t status{};
-  return dds_get_publication_matched_status(writer, &status) == DDS_RETCODE_OK ? status.current_count : 0;
-}
+uint32_t matchedReaders(dds_entity_t writer) { return currentMatches(writer, dds_get_publication_matched_status); }
 
-uint32_t matchedWriters(dds_entity_t reader) {
-  dds_subscription_matched_status_t status{};
-  return dds_get_subscription_matched_status(reader, &status) == DDS_RETCODE_OK ? status.current_count : 0;
-}
+uint32_t matchedWriters(dds_entity_t reader) { return currentMatches(reader, dds_get_subscription_matched_status); }
 
 std::string guidText(const dds_guid_t& guid) {
   static constexpr char kHex[] = "0123456789abcdef";

@@ -52,22 +52,10 @@ class Writer {
     return Writer(std::move(*topic), std::move(*writer));
   }
 
-  Status write(const Plain& message) const {
-    WireSample<typename Traits::Wire> sample(Traits::descriptor());
-    toWire(message, sample.msg());
-    const dds_return_t rc = dds_write(writer_.get(), &sample.msg());
-    if (rc != DDS_RETCODE_OK) return ddsError(rc, std::string("dds_write on ") + Traits::kName);
-    return Status::success();
-  }
+  Status write(const Plain& message) const { return send(dds_write, "dds_write on ", message); }
 
   // Tells readers the instance with this message's key is gone (transient-local history drops it).
-  Status dispose(const Plain& key_holder) const {
-    WireSample<typename Traits::Wire> sample(Traits::descriptor());
-    toWire(key_holder, sample.msg());
-    const dds_return_t rc = dds_dispose(writer_.get(), &sample.msg());
-    if (rc != DDS_RETCODE_OK) return ddsError(rc, std::string("dds_dispose on ") + Traits::kName);
-    return Status::success();
-  }
+  Status dispose(const Plain& key_holder) const { return send(dds_dispose, "dds_dispose on ", key_holder); }
 
   // Waits until every matched reliable reader acknowledged what was written.
   Status waitForAcks(double timeout_s) const {
@@ -82,6 +70,16 @@ class Writer {
 
  private:
   Writer(Entity topic, Entity writer) : topic_(std::move(topic)), writer_(std::move(writer)) {}
+
+  // Converts the message and hands it to dds_write or dds_dispose.
+  Status send(dds_return_t (*dds_send)(dds_entity_t, const void*), const char* what, const Plain& message) const {
+    WireSample<typename Traits::Wire> sample(Traits::descriptor());
+    toWire(message, sample.msg());
+    const dds_return_t rc = dds_send(writer_.get(), &sample.msg());
+    if (rc != DDS_RETCODE_OK) return ddsError(rc, what + std::string(Traits::kName));
+    return Status::success();
+  }
+
   Entity topic_;   // declared first: destroyed after the writer
   Entity writer_;
 };

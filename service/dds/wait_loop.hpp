@@ -24,10 +24,8 @@ class WaitLoop {
   template <class Plain>
   Status add(const Reader<Plain>& reader, typename Reader<Plain>::SampleHandler on_sample,
              typename Reader<Plain>::ErrorHandler on_error) {
-    return addSource(reader.handle(), [&reader, on_sample = std::move(on_sample), on_error = std::move(on_error)]() {
-      auto taken = reader.takeAvailable(on_sample, on_error);
-      if (!taken) return Status(taken.error());
-      return Status::success();
+    return addTaking(reader.handle(), [&reader, on_sample = std::move(on_sample), on_error = std::move(on_error)] {
+      return reader.takeAvailable(on_sample, on_error);
     });
   }
 
@@ -35,10 +33,8 @@ class WaitLoop {
   template <class Plain>
   Status addWithRejects(const Reader<Plain>& reader, typename Reader<Plain>::SampleHandler on_sample,
                         typename Reader<Plain>::RejectHandler on_reject) {
-    return addSource(reader.handle(), [&reader, on_sample = std::move(on_sample), on_reject = std::move(on_reject)]() {
-      auto taken = reader.takeAvailableWithRejects(on_sample, on_reject);
-      if (!taken) return Status(taken.error());
-      return Status::success();
+    return addTaking(reader.handle(), [&reader, on_sample = std::move(on_sample), on_reject = std::move(on_reject)] {
+      return reader.takeAvailableWithRejects(on_sample, on_reject);
     });
   }
 
@@ -59,6 +55,16 @@ class WaitLoop {
  private:
   WaitLoop(Entity waitset, Entity guard) : waitset_(std::move(waitset)), guard_(std::move(guard)) {}
   Status addSource(dds_entity_t reader, std::function<Status()> take);
+
+  // A reader source whose take returns the number of samples taken or the error.
+  template <class Take>
+  Status addTaking(dds_entity_t reader, Take take) {
+    return addSource(reader, [take = std::move(take)]() {
+      auto taken = take();
+      if (!taken) return Status(taken.error());
+      return Status::success();
+    });
+  }
 
   struct Source {
     Entity condition;  // a read condition; empty for a status source (the entity is attached)

@@ -14,21 +14,17 @@
 namespace skyroute {
 namespace {
 
-using testing::ChildProcess;
-
-struct Ran {
-  int code = -1;
-  std::string out, err;
-};
+using testing::Ran;
 
 Ran runCli(std::vector<std::string> args, const std::string& name, double timeout_s = 60.0) {
   args.insert(args.begin(), SKYROUTE_CLI);
-  ChildProcess child = ChildProcess::spawn(args, name);
-  Ran r;
-  r.code = child.wait(timeout_s);
-  r.out = child.out();
-  r.err = child.err();
-  return r;
+  return testing::runToEnd(args, name, timeout_s);
+}
+
+// The run ended with this exit code and its stderr says this.
+void expectExit(const Ran& r, int code, const std::string& says) {
+  EXPECT_EQ(r.code, code) << r.out << r.err;
+  EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
 }
 
 class CancelStatusE2E : public testing::DaemonFixture {
@@ -96,24 +92,18 @@ TEST_F(CancelStatusE2E, StatusShowsTheHeartbeatAndCancelStopsByVehicleOrByReques
   EXPECT_EQ(statusOfTheOneService("213", "status_after").value("vehicles", -1), 0);
 
   // Nothing to cancel: the service's refusal, exit 1.
-  const Ran ghost = runCli({"cancel", "--domain", "213", "--request", "ghost"}, "cancel_ghost");
-  EXPECT_EQ(ghost.code, 1) << ghost.out << ghost.err;
-  EXPECT_NE(ghost.err.find("cancel refused: no request 'ghost' is queued"), std::string::npos) << ghost.err;
-  const Ran done = runCli({"cancel", "--domain", "213", "--vehicle", "uav-c", "--request", "fly-1"}, "cancel_done");
-  EXPECT_EQ(done.code, 1) << done.out << done.err;
-  EXPECT_NE(done.err.find("of vehicle 'uav-c'"), std::string::npos) << done.err;
+  expectExit(runCli({"cancel", "--domain", "213", "--request", "ghost"}, "cancel_ghost"),
+             1, "cancel refused: no request 'ghost' is queued");
+  expectExit(runCli({"cancel", "--domain", "213", "--vehicle", "uav-c", "--request", "fly-1"}, "cancel_done"),
+             1, "of vehicle 'uav-c'");
 }
 
 TEST_F(CancelStatusE2E, WithoutADaemonBothExitFourAndCancelNeedsATarget) {
-  const Ran status = runCli({"status", "--domain", "214", "--wait", "1"}, "status_none");
-  EXPECT_EQ(status.code, 4) << status.out << status.err;
-  EXPECT_NE(status.err.find("no planning service heartbeat on domain 214"), std::string::npos) << status.err;
-  const Ran cancel = runCli({"cancel", "--domain", "214", "--vehicle", "uav-x", "--wait", "1"}, "cancel_none");
-  EXPECT_EQ(cancel.code, 4) << cancel.out << cancel.err;
-  EXPECT_NE(cancel.err.find("no planning service is listening"), std::string::npos) << cancel.err;
-  const Ran nothing = runCli({"cancel", "--domain", "214"}, "cancel_nothing");
-  EXPECT_EQ(nothing.code, 2) << nothing.out << nothing.err;
-  EXPECT_NE(nothing.err.find("--vehicle"), std::string::npos) << nothing.err;
+  expectExit(runCli({"status", "--domain", "214", "--wait", "1"}, "status_none"),
+             4, "no planning service heartbeat on domain 214");
+  expectExit(runCli({"cancel", "--domain", "214", "--vehicle", "uav-x", "--wait", "1"}, "cancel_none"),
+             4, "no planning service is listening");
+  expectExit(runCli({"cancel", "--domain", "214"}, "cancel_nothing"), 2, "--vehicle");
 }
 
 }  // namespace

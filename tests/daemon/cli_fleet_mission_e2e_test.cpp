@@ -22,22 +22,14 @@ namespace skyroute {
 namespace {
 
 using testing::ChildProcess;
-using testing::readFile;
+using testing::readTextFile;
 
 std::string tempPath(const std::string& name) { return testing::tempPath("cli_e2e", name); }
 
-// Runs a program to its end (at most timeout_s): its exit code, stdout and stderr.
-struct Ran {
-  int code = -1;
-  std::string out, err;
-};
+using testing::Ran;
+
 Ran run(const std::vector<std::string>& argv, const std::string& name, double timeout_s = 180.0) {
-  ChildProcess child = ChildProcess::spawn(argv, name);
-  Ran r;
-  r.code = child.wait(timeout_s);
-  r.out = child.out();
-  r.err = child.err();
-  return r;
+  return testing::runToEnd(argv, name, timeout_s);
 }
 
 // A CSV's rows grouped by their first column (the vehicle), header left out.
@@ -122,7 +114,7 @@ TEST_F(CliDaemonE2E, FleetFileGivesTheTrajectoriesTheDaemonPublishesAndFleetDoma
   EXPECT_NE(sent.out.find("makespan"), std::string::npos) << sent.out;
   ASSERT_EQ(gcs.wait(180.0), 0) << gcs.err();
 
-  const std::string a = readFile(local), b = readFile(gcs_csv);
+  const std::string a = readTextFile(local), b = readTextFile(gcs_csv);
   EXPECT_EQ(a.substr(0, a.find('\n')), b.substr(0, b.find('\n'))) << "different columns";
   const auto here = rowsByVehicle(a), there = rowsByVehicle(b);
   ASSERT_EQ(here.size(), 3u);
@@ -130,7 +122,7 @@ TEST_F(CliDaemonE2E, FleetFileGivesTheTrajectoriesTheDaemonPublishesAndFleetDoma
     EXPECT_GT(std::count(rows.begin(), rows.end(), '\n'), 1000) << vehicle;
     EXPECT_TRUE(there.count(vehicle) && there.at(vehicle) == rows) << vehicle << ": skyroute fleet and the daemon differ";
   }
-  EXPECT_TRUE(readFile(remote) == a) << "fleet --domain --out wrote other trajectories";
+  EXPECT_TRUE(readTextFile(remote) == a) << "fleet --domain --out wrote other trajectories";
 
   // A plan the daemon refuses (a task under the ground) is exit 1, its status printed.
   const Ran refused = run({SKYROUTE_CLI, "fleet", "--domain", "211", "--vehicles", "a@46.97,15.04,1000;b@46.91,15.13,1000",

@@ -16,17 +16,11 @@
 #include <thread>
 #include <vector>
 
+#include "tests/text_file.hpp"
+
 extern char** environ;
 
 namespace skyroute::testing {
-
-// A file's whole text ("" when it cannot be read).
-inline std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // A path in the temporary folder that no other test process uses: skyroute_<tag>_<pid>_<name>.
 inline std::string tempPath(const std::string& tag, const std::string& name) {
@@ -106,8 +100,8 @@ class ChildProcess {
     }
     return code_;
   }
-  std::string out() const { return readFile(out_path_); }
-  std::string err() const { return readFile(err_path_); }
+  std::string out() const { return readTextFile(out_path_); }
+  std::string err() const { return readTextFile(err_path_); }
 
  private:
   pid_t pid_ = -1;
@@ -115,5 +109,21 @@ class ChildProcess {
   int code_ = -1;
   std::string out_path_, err_path_;
 };
+
+// What a program run to its end returned and printed.
+struct Ran {
+  int code = -1;
+  std::string out, err;
+};
+
+// Runs argv (argv[0] is the program path) to its end, at most timeout_s.
+inline Ran runToEnd(const std::vector<std::string>& argv, const std::string& name, double timeout_s) {
+  ChildProcess child = ChildProcess::spawn(argv, name);
+  Ran r;
+  r.code = child.wait(timeout_s);
+  r.out = child.out();
+  r.err = child.err();
+  return r;
+}
 
 }  // namespace skyroute::testing

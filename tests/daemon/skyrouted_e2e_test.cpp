@@ -16,6 +16,7 @@
 #include "service/world_model.hpp"
 #include "terrain/terrain_world.hpp"
 #include "tests/daemon/daemon_fixture.hpp"
+#include "tests/spoiled_request.hpp"
 #include "tests/terrain_data.hpp"
 
 namespace skyroute {
@@ -26,7 +27,23 @@ using testing::Station;
 
 std::string tempPath(const std::string& name) { return testing::e2eTempPath(name); }
 
-class SkyroutedE2E : public testing::DaemonFixture {};
+class SkyroutedE2E : public testing::DaemonFixture {
+ protected:
+  // One simple mission for each of `count` vehicles uav-<v> (request <prefix><v>), spaced
+  // spacing_m apart from first_m: the ids written (fewer when a write failed, which is reported).
+  std::vector<std::string> sendSimpleMissions(const std::string& prefix, int count, double first_m, double spacing_m) {
+    std::vector<std::string> ids;
+    for (int v = 0; v < count; ++v) {
+      const MissionRequestData m =
+          simpleMission(prefix + std::to_string(v), "uav-" + std::to_string(v), first_m + spacing_m * v);
+      const Status written = station_->requests->write(m);
+      EXPECT_TRUE(written.ok()) << written.error().describe();
+      if (!written.ok()) break;
+      ids.push_back(m.request_id);
+    }
+    return ids;
+  }
+};
 
 TEST_F(SkyroutedE2E, MissionGivesACollisionFreeTrajectoryThroughEveryPointBeginFirstEndLast) {
   startDaemon(140);
@@ -72,12 +89,8 @@ TEST_F(SkyroutedE2E, MissionGivesACollisionFreeTrajectoryThroughEveryPointBeginF
 
 TEST_F(SkyroutedE2E, LateJoiningGroundStationGetsEveryVehiclesCurrentTrajectory) {
   startDaemon(141);
-  std::vector<std::string> ids;
-  for (int v = 0; v < 3; ++v) {
-    const MissionRequestData m = simpleMission("late-" + std::to_string(v), "uav-" + std::to_string(v), -3000.0 + 2500 * v);
-    ids.push_back(m.request_id);
-    ASSERT_TRUE(station_->requests->write(m).ok());
-  }
+  const std::vector<std::string> ids = sendSimpleMissions("late-", 3, -3000.0, 2500.0);
+  ASSERT_EQ(ids.size(), 3u);
   ASSERT_TRUE(station_->waitTerminal(ids, 120.0)) << daemon_.err();
   for (const auto& id : ids) ASSERT_EQ(station_->terminal(id)->state, PlanState::kSucceeded);
 
@@ -156,12 +169,7 @@ TEST_F(SkyroutedE2E, ReplayedObstacleFeedCrossingTheRouteGivesANewRevisionThatAv
 
 TEST_F(SkyroutedE2E, BadRequestsGetTheirErrorAndTheServiceGoesOnServing) {
   startDaemon(143);
-  struct Case {
-    std::string name;
-    std::function<void(MissionRequestData&)> spoil;
-    PlanErrorCode code;
-    std::string field;
-  };
+  using Case = testing::SpoiledRequest;
   const std::vector<Case> cases = {
       {"planner", [](auto& m) { m.planner = "astar-9000"; }, PlanErrorCode::kUnknownPlanner, "planner"},
       {"nan", [](auto& m) { m.points[0].enu_m.y() = std::nan(""); }, PlanErrorCode::kInvalidArgument, "points[0]"},
@@ -253,12 +261,8 @@ TEST_F(SkyroutedE2E, SighupReloadsTheConfiguration) {
 
 TEST_F(SkyroutedE2E, TwentyVehiclesWithConcurrentMissionsAreAllServed) {
   startDaemon(146);
-  std::vector<std::string> ids;
-  for (int v = 0; v < 20; ++v) {
-    const MissionRequestData m = simpleMission("fleet-" + std::to_string(v), "uav-" + std::to_string(v), -5000.0 + 500 * v);
-    ids.push_back(m.request_id);
-    ASSERT_TRUE(station_->requests->write(m).ok());
-  }
+  const std::vector<std::string> ids = sendSimpleMissions("fleet-", 20, -5000.0, 500.0);
+  ASSERT_EQ(ids.size(), 20u);
   ASSERT_TRUE(station_->waitTerminal(ids, 300.0)) << daemon_.err();
   std::set<std::string> vehicles;
   for (const auto& id : ids) EXPECT_EQ(station_->terminal(id)->state, PlanState::kSucceeded) << id;

@@ -24,6 +24,7 @@
 #include "service/obstacle_feed.hpp"
 #include "terrain/heightfield.hpp"
 #include "tests/dds/fake_planning_service.hpp"
+#include "tests/dds/named_trajectory.hpp"
 #include "tests/terrain_data.hpp"
 #include "tests/text_file.hpp"
 
@@ -202,11 +203,7 @@ TEST(DdsCli, ReplayPlacesPositionsInDegreesInTheDemsFrame) {
 }
 
 TrajectoryData trajectoryOf(const std::string& vehicle, std::uint32_t revision, std::size_t n) {
-  TrajectoryData t;
-  t.vehicle_id = vehicle;
-  t.plan_id = "plan-" + vehicle;
-  t.revision = revision;
-  t.request_id = "req-" + vehicle;
+  TrajectoryData t = testing::namedTrajectory(vehicle, revision);
   t.created_utc_ns = utcNowNs();
   t.visiting_order = {0, 1, 2};
   t.legs = {{0, 1, 0.0, 5.0}, {1, 2, 5.0, 10.0}};

@@ -11,6 +11,7 @@
 #include "service/dds/loopback.hpp"
 #include "service/dds/typed_io.hpp"
 #include "service/dds/wait_loop.hpp"
+#include "tests/dds/named_trajectory.hpp"
 
 namespace skyroute {
 namespace {
@@ -103,11 +104,7 @@ MissionRequestData sampleMission() {
 }
 
 TrajectoryData sampleTrajectory(const std::string& vehicle, std::uint32_t revision, std::size_t n_samples) {
-  TrajectoryData t;
-  t.vehicle_id = vehicle;
-  t.plan_id = "plan-" + vehicle;
-  t.revision = revision;
-  t.request_id = "req-" + vehicle;
+  TrajectoryData t = testing::namedTrajectory(vehicle, revision);
   t.created_utc_ns = 1'790'000'000'123'456'789LL;
   t.visiting_order = {0, 2, 1, 3};
   t.legs = {{0, 2, 0.0, 10.5}, {2, 1, 10.5, 20.0}, {1, 3, 20.0, 31.25}};

@@ -139,30 +139,23 @@ TEST(ObstacleFeed, TimesStayWithinTheWireNanoseconds) {
   EXPECT_FALSE(validateObstacleUpdate(stamped).has_value());
 }
 
+// The feed text is refused with a message that says this.
+void expectFeedRefused(const std::string& text, const std::string& name, const std::string& says) {
+  std::istringstream in(text);
+  const auto r = parseObstacleFeed(in, name);
+  ASSERT_FALSE(r.ok()) << text;
+  EXPECT_NE(r.error().message.find(says), std::string::npos) << r.error().message;
+}
+
 TEST(ObstacleFeed, BadHeaderOrVersionIsFatal) {
-  std::istringstream no_header("{\"t_s\": 0, \"obstacle\": {\"id\": 1, \"remove\": true}}\n");
-  auto r = parseObstacleFeed(no_header, "x.jsonl");
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("x.jsonl:1"), std::string::npos) << r.error().message;
-
-  std::istringstream future("{\"format\":\"skyroute-obstacle-feed\",\"version\":2}\n");
-  r = parseObstacleFeed(future, "y.jsonl");
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("version 2"), std::string::npos) << r.error().message;
-
-  std::istringstream empty("");
-  EXPECT_FALSE(parseObstacleFeed(empty, "z.jsonl").ok());
-
+  expectFeedRefused("{\"t_s\": 0, \"obstacle\": {\"id\": 1, \"remove\": true}}\n", "x.jsonl", "x.jsonl:1");
+  expectFeedRefused("{\"format\":\"skyroute-obstacle-feed\",\"version\":2}\n", "y.jsonl", "version 2");
+  expectFeedRefused("", "z.jsonl", "");
   // A header whose format is not a string is refused like any other (it used to throw).
-  std::istringstream number_format("{\"format\":1,\"version\":1}\n");
-  r = parseObstacleFeed(number_format, "n.jsonl");
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("not an obstacle feed"), std::string::npos) << r.error().message;
+  expectFeedRefused("{\"format\":1,\"version\":1}\n", "n.jsonl", "not an obstacle feed");
   // 2^32 + 1 is not version 1, though it is as a 32-bit int.
-  std::istringstream wrapped("{\"format\":\"skyroute-obstacle-feed\",\"version\":4294967297}\n");
-  r = parseObstacleFeed(wrapped, "w.jsonl");
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("version 4294967297"), std::string::npos) << r.error().message;
+  expectFeedRefused("{\"format\":\"skyroute-obstacle-feed\",\"version\":4294967297}\n", "w.jsonl",
+                    "version 4294967297");
 
   auto missing = readObstacleFeed("/nonexistent/feed.jsonl");
   ASSERT_FALSE(missing.ok());

@@ -8,13 +8,11 @@
 #include <string>
 
 #include "service/daemon_config.hpp"
+#include "tests/fuzz/finding.hpp"
 
 namespace {
 
-[[noreturn]] void finding(const std::string& what) {
-  std::cerr << "daemon_config_fuzzer: " << what << std::endl;
-  std::abort();
-}
+[[noreturn]] void finding(const std::string& what) { skyroute::fuzz::reportFinding("daemon_config_fuzzer", what); }
 
 }  // namespace
 

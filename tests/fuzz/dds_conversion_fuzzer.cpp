@@ -18,8 +18,10 @@
 #include "service/fleet_mission.hpp"
 #include "service/obstacle_feed.hpp"
 #include "service/world_model.hpp"
+#include "tests/fuzz/finding.hpp"
 #include "tests/fuzz/fuzz_bytes.hpp"
 #include "tests/fuzz/mission_equal.hpp"
+#include "tests/fuzz/world_obstacle_probe.hpp"
 
 namespace {
 
@@ -31,10 +33,7 @@ constexpr std::int64_t kNowUtcNs = 1'704'067'200'000'000'000;
 // Longest sequence built: past every limit the service has (64 points, vehicles and tasks).
 constexpr std::uint32_t kMaxSequence = 1024;
 
-[[noreturn]] void finding(const std::string& what) {
-  std::cerr << "dds_conversion_fuzzer: " << what << std::endl;
-  std::abort();
-}
+[[noreturn]] void finding(const std::string& what) { skyroute::fuzz::reportFinding("dds_conversion_fuzzer", what); }
 
 // A string as Cyclone hands it over (dds_alloc'd, freed with the sample); now and then null.
 char* wireString(FuzzBytes& in) {
@@ -149,14 +148,7 @@ void obstacleUpdate(FuzzBytes& in) {
     if (update.error().field.empty()) finding("a rejected obstacle update names no field");
     return;
   }
-  // What the world model and every collision check then compute from it (a minute ahead is more
-  // than the replanning horizon).
-  const Obstacle obstacle = worldObstacle(*update, WorldModelOptions{}.constant_velocity_horizon_s);
-  const double now_s = static_cast<double>(kNowUtcNs) * 1e-9;
-  (void)obstacle.centerAt(now_s);
-  (void)obstacle.trackDuring(now_s, now_s + 60.0);
-  (void)obstacle.boundingRadius();
-  (void)obstacle.contains(Eigen::Vector3d::Zero(), now_s, 1.0);
+  fuzz::probeWorldObstacle(*update, kNowUtcNs);
   // `skyroute record` writes what it hears as a feed line, which `skyroute replay` must read back.
   const FeedEntry entry = FeedEntry::fromUpdate(*update, 0.0, kNowUtcNs);
   std::istringstream recorded(obstacleFeedHeaderLine() + "\n" + obstacleFeedEntryLine(entry) + "\n");

@@ -13,14 +13,12 @@
 #include "service/dds/conversions.hpp"
 #include "service/engine.hpp"
 #include "service/mission_json.hpp"
+#include "tests/fuzz/finding.hpp"
 #include "tests/fuzz/mission_equal.hpp"
 
 namespace {
 
-[[noreturn]] void finding(const char* what) {
-  std::cerr << "mission_json_fuzzer: " << what << std::endl;
-  std::abort();
-}
+[[noreturn]] void finding(const std::string& what) { skyroute::fuzz::reportFinding("mission_json_fuzzer", what); }
 
 }  // namespace
 

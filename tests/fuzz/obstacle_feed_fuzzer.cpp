@@ -13,17 +13,16 @@
 #include "service/dds/conversions.hpp"
 #include "service/obstacle_feed.hpp"
 #include "service/world_model.hpp"
+#include "tests/fuzz/finding.hpp"
 #include "tests/fuzz/obstacle_equal.hpp"
+#include "tests/fuzz/world_obstacle_probe.hpp"
 
 namespace {
 
 // A fixed publication time (2024-01-01T00:00:00Z), so a run is reproducible.
 constexpr std::int64_t kPublishUtcNs = 1'704'067'200'000'000'000;
 
-[[noreturn]] void finding(const std::string& what) {
-  std::cerr << "obstacle_feed_fuzzer: " << what << std::endl;
-  std::abort();
-}
+[[noreturn]] void finding(const std::string& what) { skyroute::fuzz::reportFinding("obstacle_feed_fuzzer", what); }
 
 void checkEntry(const skyroute::FeedEntry& entry) {
   using namespace skyroute;
@@ -36,14 +35,7 @@ void checkEntry(const skyroute::FeedEntry& entry) {
   if (!received) finding("the daemon refuses the published update: " + received.error().describe());
   if (!fuzz::sameUpdate(*received, update)) finding("the update arrives changed over DDS");
 
-  // What the world model and the collision checks compute from it (over a minute ahead, more than
-  // the replanning horizon).
-  const Obstacle o = worldObstacle(*received, WorldModelOptions{}.constant_velocity_horizon_s);
-  const double now_s = static_cast<double>(kPublishUtcNs) * 1e-9;
-  (void)o.centerAt(now_s);
-  (void)o.trackDuring(now_s, now_s + 60.0);
-  (void)o.boundingRadius();
-  (void)o.contains(Eigen::Vector3d::Zero(), now_s, 1.0);
+  fuzz::probeWorldObstacle(*received, kPublishUtcNs);
 
   std::istringstream line(obstacleFeedHeaderLine() + "\n" + obstacleFeedEntryLine(entry) + "\n");
   auto again = parseObstacleFeed(line, "own-line");

@@ -16,7 +16,8 @@
 
 #include "service/engine.hpp"
 #include "terrain/terrain_world.hpp"
-#include "tests/terrain_data.hpp"
+#include "tests/service/default_world_fixture.hpp"
+#include "tests/spoiled_request.hpp"
 
 namespace skyroute {
 namespace {
@@ -70,17 +71,11 @@ struct ManualClock {
   double seconds() const { return static_cast<double>(now_ns) * 1e-9; }
 };
 
-class EngineTest : public ::testing::Test {
+class EngineTest : public testing::DefaultWorldTest {
  protected:
-  static void SetUpTestSuite() {
-    heightfield_ = testing::defaultTerrainHeightfield();
-    ASSERT_TRUE(heightfield_) << "data/default_terrain.tif did not load";
-  }
-
   void SetUp() override {
-    auto model = WorldModel::create(heightfield_, WorldModelOptions{}, "default_terrain");
-    ASSERT_TRUE(model.ok());
-    world_ = *model;
+    DefaultWorldTest::SetUp();
+    if (HasFatalFailure()) return;
     EngineOptions options;
     options.pipeline.sample_dt_s = 0.05;  // dense enough for the clearance check between samples
     auto engine = Engine::create(world_, options, sink_, [this] { return clock_.now_ns; });
@@ -88,15 +83,6 @@ class EngineTest : public ::testing::Test {
     engine_ = std::move(*engine);
   }
 
-  // A point above the ground by agl_m at east/north metres from the terrain centre.
-  MissionPointData enu(double e, double n, double agl_m) const {
-    return MissionPointData::enu(Eigen::Vector3d(e, n, heightfield_->heightAt(e, n) + agl_m));
-  }
-  MissionPointData geo(double e, double n, double agl_m) const {
-    const Eigen::Vector3d p = enu(e, n, agl_m).enu_m;
-    const GeoPoint g = heightfield_->frame().toGeo(p);
-    return MissionPointData::wgs84(g.lat_deg, g.lon_deg, g.alt_amsl_m);
-  }
   MissionRequestData request(const std::string& id, const std::string& vehicle = "uav-1") const {
     MissionRequestData r;
     r.request_id = id;
@@ -110,8 +96,6 @@ class EngineTest : public ::testing::Test {
     return p.frame == MissionPointData::Frame::kEnu ? p.enu_m : heightfield_->frame().toEnu(p.geo);
   }
 
-  static inline std::shared_ptr<const Heightfield> heightfield_;
-  std::shared_ptr<WorldModel> world_;
   CapturingSink sink_;
   ManualClock clock_;
   std::unique_ptr<Engine> engine_;
@@ -278,12 +262,7 @@ TEST_F(EngineTest, SameSeedSameTrajectory) {
 }
 
 TEST_F(EngineTest, BadRequestsGetTheirErrorAndTheNextRequestIsServed) {
-  struct Case {
-    std::string name;
-    std::function<void(MissionRequestData&)> spoil;
-    PlanErrorCode code;
-    std::string field;
-  };
+  using Case = testing::SpoiledRequest;
   const std::vector<Case> cases = {
       {"planner", [](MissionRequestData& r) { r.planner = "dijkstra-3d"; }, PlanErrorCode::kUnknownPlanner, "planner"},
       {"nan", [](MissionRequestData& r) { r.points[1].geo.lat_deg = std::nan(""); }, PlanErrorCode::kInvalidArgument,

@@ -156,39 +156,31 @@ TEST_F(FleetCli, BadInputIsRefusedWithTheItemNamed) {
   EXPECT_NE(r.err.find("--tasks"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("task 1"), std::string::npos) << r.err;
 
-  r = run("--map " + map() + " --vehicles '1,1;2' --tasks '4,1'");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--vehicles[1]"), std::string::npos) << r.err;
-
-  r = run("--map " + map() + " --vehicles '1,1;1,1' --tasks '4,1'");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("vehicle 1"), std::string::npos) << r.err;
-
-  r = run("--map " + map() + " --vehicles '1,1' --tasks '4,1;4,3;2,3' --capacity 2");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("capacity"), std::string::npos) << r.err;
-
-  r = run("--map " + map() + " --vehicles '1,1' --tasks '4,1' --algo magic");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--algo"), std::string::npos) << r.err;
-
-  r = run("--map " + (dir_ / "missing.map").string() + " --vehicles '1,1' --tasks '4,1'");
-  EXPECT_EQ(r.code, 3);
-  EXPECT_NE(r.err.find("missing.map"), std::string::npos) << r.err;
+  struct Refused {
+    std::string args;
+    int code;
+    std::string named;  // what the message must name
+  };
+  const Refused cases[] = {
+      {"--map " + map() + " --vehicles '1,1;2' --tasks '4,1'", 2, "--vehicles[1]"},
+      {"--map " + map() + " --vehicles '1,1;1,1' --tasks '4,1'", 2, "vehicle 1"},
+      {"--map " + map() + " --vehicles '1,1' --tasks '4,1;4,3;2,3' --capacity 2", 2, "capacity"},
+      {"--map " + map() + " --vehicles '1,1' --tasks '4,1' --algo magic", 2, "--algo"},
+      {"--map " + (dir_ / "missing.map").string() + " --vehicles '1,1' --tasks '4,1'", 3, "missing.map"},
+      {"--map " + map() + " --vehicles '1,1' --tasks '4,1' --out /nonexistent-dir/plan.json", 2, "--out"},
+      {"--map " + map() + " --vehicles '1,1' --tasks '4,1' --ends '2,0'", 2, "--ends"},  // lat/lon fleets only
+  };
+  for (const Refused& c : cases) {
+    r = run(c.args);
+    EXPECT_EQ(r.code, c.code) << c.args;
+    EXPECT_NE(r.err.find(c.named), std::string::npos) << c.args << ": " << r.err;
+  }
 
   // Without --map or --cells the points are latitude, longitude, altitude.
   r = run("--vehicles '1,1' --tasks '4,1'");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--vehicles[0]"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("LAT,LON,ALT"), std::string::npos) << r.err;
-
-  r = run("--map " + map() + " --vehicles '1,1' --tasks '4,1' --out /nonexistent-dir/plan.json");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
-
-  r = run("--map " + map() + " --vehicles '1,1' --tasks '4,1' --ends '2,0'");  // lat/lon fleets only
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--ends"), std::string::npos) << r.err;
 }
 
 // The old grid spellings still work for one release.

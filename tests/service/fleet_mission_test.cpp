@@ -11,33 +11,15 @@
 #include "service/engine.hpp"
 #include "service/fleet_mission.hpp"
 #include "terrain/terrain_world.hpp"
-#include "tests/terrain_data.hpp"
+#include "tests/service/default_world_fixture.hpp"
 
 namespace skyroute {
 namespace {
 
 constexpr std::int64_t kStartNs = 1'800'000'000'000'000'000LL;
 
-class FleetMissionTest : public ::testing::Test {
+class FleetMissionTest : public testing::DefaultWorldTest {
  protected:
-  static void SetUpTestSuite() {
-    heightfield_ = testing::defaultTerrainHeightfield();
-    ASSERT_TRUE(heightfield_) << "data/default_terrain.tif did not load";
-  }
-  void SetUp() override {
-    auto model = WorldModel::create(heightfield_, WorldModelOptions{}, "default_terrain");
-    ASSERT_TRUE(model.ok());
-    world_ = *model;
-  }
-
-  MissionPointData enu(double e, double n, double agl_m) const {
-    return MissionPointData::enu(Eigen::Vector3d(e, n, heightfield_->heightAt(e, n) + agl_m));
-  }
-  MissionPointData geo(double e, double n, double agl_m) const {
-    const GeoPoint g = heightfield_->frame().toGeo(enu(e, n, agl_m).enu_m);
-    return MissionPointData::wgs84(g.lat_deg, g.lon_deg, g.alt_amsl_m);
-  }
-
   // Three vehicles at three corners, nine tasks spread over the map (ENU and WGS84 mixed).
   FleetRequestData threeByNine() const {
     FleetRequestData r;
@@ -59,9 +41,6 @@ class FleetMissionTest : public ::testing::Test {
     }
     return closest;
   }
-
-  static inline std::shared_ptr<const Heightfield> heightfield_;
-  std::shared_ptr<WorldModel> world_;
 };
 
 TEST_F(FleetMissionTest, ThreeVehiclesNineTasksEveryTaskOnceClearOfTerrainAndSeparated) {

@@ -15,6 +15,7 @@
 
 #include "tests/cli_run.hpp"
 #include "tests/test_data.hpp"
+#include "tests/test_folder.hpp"
 #include "tests/text_file.hpp"
 
 namespace {
@@ -32,17 +33,9 @@ std::string planArgs(const std::string& out) {
          " --out " + out;
 }
 
-class PlanExportCli : public ::testing::Test {
+class PlanExportCli : public skyroute::testing::TestFolderTest {
  protected:
-  void SetUp() override {
-    // ctest runs every test as its own process, in parallel: one folder each.
-    const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = std::filesystem::path(::testing::TempDir()) / ("skyroute_plan_export_cli_test_" + test);
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::filesystem::path dir_;
+  PlanExportCli() : TestFolderTest("skyroute_plan_export_cli_test_") {}
 };
 
 TEST_F(PlanExportCli, QgroundcontrolPlanHasTheMissionPointsAtAmslAltitudes) {

@@ -2,6 +2,7 @@
 // vertex, the height datum each format promises (KML absolute = AMSL, GeoJSON z = ellipsoidal), one
 // colour per vehicle in KML, the CSV's ellipsoidal column, and no file at all without the geoid grid.
 #include "service/trajectory_export.hpp"
+#include "tests/test_folder.hpp"
 #include "tests/text_file.hpp"
 
 #include <gdal.h>
@@ -52,21 +53,17 @@ Dataset openWith(const std::string& path, const char* driver) {
   return Dataset(GDALOpenEx(path.c_str(), GDAL_OF_VECTOR, drivers, nullptr, nullptr));
 }
 
-class TrajectoryExportTest : public ::testing::Test {
+class TrajectoryExportTest : public testing::TestFolderTest {
  protected:
+  TrajectoryExportTest() : TestFolderTest("skyroute_trajectory_export_test_") {}
   void SetUp() override {
-    // ctest runs every test as its own process, in parallel: one folder each.
-    const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = std::filesystem::path(::testing::TempDir()) / ("skyroute_trajectory_export_test_" + test);
-    std::filesystem::remove_all(dir_);
+    TestFolderTest::SetUp();
     std::filesystem::create_directories(dir_ / "empty");
     fleet_ = {trajectoryOf("alpha", 3, 13, 46.93), trajectoryOf("bravo", 1, 7, 46.94),
               trajectoryOf("charlie", 12, 9, 46.95)};
   }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
-  std::filesystem::path dir_;
   std::vector<TrajectoryData> fleet_;
 };
 

@@ -262,12 +262,19 @@ TEST(CollisionWorld, ObstacleShapesMatchAnalyticReference) {
   }
 }
 
+// A 100 m sphere going back and forth at 60 m/s along the x axis between -half_span_m and
+// half_span_m, at height z, starting west at t = 0.
+Obstacle sphereAlongX(std::uint64_t id, double half_span_m, double z) {
+  Obstacle o = makeObstacle(id, ObstacleShape::kSphere, Eigen::Vector3d(100, 0, 0), Eigen::Vector3d::Zero());
+  o.motion = BackAndForth{{-half_span_m, 0, z}, {half_span_m, 0, z}, 60.0, 0.0};
+  return o;
+}
+
 TEST(CollisionWorld, MovingObstacleAtKnownTimes) {
   auto world = makeWorld(5.0, 30.0, 5000.0);
   const double z = 1500.0;
   // Table 1 style: back and forth between two points at 60 m/s; 1200 m apart, so 20 s per leg.
-  Obstacle o = makeObstacle(7, ObstacleShape::kSphere, Eigen::Vector3d(100, 0, 0), Eigen::Vector3d::Zero());
-  o.motion = BackAndForth{{-600, 0, z}, {600, 0, z}, 60.0, 0.0};
+  const Obstacle o = sphereAlongX(7, 600.0, z);
   world->upsertObstacle(o);
   EXPECT_TRUE(o.centerAt(0.0).isApprox(Eigen::Vector3d(-600, 0, z)));
   EXPECT_TRUE(o.centerAt(20.0).isApprox(Eigen::Vector3d(600, 0, z)));
@@ -344,8 +351,7 @@ TEST(CollisionWorld, SnapshotTimeBandBlocksOnlyWhileTheVehicleCanBeThere) {
   auto world = makeWorld(5.0, 30.0, 5000.0);
   const double z = 1500.0;
   // A 100 m sphere reaching the origin at t = 20 s (from 1200 m west, at 60 m/s).
-  Obstacle o = makeObstacle(8, ObstacleShape::kSphere, Eigen::Vector3d(100, 0, 0), Eigen::Vector3d::Zero());
-  o.motion = BackAndForth{{-1200, 0, z}, {1200, 0, z}, 60.0, 0.0};
+  const Obstacle o = sphereAlongX(8, 1200.0, z);
   world->upsertObstacle(o);
   ObstacleSnapshot snapshot;
   snapshot.time_s = 0.0;

@@ -163,14 +163,20 @@ int referenceArrival(const GridLayer& g, const std::vector<std::vector<GridCell>
   return -1;
 }
 
+// A width x height grid with `walls` cells blocked at random (a cell may be drawn twice).
+GridLayer gridWithRandomWalls(int width, int height, int walls, std::mt19937_64& rng) {
+  GridLayer g(width, height);
+  std::vector<GridCell> blocked;
+  for (int k = 0; k < walls; ++k) blocked.push_back({static_cast<int>(rng() % width), static_cast<int>(rng() % height)});
+  g.setStaticBlocked(blocked, true);
+  return g;
+}
+
 TEST(SpaceTimeAStar, ArrivesAsEarlyAsSpaceTimeBreadthFirstSearch) {
   std::mt19937_64 rng(11);
   int checked = 0;
   for (int trial = 0; trial < 120; ++trial) {
-    GridLayer g(9, 9);
-    std::vector<GridCell> walls;
-    for (int k = 0; k < 14; ++k) walls.push_back({static_cast<int>(rng() % 9), static_cast<int>(rng() % 9)});
-    g.setStaticBlocked(walls, true);
+    GridLayer g = gridWithRandomWalls(9, 9, 14, rng);
     auto freeCell = [&] {
       GridCell c;
       do c = GridCell{static_cast<int>(rng() % 9), static_cast<int>(rng() % 9)};
@@ -336,10 +342,7 @@ TEST(FleetPaths, EveryPlanOnRandomInstancesIsConflictFreeAndComplete) {
   int planned = 0;
   int with_conflicts = 0;
   for (int trial = 0; trial < 60; ++trial) {
-    GridLayer g(12, 11);
-    std::vector<GridCell> walls;
-    for (int k = 0; k < 20; ++k) walls.push_back({static_cast<int>(rng() % 12), static_cast<int>(rng() % 11)});
-    g.setStaticBlocked(walls, true);
+    GridLayer g = gridWithRandomWalls(12, 11, 20, rng);
     const int nu = 2 + trial % 5;
     FleetProblem p;
     std::set<std::pair<int, int>> used;

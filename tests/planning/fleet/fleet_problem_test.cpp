@@ -1,6 +1,8 @@
 // Bad input to the fleet planner gets an error naming the item, never a crash or a plan.
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "planning/fleet/fleet_planner.hpp"
 #include "planning/fleet/fleet_problem.hpp"
 
@@ -26,6 +28,13 @@ FleetProblem twoVehicles() {
   return p;
 }
 
+// twoVehicles() with one task more.
+FleetProblem twoVehiclesAnd(FleetTask task) {
+  FleetProblem p = twoVehicles();
+  p.tasks.push_back(std::move(task));
+  return p;
+}
+
 void expectError(const GridLayer& g, const FleetProblem& p, ErrorCode code, const std::string& must_name) {
   const Status s = validateFleetProblem(g, p);
   ASSERT_FALSE(s.ok()) << "accepted a bad problem; expected " << to_string(code);
@@ -44,9 +53,7 @@ TEST(FleetProblem, AcceptsAGoodProblem) {
 
 TEST(FleetProblem, TaskInAnObstacleIsNamed) {
   const GridLayer g = gridFrom(kRoom);
-  FleetProblem p = twoVehicles();
-  p.tasks.push_back({"in-wall", {5, 2}});
-  expectError(g, p, ErrorCode::kOccupied, "in-wall");
+  expectError(g, twoVehiclesAnd({"in-wall", {5, 2}}), ErrorCode::kOccupied, "in-wall");
 }
 
 TEST(FleetProblem, UnreachableTaskIsNamed) {
@@ -67,9 +74,7 @@ TEST(FleetProblem, MoreTasksThanCapacityIsRefused) {
 
 TEST(FleetProblem, DuplicateIdsAreNamed) {
   const GridLayer g = gridFrom(kRoom);
-  FleetProblem p = twoVehicles();
-  p.tasks.push_back({"t1", {1, 3}});
-  expectError(g, p, ErrorCode::kInvalidArgument, "t1");
+  expectError(g, twoVehiclesAnd({"t1", {1, 3}}), ErrorCode::kInvalidArgument, "t1");
   FleetProblem q = twoVehicles();
   q.vehicles.push_back({"alpha", {2, 4}, 0});
   expectError(g, q, ErrorCode::kInvalidArgument, "alpha");
@@ -77,18 +82,14 @@ TEST(FleetProblem, DuplicateIdsAreNamed) {
 
 TEST(FleetProblem, OtherBadItemsAreNamed) {
   const GridLayer g = gridFrom(kRoom);
-  FleetProblem outside = twoVehicles();
-  outside.tasks.push_back({"far", {40, 1}});
-  expectError(g, outside, ErrorCode::kOutsideMap, "far");
+  expectError(g, twoVehiclesAnd({"far", {40, 1}}), ErrorCode::kOutsideMap, "far");
   FleetProblem depot_wall = twoVehicles();
   depot_wall.vehicles[1].depot = {5, 0};
   expectError(g, depot_wall, ErrorCode::kOccupied, "bravo");
   FleetProblem shared_depot = twoVehicles();
   shared_depot.vehicles[1].depot = {0, 0};
   expectError(g, shared_depot, ErrorCode::kInvalidArgument, "bravo");
-  FleetProblem on_depot = twoVehicles();
-  on_depot.tasks.push_back({"home", {4, 4}});
-  expectError(g, on_depot, ErrorCode::kOccupied, "home");
+  expectError(g, twoVehiclesAnd({"home", {4, 4}}), ErrorCode::kOccupied, "home");
   FleetProblem none;
   expectError(g, none, ErrorCode::kInvalidArgument, "vehicles");
   FleetProblem jumpy = twoVehicles();

@@ -19,31 +19,38 @@ namespace {
 using testing::knownMaps;
 using testing::pathProblem;
 
+// Solves the first 200 problems of a MovingAI case with planner; each solved one goes to check with
+// its index, and must be a valid path.
+template <class Planner, class Check>
+void solveFirstProblems(const testing::MovingAiCase& c, Planner planner, Check check) {
+  for (std::size_t i = 0; i < 200 && i < c.problems.size(); ++i) {
+    const MovingAiProblem& p = c.problems[i];
+    const AnyAngleResult r = planner(c.grid, p.start, p.goal);
+    ASSERT_EQ(r.status, PlannerStatus::kSolved) << "problem " << i;
+    EXPECT_EQ(pathProblem(c.grid, r.path, p.start, p.goal), "") << "problem " << i;
+    check(i, p, r);
+  }
+}
+
 TEST(GridAStar8, MatchesMovingAiOptimalLengths) {
   SKYROUTE_MOVINGAI_CASE(room, "room-32-32-4.map", "room-32-32-4-random-1.scen");
-  for (std::size_t i = 0; i < 200 && i < room.problems.size(); ++i) {
-    const MovingAiProblem& p = room.problems[i];
-    const AnyAngleResult r = gridAStar8(room.grid, p.start, p.goal);
-    ASSERT_EQ(r.status, PlannerStatus::kSolved) << "problem " << i;
+  auto astar = [](const GridLayer& g, GridCell a, GridCell b) { return gridAStar8(g, a, b); };
+  solveFirstProblems(room, astar, [](std::size_t i, const MovingAiProblem& p, const AnyAngleResult& r) {
     EXPECT_NEAR(r.length_cells, p.optimal_length, 1e-3) << "problem " << i;
     for (std::size_t k = 1; k < r.path.size(); ++k) {  // 8-connected moves, each a visible segment
       EXPECT_LE(std::max(std::abs(r.path[k].x - r.path[k - 1].x), std::abs(r.path[k].y - r.path[k - 1].y)), 1);
     }
-    EXPECT_EQ(pathProblem(room.grid, r.path, p.start, p.goal), "") << "problem " << i;
-  }
+  });
 }
 
 TEST(ThetaStar, ValidAndBetweenOptimumAndAStarOnMovingAiProblems) {
   SKYROUTE_MOVINGAI_CASE(room, "room-32-32-4.map", "room-32-32-4-random-1.scen");
-  for (std::size_t i = 0; i < 200 && i < room.problems.size(); ++i) {
-    const MovingAiProblem& p = room.problems[i];
-    const AnyAngleResult r = thetaStar(room.grid, p.start, p.goal);
-    ASSERT_EQ(r.status, PlannerStatus::kSolved) << "problem " << i;
-    EXPECT_EQ(pathProblem(room.grid, r.path, p.start, p.goal), "") << "problem " << i;
+  auto theta = [](const GridLayer& g, GridCell a, GridCell b) { return thetaStar(g, a, b); };
+  solveFirstProblems(room, theta, [](std::size_t i, const MovingAiProblem& p, const AnyAngleResult& r) {
     EXPECT_LE(r.length_cells, p.optimal_length + 1e-3) << "problem " << i;  // never worse than 8-connected
     EXPECT_GE(r.length_cells, testing::euclid(p.start, p.goal) - 1e-9);
     EXPECT_NEAR(r.length_cells, polylineLength(r.path), 1e-9);
-  }
+  });
 }
 
 // Theta* is not optimal in general (its parents are expanded cells): on these maps it stays within

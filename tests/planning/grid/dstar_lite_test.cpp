@@ -58,52 +58,61 @@ GridCell randomFree(const GridLayer& grid, std::mt19937& rng) {
   }
 }
 
+// Runs body(moves, grid, rng, trial) on `trials` random grids for each move set, the generator
+// seeded afresh for each set.
+template <class Body>
+void onRandomGrids(unsigned seed, int trials, int width, int height, double blocked_share, Body body) {
+  for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
+    std::mt19937 rng(seed);
+    for (int trial = 0; trial < trials; ++trial) {
+      GridLayer grid = randomGrid(width, height, blocked_share, rng);
+      body(moves, grid, rng, trial);
+    }
+  }
+}
+
 // The vehicle walks towards the goal; every few steps random cells flip (obstacles added and
 // removed, never at the vehicle or the goal). After each repair the cost equals Dijkstra's.
 TEST(DStarLite, ReplanningMatchesDijkstraWhileStartMovesAndCellsChange) {
-  for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
-    std::mt19937 rng(42);
-    for (int trial = 0; trial < 8; ++trial) {
-      GridLayer grid = randomGrid(50, 40, 0.2, rng);
-      const GridCell start = randomFree(grid, rng);
-      const GridCell goal = randomFree(grid, rng);
-      DStarLite search(grid, start, goal, moves);
-      search.computeShortestPath();
-      GridCell at = start;
-      int moved = 0;
-      for (int step = 0; step < 60 && !(at == goal); ++step) {
-        std::vector<GridCell> flip;
-        for (int k = 0; k < 6; ++k) {
-          const GridCell c{std::uniform_int_distribution<int>(0, grid.width() - 1)(rng),
-                           std::uniform_int_distribution<int>(0, grid.height() - 1)(rng)};
-          if (!(c == at) && !(c == goal)) flip.push_back(c);
-        }
-        std::vector<GridCell> changed;
-        for (const GridCell& c : flip) {
-          const bool now_blocked = grid.staticBlocked(c);
-          const std::vector<GridCell> one{c};
-          for (const GridCell& d : grid.setStaticBlocked(one, !now_blocked)) changed.push_back(d);
-        }
-        search.updateCells(changed);
-        const PlannerStatus status = search.computeShortestPath();
-        const auto field = dijkstraCostField(grid, goal, moves);
-        const double expected = field[grid.index(at)];
-        if (expected < kInfiniteCost) {
-          ASSERT_EQ(status, PlannerStatus::kSolved);
-          ASSERT_NEAR(search.cost(), expected, 1e-9) << "trial " << trial << " step " << step;
-          at = search.nextCell();
-          search.moveStart(at);
-          ++moved;
-        } else {
-          ASSERT_EQ(status, PlannerStatus::kNoPath);
-          EXPECT_EQ(search.cost(), kInfiniteCost);
-        }
+  onRandomGrids(42, 8, 50, 40, 0.2, [&](const GridMoves& moves, GridLayer& grid, std::mt19937& rng, int trial) {
+    const GridCell start = randomFree(grid, rng);
+    const GridCell goal = randomFree(grid, rng);
+    DStarLite search(grid, start, goal, moves);
+    search.computeShortestPath();
+    GridCell at = start;
+    int moved = 0;
+    for (int step = 0; step < 60 && !(at == goal); ++step) {
+      std::vector<GridCell> flip;
+      for (int k = 0; k < 6; ++k) {
+        const GridCell c{std::uniform_int_distribution<int>(0, grid.width() - 1)(rng),
+                         std::uniform_int_distribution<int>(0, grid.height() - 1)(rng)};
+        if (!(c == at) && !(c == goal)) flip.push_back(c);
       }
-      if (moved > 1) {
-        EXPECT_GT(search.km(), 0.0) << "k_m should have grown as the start moved";
+      std::vector<GridCell> changed;
+      for (const GridCell& c : flip) {
+        const bool now_blocked = grid.staticBlocked(c);
+        const std::vector<GridCell> one{c};
+        for (const GridCell& d : grid.setStaticBlocked(one, !now_blocked)) changed.push_back(d);
+      }
+      search.updateCells(changed);
+      const PlannerStatus status = search.computeShortestPath();
+      const auto field = dijkstraCostField(grid, goal, moves);
+      const double expected = field[grid.index(at)];
+      if (expected < kInfiniteCost) {
+        ASSERT_EQ(status, PlannerStatus::kSolved);
+        ASSERT_NEAR(search.cost(), expected, 1e-9) << "trial " << trial << " step " << step;
+        at = search.nextCell();
+        search.moveStart(at);
+        ++moved;
+      } else {
+        ASSERT_EQ(status, PlannerStatus::kNoPath);
+        EXPECT_EQ(search.cost(), kInfiniteCost);
       }
     }
-  }
+    if (moved > 1) {
+      EXPECT_GT(search.km(), 0.0) << "k_m should have grown as the start moved";
+    }
+  });
 }
 
 // The move table, built at once or refreshed cell by cell after changes, allows exactly the moves
@@ -144,79 +153,75 @@ TEST(GridMoveTable, MasksMatchMoveCost) {
 // Dijkstra's, rhs is the minimum over the successors everywhere, every inconsistent cell is in the
 // frontier queue once, a search from any start stops at once, and repairs after changes are exact.
 TEST(DStarLite, SweepLeavesAStateThatRepairsExactly) {
-  for (const GridMoves moves : {GridMoves{}, GridMoves::paper(), cornerCuttingMoves()}) {
-    std::mt19937 rng(7);
-    for (int trial = 0; trial < 6; ++trial) {
-      GridLayer grid = randomGrid(60, 50, 0.25, rng);
-      const GridCell goal = randomFree(grid, rng);
-      std::vector<GridCell> starts;
-      for (int k = 0; k < 5; ++k) starts.push_back(randomFree(grid, rng));
-      const auto exact = dijkstraCostField(grid, goal, moves);
-      bool all_reached = true;
-      for (const GridCell& s : starts) all_reached = all_reached && exact[grid.index(s)] < kInfiniteCost;
-      DStarGoalField field(grid, goal, moves);
-      DStarQueue frontier(starts.front(), 0.0);
-      SearchStats stats;
-      const PlannerStatus status = dstarSweepInitialize(field, starts, frontier, stats, {});
-      ASSERT_EQ(status, all_reached ? PlannerStatus::kSolved : PlannerStatus::kNoPath) << "trial " << trial;
-      double farthest = 0.0;
-      for (const GridCell& s : starts) {
-        const double e = exact[grid.index(s)];
-        if (e < kInfiniteCost) {
-          ASSERT_NEAR(field.costFrom(s), e, 1e-9);
-          farthest = std::max(farthest, e);
-        } else {
-          EXPECT_EQ(field.costFrom(s), kInfiniteCost);
-        }
-      }
-      std::size_t inconsistent = 0;
-      for (std::size_t i = 0; i < grid.cellCount(); ++i) {
-        if (field.g(i) < kInfiniteCost) {
-          ASSERT_NEAR(field.g(i), exact[i], 1e-9) << "cell " << i;
-        }
-        if (i != field.goalIndex()) {
-          ASSERT_TRUE(costEqual(field.rhs(i), field.bestRhs(i))) << "cell " << i;
-        }
-        if (!field.consistent(i)) {
-          ++inconsistent;
-          EXPECT_GE(field.rhs(i), farthest) << "an open cell below a start's cost";
-        }
-      }
-      EXPECT_EQ(frontier.size(), inconsistent);
-      EXPECT_GT(stats.expansions, 0u);
-      // Each start's queue: a copy re-keyed for it; the search has nothing left to do.
-      for (const GridCell& s : starts) {
-        DStarQueue q = frontier;
-        q.setStart(s);
-        q.adapt(field, stats);
-        const auto before = stats.expansions;
-        dstarComputeShortestPath(field, q, stats, {});
-        EXPECT_EQ(stats.expansions, before);
-      }
-      // Then the seed's repair from that state, for the first start, while cells flip.
-      DStarQueue q = frontier;
-      q.adapt(field, stats);
-      DStarQueue* const queues[] = {&q};
-      for (int round = 0; round < 5; ++round) {
-        std::vector<GridCell> changed;
-        for (int k = 0; k < 10; ++k) {
-          const GridCell c{std::uniform_int_distribution<int>(0, grid.width() - 1)(rng),
-                           std::uniform_int_distribution<int>(0, grid.height() - 1)(rng)};
-          if (c == goal || c == starts.front()) continue;
-          const std::vector<GridCell> one{c};
-          for (const GridCell& d : grid.setStaticBlocked(one, !grid.staticBlocked(c))) changed.push_back(d);
-        }
-        dstarUpdateChangedCells(field, changed, queues, stats);
-        dstarComputeShortestPath(field, q, stats, {});
-        const double e = dijkstraCostField(grid, goal, moves)[grid.index(starts.front())];
-        if (e < kInfiniteCost) {
-          ASSERT_NEAR(field.costFrom(starts.front()), e, 1e-9) << "trial " << trial << " round " << round;
-        } else {
-          ASSERT_EQ(field.costFrom(starts.front()), kInfiniteCost);
-        }
+  onRandomGrids(7, 6, 60, 50, 0.25, [&](const GridMoves& moves, GridLayer& grid, std::mt19937& rng, int trial) {
+    const GridCell goal = randomFree(grid, rng);
+    std::vector<GridCell> starts;
+    for (int k = 0; k < 5; ++k) starts.push_back(randomFree(grid, rng));
+    const auto exact = dijkstraCostField(grid, goal, moves);
+    bool all_reached = true;
+    for (const GridCell& s : starts) all_reached = all_reached && exact[grid.index(s)] < kInfiniteCost;
+    DStarGoalField field(grid, goal, moves);
+    DStarQueue frontier(starts.front(), 0.0);
+    SearchStats stats;
+    const PlannerStatus status = dstarSweepInitialize(field, starts, frontier, stats, {});
+    ASSERT_EQ(status, all_reached ? PlannerStatus::kSolved : PlannerStatus::kNoPath) << "trial " << trial;
+    double farthest = 0.0;
+    for (const GridCell& s : starts) {
+      const double e = exact[grid.index(s)];
+      if (e < kInfiniteCost) {
+        ASSERT_NEAR(field.costFrom(s), e, 1e-9);
+        farthest = std::max(farthest, e);
+      } else {
+        EXPECT_EQ(field.costFrom(s), kInfiniteCost);
       }
     }
-  }
+    std::size_t inconsistent = 0;
+    for (std::size_t i = 0; i < grid.cellCount(); ++i) {
+      if (field.g(i) < kInfiniteCost) {
+        ASSERT_NEAR(field.g(i), exact[i], 1e-9) << "cell " << i;
+      }
+      if (i != field.goalIndex()) {
+        ASSERT_TRUE(costEqual(field.rhs(i), field.bestRhs(i))) << "cell " << i;
+      }
+      if (!field.consistent(i)) {
+        ++inconsistent;
+        EXPECT_GE(field.rhs(i), farthest) << "an open cell below a start's cost";
+      }
+    }
+    EXPECT_EQ(frontier.size(), inconsistent);
+    EXPECT_GT(stats.expansions, 0u);
+    // Each start's queue: a copy re-keyed for it; the search has nothing left to do.
+    for (const GridCell& s : starts) {
+      DStarQueue q = frontier;
+      q.setStart(s);
+      q.adapt(field, stats);
+      const auto before = stats.expansions;
+      dstarComputeShortestPath(field, q, stats, {});
+      EXPECT_EQ(stats.expansions, before);
+    }
+    // Then the seed's repair from that state, for the first start, while cells flip.
+    DStarQueue q = frontier;
+    q.adapt(field, stats);
+    DStarQueue* const queues[] = {&q};
+    for (int round = 0; round < 5; ++round) {
+      std::vector<GridCell> changed;
+      for (int k = 0; k < 10; ++k) {
+        const GridCell c{std::uniform_int_distribution<int>(0, grid.width() - 1)(rng),
+                         std::uniform_int_distribution<int>(0, grid.height() - 1)(rng)};
+        if (c == goal || c == starts.front()) continue;
+        const std::vector<GridCell> one{c};
+        for (const GridCell& d : grid.setStaticBlocked(one, !grid.staticBlocked(c))) changed.push_back(d);
+      }
+      dstarUpdateChangedCells(field, changed, queues, stats);
+      dstarComputeShortestPath(field, q, stats, {});
+      const double e = dijkstraCostField(grid, goal, moves)[grid.index(starts.front())];
+      if (e < kInfiniteCost) {
+        ASSERT_NEAR(field.costFrom(starts.front()), e, 1e-9) << "trial " << trial << " round " << round;
+      } else {
+        ASSERT_EQ(field.costFrom(starts.front()), kInfiniteCost);
+      }
+    }
+  });
 }
 
 TEST(DStarLite, ReplanningExpandsFarFewerCellsThanPlanningAgain) {

@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <random>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -25,35 +28,31 @@ TEST(MissionPlanner, BadPointsGetClearErrors) {
   wall.push_back({19, 18});
   grid.setStaticBlocked(wall, true);
 
-  auto outside = MissionPlanner::create(grid, {0, 0}, {{3, 3}, {25, 2}}, {10, 10});
-  ASSERT_FALSE(outside.ok());
-  EXPECT_EQ(outside.error().code, ErrorCode::kOutsideMap);
-  EXPECT_EQ(outside.error().field, "points[1]");
-  EXPECT_NE(outside.error().message.find("(25, 2)"), std::string::npos);
-
-  auto occupied = MissionPlanner::create(grid, {0, 0}, {{5, 5}}, {10, 10});
-  ASSERT_FALSE(occupied.ok());
-  EXPECT_EQ(occupied.error().code, ErrorCode::kOccupied);
-  EXPECT_EQ(occupied.error().field, "points[0]");
-
-  auto begin_bad = MissionPlanner::create(grid, {-1, 0}, {{3, 3}}, {10, 10});
-  ASSERT_FALSE(begin_bad.ok());
-  EXPECT_EQ(begin_bad.error().field, "begin");
-
-  auto unreachable = MissionPlanner::create(grid, {0, 0}, {{3, 3}, {19, 19}}, {10, 10});
-  ASSERT_FALSE(unreachable.ok());
-  EXPECT_EQ(unreachable.error().code, ErrorCode::kUnreachable);
-  EXPECT_EQ(unreachable.error().field, "points[1]");
-
-  auto duplicate = MissionPlanner::create(grid, {0, 0}, {{3, 3}, {7, 7}, {3, 3}}, {10, 10});
-  ASSERT_FALSE(duplicate.ok());
-  EXPECT_EQ(duplicate.error().code, ErrorCode::kInvalidArgument);
-  EXPECT_EQ(duplicate.error().field, "points[2]");
-  EXPECT_NE(duplicate.error().message.find("points[0]"), std::string::npos);
-
-  auto same_as_end = MissionPlanner::create(grid, {0, 0}, {{10, 10}}, {10, 10});
-  ASSERT_FALSE(same_as_end.ok());
-  EXPECT_EQ(same_as_end.error().field, "end");
+  struct Refused {
+    GridCell begin;
+    std::vector<GridCell> points;
+    GridCell end;
+    std::optional<ErrorCode> code;  // nullopt: any code
+    std::string field;
+    std::string says;  // "" = anything
+  };
+  const Refused cases[] = {
+      {{0, 0}, {{3, 3}, {25, 2}}, {10, 10}, ErrorCode::kOutsideMap, "points[1]", "(25, 2)"},
+      {{0, 0}, {{5, 5}}, {10, 10}, ErrorCode::kOccupied, "points[0]", ""},
+      {{-1, 0}, {{3, 3}}, {10, 10}, std::nullopt, "begin", ""},
+      {{0, 0}, {{3, 3}, {19, 19}}, {10, 10}, ErrorCode::kUnreachable, "points[1]", ""},
+      {{0, 0}, {{3, 3}, {7, 7}, {3, 3}}, {10, 10}, ErrorCode::kInvalidArgument, "points[2]", "points[0]"},
+      {{0, 0}, {{10, 10}}, {10, 10}, std::nullopt, "end", ""},
+  };
+  for (const Refused& c : cases) {
+    auto refused = MissionPlanner::create(grid, c.begin, c.points, c.end);
+    ASSERT_FALSE(refused.ok()) << c.field;
+    if (c.code) {
+      EXPECT_EQ(refused.error().code, *c.code) << c.field;
+    }
+    EXPECT_EQ(refused.error().field, c.field);
+    EXPECT_NE(refused.error().message.find(c.says), std::string::npos) << refused.error().message;
+  }
 
   // A round trip (begin == end) is allowed.
   EXPECT_TRUE(MissionPlanner::create(grid, {0, 0}, {{3, 3}}, {0, 0}).ok());
