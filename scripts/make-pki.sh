@@ -131,7 +131,7 @@ observer_subject=$(identity observer)
   echo '  <permissions>'
   grant daemon "$daemon_subject" '*'
   grant station "$station_subject" skyroute_mission_request skyroute_cancel_request skyroute_obstacle_update \
-    skyroute_fleet_request skyroute_no_fly_zones
+    skyroute_fleet_request skyroute_no_fly_zone
   grant observer "$observer_subject"
   echo '  </permissions>'
   echo '</dds>'
