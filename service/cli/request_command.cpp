@@ -24,6 +24,7 @@
 #include "service/cli/dds_commands.hpp"
 #include "service/cli/height_ref_option.hpp"
 #include "service/cli/mission_args.hpp"
+#include "service/cli/progress.hpp"
 #include "service/dds/service_instance.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/number_text.hpp"
@@ -37,8 +38,11 @@ struct RequestOptions {
   std::string vehicle, request_id, planner;
   MissionPointArgs mission;  // --file, --from/--via/--to, --fixed-order and the vehicle limits
   double wait_s = 30.0;
+  bool progress = false;  // --progress: the waiting on stderr even when it is not a terminal
   HeightRefArgs height_ref;
 };
+
+constexpr double kProgressEveryS = 2.0;  // how often a terminal hears what the request waits for
 
 // The mission: the file's with the options on top, ids filled in, checked here as the service
 // would check it, so a bad value is named as the user wrote it (the option, or the file's field,
@@ -87,7 +91,8 @@ struct LiveServices {
 
 // Waits until every live service reads our requests and writes statuses to us (see the top).
 LiveServices waitForEveryService(const std::string& tool, const RequestOptions& o, const dds::Entity& participant,
-                                 const RequestEndpoints& e, const std::function<double()>& left_s) {
+                                 const RequestEndpoints& e, const std::function<double()>& left_s,
+                                 const TerminalProgress& progress) {
   // Every live service, from discovery: the daemons among the participants (known first), and
   // the heartbeat writers they serve by. Each must read our requests and write statuses to us
   // before the request goes out; the counts must then hold for a moment (another daemon's
@@ -126,6 +131,11 @@ LiveServices waitForEveryService(const std::string& tool, const RequestOptions& 
     } else if (std::chrono::duration<double>(Clock::now() - settled_since).count() >= kSettleS) {
       return live;
     }
+    progress.every(kProgressEveryS, [&] {
+      return "waiting on domain " + std::to_string(o.domain) + ": " + std::to_string(n) + " planning service" +
+             (n == 1 ? "" : "s") + " discovered, " + std::to_string(reached.size()) + " with a heartbeat; " +
+             numberText(std::max(0.0, left_s()), 3) + " s left of --wait";
+    });
     if (left_s() <= 0.0) {
       if (n == 0)
         fail(tool, kExitServiceUnavailable, "no planning service is listening on domain " + std::to_string(o.domain) +
@@ -173,7 +183,8 @@ void runRequest(const RequestOptions& o) {
   const std::function<double()> left_s = [&] {
     return o.wait_s - std::chrono::duration<double>(Clock::now() - start).count();
   };
-  LiveServices live = waitForEveryService(tool, o, participant, endpoints, left_s);
+  const TerminalProgress progress(o.progress);
+  LiveServices live = waitForEveryService(tool, o, participant, endpoints, left_s, progress);
 
   stopOnSignals(loop.waitsetHandle());
   Status written = endpoints.writer.write(mission);
@@ -184,12 +195,14 @@ void runRequest(const RequestOptions& o) {
   std::map<std::string, Heard> heard;           // instance id -> its last heartbeat
   std::set<std::string> accepted_by;            // instances answering this request
   std::optional<PlanStatusData> final_status;
+  std::string last_state = "sent";  // the latest status of this request, for the progress lines
   Status added = loop.add<PlanStatusData>(
       endpoints.statuses,
       [&](PlanStatusData&& s) {
         if (s.request_id != mission.request_id) return;
         if (!s.requester.empty() && s.requester != me) return;  // another client's request with this id
         std::cout << describe(s) << std::endl;
+        last_state = std::string(to_string(s.state));
         // Until its next heartbeat, a service is timed from its answer, with the period it announced.
         if (!s.service_instance.empty() && accepted_by.insert(s.service_instance).second &&
             heard.count(s.service_instance) == 0 && live.periods_s.count(s.service_instance) > 0) {
@@ -213,6 +226,10 @@ void runRequest(const RequestOptions& o) {
     auto outcome = loop.runOnce(std::min(0.1, std::max(0.01, left_s())));
     if (!outcome) fail(tool, kExitServiceUnavailable, outcome.error().describe());
     if (*outcome == dds::WaitLoop::Outcome::kStopped) break;
+    progress.every(kProgressEveryS, [&] {
+      return "request " + mission.request_id + ": " + last_state + "; " + numberText(std::max(0.0, left_s()), 3) +
+             " s left of --wait";
+    });
     if (accepted_by.empty()) continue;
     std::string instance;
     if (const std::string why = lostService(accepted_by, heard, endpoints.heartbeats, &instance); !why.empty()) {
@@ -259,6 +276,8 @@ void addRequestCommand(CLI::App& app) {
   addFlightBandOptions(*cmd, mission.limits);
   addVehicleDynamicsOptions(*cmd, mission.limits);
   addHeightRefOption(*cmd, options->height_ref);
+  cmd->add_flag("--progress", options->progress,
+                "Say every 2 s on stderr what the request waits for, even when stderr is not a terminal");
   cmd->add_option("--wait", options->wait_s, "Seconds to wait for the service and its answer")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
