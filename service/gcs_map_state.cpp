@@ -192,7 +192,7 @@ std::string GcsMapState::render() const {
         {"max_height_m", terrain_->maxHeightM()}}},
       {"vehicles", std::move(vehicles)},
       {"obstacles", std::move(obstacles)},
-      // The product has no no-fly zones yet; each will be a NoFlyZone (qgc_plan.hpp) as
+      // The product has no no-fly zones on this map yet; each will be a GeofencePolygon (qgc_plan.hpp) as
       // {"ring": [{"lat_deg", "lon_deg"}, ...]}, which the page draws.
       {"no_fly_zones", json::array()},
   };

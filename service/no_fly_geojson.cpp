@@ -186,16 +186,4 @@ Result<std::vector<NoFlyZone>> loadNoFlyGeoJson(const std::string& path, const L
   return zones;
 }
 
-std::vector<std::pair<double, double>> zoneLatLon(const NoFlyZone& zone, const LocalFrame& frame) {
-  std::vector<double> east, north;
-  for (const Eigen::Vector2d& v : zone.ring_m) {
-    east.push_back(v.x());
-    north.push_back(v.y());
-  }
-  frame.eastNorthToLonLat(east.data(), north.data(), east.size());
-  std::vector<std::pair<double, double>> out;
-  for (std::size_t i = 0; i < east.size(); ++i) out.emplace_back(north[i], east[i]);
-  return out;
-}
-
 }  // namespace skyroute

@@ -26,7 +26,4 @@ Result<std::vector<NoFlyZone>> parseNoFlyGeoJson(const std::string& text, const 
 // Reads and parses the file; errors name the file and the feature.
 Result<std::vector<NoFlyZone>> loadNoFlyGeoJson(const std::string& path, const LocalFrame& frame);
 
-// The zone's ring back in WGS84, as (latitude, longitude) degree pairs (for exports).
-std::vector<std::pair<double, double>> zoneLatLon(const NoFlyZone& zone, const LocalFrame& frame);
-
 }  // namespace skyroute

@@ -13,6 +13,7 @@
 #include "service/cli/dds_cli_common.hpp"
 #include "service/cli/dds_commands.hpp"
 #include "service/cli/gcs_live_map.hpp"
+#include "service/cli/nofly_option.hpp"
 #include "service/cli/progress.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/qgc_plan.hpp"
@@ -31,6 +32,7 @@ struct GcsOptions {
   double timeout_s = 0;  // stop after this long (0 = until Ctrl-C)
   std::string csv, geojson, kml;
   std::string plan_dir;  // one QGroundControl .plan per vehicle
+  std::string nofly;     // GeoJSON no-fly zones for the plans' geofence ("" = none)
   std::string serve;     // HOST:PORT of the live map ("" = none)
   std::string dem;       // the live map's terrain ("" = the embedded terrain)
   bool progress = false; // show the waiting on stderr even when it is not a terminal
@@ -40,6 +42,9 @@ constexpr double kProgressEveryS = 5.0;  // how often a terminal hears that gcs 
 
 void runGcs(const GcsOptions& o) {
   const std::string tool = "gcs";
+  if (!o.nofly.empty() && o.plan_dir.empty()) fail(tool, kExitUsage, "--nofly applies to the --plan exports only");
+  // Read before waiting, so a bad file fails at once.
+  const auto geofence = o.nofly.empty() ? std::vector<GeofencePolygon>{} : loadNoFlyGeofences(tool, o.nofly);
   std::unique_ptr<GcsLiveMap> live = o.serve.empty() ? nullptr : GcsLiveMap::start(tool, o.serve, o.dem);
   dds::Entity participant = openParticipant(tool, o.domain);
   auto trajectories = dds::Reader<TrajectoryData>::create(participant.get());
@@ -127,7 +132,7 @@ void runGcs(const GcsOptions& o) {
     std::cout << "wrote " << current.size() << " trajectories to " << *path << std::endl;
   }
   if (!o.plan_dir.empty()) {
-    auto written = writeQgcPlanPerVehicle(o.plan_dir, current);
+    auto written = writeQgcPlanPerVehicle(o.plan_dir, current, geofence);
     if (!written) fail(tool, kExitUsage, "--plan: " + written.error().describe());
     for (const auto& path : *written) std::cout << "wrote " << path << std::endl;
   }
@@ -157,6 +162,8 @@ void addGcsCommand(CLI::App& app) {
                   "Write them as GeoJSON (3D lines, WGS84, heights above the ellipsoid; default: none)");
   cmd->add_option("--kml", options->kml, "Write them as KML (heights AMSL; default: none)");
   cmd->add_option("--plan", options->plan_dir, "Write one QGroundControl .plan per vehicle into this folder (default: none)");
+  cmd->add_option("--nofly", options->nofly,
+                  "GeoJSON no-fly zones (docs/nofly.md) to write into each --plan as exclusion geofence polygons");
   cmd->add_flag("--progress", options->progress,
                 "Say every 5 s on stderr what has arrived while waiting, even when stderr is not a terminal")
       ->capture_default_str();

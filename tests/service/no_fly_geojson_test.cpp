@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "service/no_fly_geojson.hpp"
+#include "service/qgc_plan.hpp"
 
 namespace skyroute {
 namespace {
@@ -44,11 +45,11 @@ TEST(NoFlyGeoJson, PolygonsBecomeZonesThatRoundTripToWgs84) {
   // The anchor is the square's south-west corner; 0.01 degree east is about 766 m at 46.5 N.
   EXPECT_NEAR(tower.ring_m[0].norm(), 0.0, 1e-6);
   EXPECT_NEAR(tower.ring_m[1].x(), 0.01 * M_PI / 180.0 * 6388838.0 * std::cos(46.5 * M_PI / 180.0), 3.0);
-  const auto back = zoneLatLon(tower, f);
+  const auto back = geofencePolygons({tower}, f).front().ring;
   const double expected[4][2] = {{46.50, 7.50}, {46.50, 7.51}, {46.51, 7.51}, {46.51, 7.50}};
   for (int i = 0; i < 4; ++i) {
-    EXPECT_NEAR(back[i].first, expected[i][0], 1e-7);
-    EXPECT_NEAR(back[i].second, expected[i][1], 1e-7);
+    EXPECT_NEAR(back[i].lat_deg, expected[i][0], 1e-7);
+    EXPECT_NEAR(back[i].lon_deg, expected[i][1], 1e-7);
   }
   EXPECT_EQ((*zones)[1].name, "features[1] 'range' polygon 0");
   EXPECT_EQ((*zones)[2].name, "features[1] 'range' polygon 1");
