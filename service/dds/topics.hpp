@@ -3,6 +3,7 @@
 #pragma once
 
 #include "service/dds/conversions.hpp"
+#include "service/dds/no_fly_conversions.hpp"
 #include "service/dds/qos.hpp"
 
 namespace skyroute::dds {
@@ -72,6 +73,14 @@ struct TopicTraits<FleetStatusData> {
   static constexpr const char* kName = "skyroute_fleet_status";
   static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_FleetStatus_desc; }
   static Qos qos() { return commandQos(); }
+};
+
+template <>
+struct TopicTraits<NoFlyZoneData> {
+  using Wire = skyroute_msgs_NoFlyZone;
+  static constexpr const char* kName = "skyroute_no_fly_zone";
+  static const dds_topic_descriptor_t* descriptor() { return &skyroute_msgs_NoFlyZone_desc; }
+  static Qos qos() { return obstacleQos(); }  // the same durability: late joiners get the zones in force
 };
 
 }  // namespace skyroute::dds

@@ -121,4 +121,20 @@ TEST_F(NoFlyCli, BadZoneFileNamesTheFileAndTheFeature) {
   EXPECT_NE(missing.text.find("none.geojson"), std::string::npos) << missing.text;
 }
 
+TEST_F(NoFlyCli, PublisherAndGroundStationCheckTheFileBeforeAnyDds) {
+  const std::string upside = write("upside.geojson", zonesGeoJson(boxRing()).replace(
+      zonesGeoJson(boxRing()).find(R"("floor_m": 0)"), 12, R"("floor_m": 5000)"));
+  // Domain 0 is never opened: both fail on the file first.
+  const auto nofly = runCli("nofly " + upside + " --domain 0 --hold 1");
+  EXPECT_EQ(nofly.exit_code, 3) << nofly.text;
+  EXPECT_NE(nofly.text.find("FILE " + upside + ": features[0] 'tower': floor_m 5000 is above ceiling_m 4000"),
+            std::string::npos)
+      << nofly.text;
+  const auto gcs = runCli("gcs --domain 0 --timeout 1 --plan " + (dir_ / "plans").string() + " --nofly " + upside);
+  EXPECT_EQ(gcs.exit_code, 3) << gcs.text;
+  EXPECT_NE(gcs.text.find("--nofly " + upside + ": features[0] 'tower'"), std::string::npos) << gcs.text;
+  EXPECT_EQ(runCli("nofly --domain 0").exit_code, 2);
+  EXPECT_EQ(runCli("gcs --domain 0 --timeout 1 --nofly " + upside).exit_code, 2);  // no --plan to write it into
+}
+
 }  // namespace
