@@ -1,6 +1,7 @@
 // No-fly zones over DDS with a real skyrouted: a daemon that starts after a zone was published
 // still learns it (transient-local) and refuses a mission point inside it naming the zone; a zone
-// published under a flying vehicle's trajectory makes the daemon replan round it.
+// published under a flying vehicle's trajectory makes the daemon replan round it; a bad zone file
+// in the configuration stops the daemon naming the file and the feature.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -136,6 +137,24 @@ TEST_F(NoFlyE2e, ZoneUnderAFlyingVehicleTriggersAReplanRoundIt) {
         << "revision " << replanned.revision << " enters the zone at t = " << s.t_rel_s << " s";
   }
   EXPECT_LT((replanned.samples.back().position_enu_m - enuOf(m.end)).norm(), 1.0);
+}
+
+TEST_F(NoFlyE2e, BadZoneFileInTheConfigurationStopsTheDaemonNamingIt) {
+  // The zones load with the terrain, before any DDS entity exists: no domain is touched.
+  const std::string zones_path = e2eTempPath("bad_zones.geojson");
+  std::ofstream(zones_path) << R"({"type": "FeatureCollection", "features": [{"type": "Feature", "id": "thin",
+      "properties": {"ceiling_m": 900}, "geometry": {"type": "Polygon",
+      "coordinates": [[[15.07, 46.93], [15.08, 46.93], [15.07, 46.93]]]}}]})";
+  const std::string config_path = e2eTempPath("bad_zones.toml");
+  std::ofstream(config_path) << "[terrain]\nnofly = \"" << zones_path << "\"\n";
+  ChildProcess daemon = ChildProcess::spawn({SKYROUTED, "--config", config_path}, "skyrouted_bad_zones");
+  ASSERT_TRUE(daemon.started());
+  EXPECT_EQ(daemon.wait(60.0), 3) << daemon.err();
+  EXPECT_NE(daemon.err().find("terrain.nofly"), std::string::npos) << daemon.err();
+  EXPECT_NE(daemon.err().find(zones_path + ": features[0] 'thin': has 2 distinct vertices"), std::string::npos)
+      << daemon.err();
+  std::filesystem::remove(zones_path);
+  std::filesystem::remove(config_path);
 }
 
 }  // namespace
