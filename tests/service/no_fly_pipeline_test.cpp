@@ -147,6 +147,32 @@ TEST_F(NoFlyPipeline, PointInsideAZoneNamesThePointAndTheZone) {
   EXPECT_TRUE(pipeline.order(r, 200.0).ok());
 }
 
+TEST_F(NoFlyPipeline, FleetFliesRoundTheZoneAndRefusesATaskInside) {
+  world_->setNoFlyZones({zone_});
+  FleetRequestData r;
+  r.request_id = "fleet";
+  r.vehicle_ids = {"a", "b"};
+  r.begins = {at(-kRouteHalfM, -300.0), at(-kRouteHalfM, 300.0)};
+  r.tasks = {at(kRouteHalfM, -300.0), at(kRouteHalfM, 300.0)};  // straight east: through the zone
+  r.ends = r.begins;
+  const MissionPipeline pipeline(world_, PipelineOptions{});
+  const FleetPlanOutput plan = pipeline.planFleet(r, 0);
+  ASSERT_TRUE(plan.ok()) << plan.status.field << ": " << plan.status.message;
+  ASSERT_EQ(plan.flown.size(), 2u);
+  for (std::size_t i = 0; i < plan.flown.size(); ++i) {
+    for (double t = 0.0; t <= plan.flown[i].duration_s(); t += 0.01) {
+      const Eigen::Vector3d p = plan.flown[i].evaluate(t, Derivative::kPosition);
+      ASSERT_FALSE(inZone(p)) << "vehicle " << i << " enters the zone at t = " << t << " s: " << p.transpose();
+    }
+  }
+  r.tasks[1] = at(0.0, 0.0);
+  const FleetPlanOutput refused = pipeline.planFleet(r, 0);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status.field, "tasks[1]");
+  EXPECT_NE(refused.status.message.find("is inside no-fly zone 'features[0] 'stadium''"), std::string::npos)
+      << refused.status.message;
+}
+
 TEST_F(NoFlyPipeline, ExpireDropsZonesWhoseWindowEnded) {
   NoFlyZone until = zone_;
   until.valid_until_s = 100.0;
