@@ -9,7 +9,6 @@
 #include <map>
 #include <system_error>
 
-#include "service/no_fly_zone_data.hpp"
 #include "service/polyline_simplify.hpp"
 
 namespace skyroute {
@@ -300,12 +299,14 @@ Result<std::vector<std::string>> writeQgcPlanPerVehicle(const std::string& dir,
 
 std::vector<GeofencePolygon> geofencePolygons(const std::vector<NoFlyZone>& zones, const LocalFrame& frame) {
   std::vector<GeofencePolygon> out;
-  for (const NoFlyZone& zone : zones) {
-    GeofencePolygon polygon;
-    for (const GeoPoint& p : toNoFlyZoneData(zone, frame).ring) polygon.ring.push_back(LatLonDeg{p.lat_deg, p.lon_deg});
-    out.push_back(std::move(polygon));
-  }
+  for (const NoFlyZone& zone : zones) out.push_back(geofencePolygon(toNoFlyZoneData(zone, frame)));
   return out;
+}
+
+GeofencePolygon geofencePolygon(const NoFlyZoneData& zone) {
+  GeofencePolygon polygon;
+  for (const GeoPoint& p : zone.ring) polygon.ring.push_back(LatLonDeg{p.lat_deg, p.lon_deg});
+  return polygon;
 }
 
 }  // namespace skyroute

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/mission_types.hpp"
+#include "service/no_fly_zone_data.hpp"
 #include "terrain/local_frame.hpp"
 #include "terrain/no_fly_zone.hpp"
 #include "planning/core/result.hpp"
@@ -34,6 +35,7 @@ struct GeofencePolygon {
 // as exclusion polygons: QGroundControl's geofence has no floor, ceiling or time, so each zone
 // excludes its whole column whenever it is given.
 std::vector<GeofencePolygon> geofencePolygons(const std::vector<NoFlyZone>& zones, const LocalFrame& frame);
+GeofencePolygon geofencePolygon(const NoFlyZoneData& zone);
 
 struct QgcPlanOptions {
   double corridor_m = 5.0;            // largest distance between the trajectory and the lines between items

@@ -48,14 +48,4 @@ std::vector<NoFlyZoneData> loadNoFlyZoneData(const std::string& tool, const std:
   return out;
 }
 
-std::vector<GeofencePolygon> loadNoFlyGeofences(const std::string& tool, const std::string& path) {
-  std::vector<GeofencePolygon> out;
-  for (const NoFlyZoneData& zone : loadNoFlyZoneData(tool, "--nofly", path)) {
-    GeofencePolygon polygon;
-    for (const GeoPoint& p : zone.ring) polygon.ring.push_back(LatLonDeg{p.lat_deg, p.lon_deg});
-    out.push_back(std::move(polygon));
-  }
-  return out;
-}
-
 }  // namespace skyroute::cli

@@ -9,7 +9,6 @@
 
 #include "service/daemon_config.hpp"
 #include "service/no_fly_zone_data.hpp"
-#include "service/qgc_plan.hpp"
 #include "service/world_model.hpp"
 
 namespace CLI {
@@ -27,11 +26,9 @@ CLI::Option* addNoFlyOption(CLI::App& cmd, std::optional<std::string>& path);
 std::size_t loadNoFlyZones(const std::string& tool, const std::optional<std::string>& option,
                            const DaemonConfig& config, WorldModel& world, double now_s);
 
-// The zones of a GeoJSON file without a terrain, in WGS84 (to publish them), or as QGroundControl
-// exclusion polygons (for a ground station's exports); every zone of the file, whatever its
-// window. A bad file fails with kExitBadInput naming `what` (--nofly for the polygons), the file
-// and the feature.
+// The zones of a GeoJSON file without a terrain, in WGS84 (to publish them, to show and export
+// them at a ground station); every zone of the file, whatever its window. A bad file fails with
+// kExitBadInput naming `what` (the option), the file and the feature.
 std::vector<NoFlyZoneData> loadNoFlyZoneData(const std::string& tool, const std::string& what, const std::string& path);
-std::vector<GeofencePolygon> loadNoFlyGeofences(const std::string& tool, const std::string& path);
 
 }  // namespace skyroute::cli
