@@ -30,7 +30,7 @@ DDS_CLI_FILES=(
   service/cli/dds_cli_common.hpp service/cli/dds_cli_common.cpp service/cli/gcs_command.cpp
   service/cli/request_command.cpp service/cli/record_command.cpp service/cli/replay_command.cpp
   service/cli/px4_command.cpp service/cli/fleet_dds_command.cpp service/cli/cancel_command.cpp
-  service/cli/status_command.cpp
+  service/cli/status_command.cpp service/cli/nofly_command.cpp
 )
 # Libraries the Eigen-only layers must not reach (GDAL/OGR/CPL, FCL, OctoMap, Cyclone DDS, ...).
 FOREIGN_HEADER_PATTERN='^(gdal|ogr|cpl_|ogrsf|fcl/|octomap/|dds/|ddsc/|nlohmann/|spdlog/|CLI/|toml\+\+/)'

@@ -89,6 +89,7 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
   VehicleLimitBounds& b = p.bounds.limits;
   return {
       {"terrain", "dem", "DEM raster path (any GDAL raster); \"\" = the embedded default terrain", &c.dem_path},
+      {"terrain", "nofly", "GeoJSON file of no-fly zones (docs/nofly.md); \"\" = none", &c.nofly_path},
       {"terrain", "vehicle_radius_m", "every vehicle's bounding sphere, metres", &c.world.vehicle_radius_m, 0.01, 1000},
       {"terrain", "terrain_margin_m", "horizontal distance kept from the ground, metres", &c.world.terrain_margin_m, 0, 1000},
       {"terrain", "constant_velocity_horizon_s",

@@ -14,6 +14,7 @@ namespace skyroute {
 struct DaemonConfig {
   // [terrain]
   std::string dem_path;                 // "" = the embedded default terrain
+  std::string nofly_path;               // GeoJSON no-fly zones (service/no_fly_geojson.hpp); "" = none
   WorldModelOptions world;
   // [dds]
   int domain = 0;

@@ -350,6 +350,26 @@ std::optional<PlanError> Engine::updateObstacle(const ObstacleUpdateData& update
   return std::nullopt;
 }
 
+std::optional<PlanError> Engine::updateNoFlyZone(const NoFlyZoneData& zone) {
+  std::lock_guard lock(mutex_);  // the world in force (a reload may be replacing it)
+  if (zone.remove) {
+    world_->removeNoFlyZone(zone.zone_id);
+  } else {
+    auto checked = toNoFlyZone(zone, world_->frame());
+    if (!checked.ok()) {
+      const PlanError problem = toPlanError(checked.error());
+      throttle_.warn("nofly_rejected:" + zone.zone_id, fmt::format("event=nofly_rejected zone={} field={} message=\"{}\"",
+                                                                   zone.zone_id, problem.field, problem.message));
+      return problem;
+    }
+    world_->upsertNoFlyZone(std::move(*checked));
+  }
+  replan_wake_ = true;
+  spdlog::info("event=nofly_zone zone={} remove={}", zone.zone_id, zone.remove);
+  replan_cv_.notify_one();
+  return std::nullopt;
+}
+
 TrajectoryData Engine::trajectoryOf(const Mission& mission) const {
   const MissionPipeline pipeline(mission.world_model, options().pipeline);
   return pipeline.sample(mission.plan, TrajectoryIdentity{mission.request.vehicle_id, mission.plan_id,

@@ -36,6 +36,7 @@
 #include "service/log_throttle.hpp"
 #include "service/mission_pipeline.hpp"
 #include "service/mission_types.hpp"
+#include "service/no_fly_zone_data.hpp"
 #include "service/obstacle_bounds.hpp"
 #include "service/request_footprint.hpp"
 #include "service/request_registry.hpp"
@@ -99,6 +100,9 @@ class Engine {
   bool cancel(const CancelRequestData& request);
   // Applies an obstacle update to the world and wakes the replanning loop. Bad updates are refused.
   std::optional<PlanError> updateObstacle(const ObstacleUpdateData& update);
+  // Sets or lifts a published no-fly zone and wakes the replanning loop: a flight whose trajectory
+  // now crosses it replans like one an obstacle blocks. Bad geometry is refused naming the zone.
+  std::optional<PlanError> updateNoFlyZone(const NoFlyZoneData& zone);
 
   // The same work as the threads, on the caller's thread.
   bool planNext();              // plans the oldest queued request; false when none was queued

@@ -337,6 +337,10 @@ Result<GridLayer, PlanError> buildFlightBand(const WorldModel& world_model, cons
   go.flight_ceiling_m = out.cruise_altitude_m;
   go.min_clearance_m = wo.min_clearance_m + wo.vehicle_radius_m;
   go.cancel = stop.cancelFlag();
+  go.no_fly_zones = world.noFlyZones();
+  go.zone_margin_m = wo.vehicle_radius_m;
+  for (const auto* points : {&out.begins_m, &out.ends_m, &out.tasks_m})
+    for (const Eigen::Vector3d& p : *points) go.keep_free_m.push_back(p.head<2>());
   auto grid = buildTerrainGrid(terrain, go);
   if (!grid.ok()) return toPlanError(grid.error());
   return std::move(*grid);

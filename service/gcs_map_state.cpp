@@ -130,6 +130,16 @@ void GcsMapState::onObstacle(const ObstacleUpdateData& update) {
   changed();
 }
 
+void GcsMapState::onNoFlyZone(const NoFlyZoneData& zone) {
+  std::lock_guard lock(mutex_);
+  if (zone.remove) {
+    zones_.erase(zone.zone_id);
+  } else {
+    zones_[zone.zone_id] = zone;
+  }
+  changed();
+}
+
 void GcsMapState::changed() {
   ++version_;
   cached_json_.reset();
@@ -175,6 +185,13 @@ std::string GcsMapState::render() const {
   }
   json obstacles = json::array();
   for (const auto& [id, o] : obstacles_) obstacles.push_back(obstacleJson(frame, o.track, o.update));
+  json zones = json::array();
+  for (const auto& [id, z] : zones_) {
+    json ring = json::array();
+    for (const GeoPoint& p : z.ring) ring.push_back({{"lat_deg", p.lat_deg}, {"lon_deg", p.lon_deg}});
+    zones.push_back({{"id", id}, {"ring", std::move(ring)}, {"floor_amsl_m", z.floor_amsl_m},
+                     {"ceiling_amsl_m", z.ceiling_amsl_m}});
+  }
   const json state = {
       {"format", "skyroute-gcs-state"},
       {"format_version", 1},
@@ -192,9 +209,7 @@ std::string GcsMapState::render() const {
         {"max_height_m", terrain_->maxHeightM()}}},
       {"vehicles", std::move(vehicles)},
       {"obstacles", std::move(obstacles)},
-      // The product has no no-fly zones yet; each will be a NoFlyZone (qgc_plan.hpp) as
-      // {"ring": [{"lat_deg", "lon_deg"}, ...]}, which the page draws.
-      {"no_fly_zones", json::array()},
+      {"no_fly_zones", std::move(zones)},
   };
   return state.dump();
 }

@@ -1,7 +1,7 @@
 // The ground station's live picture, as the web map shows it: the terrain image and its WGS84
 // bounds, each vehicle's current trajectory with the ground height under every sample and its
 // latest plan status, the obstacles in force with the tracks the planner predicts for them, and
-// the no-fly zones (none exist in the product yet; the list is there for when they do).
+// the no-fly zones in force (from a file or the DDS zone topic).
 //
 // The DDS thread writes (on*), the web server's threads read: every change bumps a version, and
 // snapshot() gives one version's JSON text, made once per version. The JSON layout is described in
@@ -19,6 +19,7 @@
 
 #include "service/geo_hillshade.hpp"
 #include "service/mission_types.hpp"
+#include "service/no_fly_zone_data.hpp"
 #include "terrain/heightfield.hpp"
 
 namespace skyroute {
@@ -35,6 +36,7 @@ class GcsMapState {
   void onTrajectory(const TrajectoryData& trajectory);
   void onStatus(const PlanStatusData& status);
   void onObstacle(const ObstacleUpdateData& update);
+  void onNoFlyZone(const NoFlyZoneData& zone);  // keyed by zone_id; remove lifts it
 
   struct Snapshot {
     std::uint64_t version = 0;  // 1 before anything arrived; grows with each change
@@ -76,6 +78,7 @@ class GcsMapState {
   bool closed_ = false;
   std::map<std::string, Vehicle> vehicles_;
   std::map<std::uint64_t, ObstacleEntry> obstacles_;
+  std::map<std::string, NoFlyZoneData> zones_;
   mutable std::shared_ptr<const std::string> cached_json_;  // of version_
 };
 

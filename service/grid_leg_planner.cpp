@@ -49,6 +49,9 @@ Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> wo
       grid_options.flight_ceiling_m = band_top_m;
       grid_options.min_clearance_m = wo.min_clearance_m + wo.vehicle_radius_m;
       grid_options.cancel = stop.cancelFlag();
+      grid_options.no_fly_zones = world->noFlyZones();
+      grid_options.zone_margin_m = wo.vehicle_radius_m;
+      grid_options.keep_free_m = {a.head<2>(), b.head<2>()};
       auto grid = buildTerrainGrid(terrain, grid_options);
       if (!grid.ok()) return grid.error();
       const auto start = grid->cellAt(a.head<2>());

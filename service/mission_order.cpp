@@ -36,7 +36,8 @@ Result<MissionOrder> euclideanOrder(const std::vector<Eigen::Vector3d>& points_m
 
 Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::vector<Eigen::Vector3d>& points_m,
                                         double min_clearance_m, double ceiling_m, bool fixed,
-                                        const MissionOrderOptions& options, const TerminationCondition& stop) {
+                                        const MissionOrderOptions& options, const TerminationCondition& stop,
+                                        const std::vector<NoFlyZone>& no_fly_zones, double zone_margin_m) {
   const auto started = std::chrono::steady_clock::now();
   if (points_m.size() < 2) return make_error(ErrorCode::kInvalidArgument, "points", "a mission needs a begin and an end");
   MissionOrder out;
@@ -59,6 +60,9 @@ Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::v
   for (const Eigen::Vector3d& p : points_m) highest_m = std::max(highest_m, p.z());
   grid_options.flight_ceiling_m = std::min(ceiling_m, highest_m + options.band_margin_m);
   grid_options.min_clearance_m = min_clearance_m;
+  grid_options.no_fly_zones = no_fly_zones;
+  grid_options.zone_margin_m = zone_margin_m;
+  for (const Eigen::Vector3d& p : points_m) grid_options.keep_free_m.push_back(p.head<2>());
   auto finish = [&](Result<MissionOrder> r) {
     if (r.ok()) r->time_ms = elapsedMs(started);
     return r;

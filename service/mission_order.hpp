@@ -13,6 +13,7 @@
 #include "planning/core/termination.hpp"
 #include "planning/grid/grid_search.hpp"
 #include "terrain/heightfield.hpp"
+#include "terrain/no_fly_zone.hpp"
 
 namespace skyroute {
 
@@ -38,11 +39,13 @@ struct MissionOrder {
   std::vector<std::vector<double>> cost_matrix_m;
 };
 
-// points_m: begin, mission points, end (ENU metres). fixed keeps the given order.
+// points_m: begin, mission points, end (ENU metres). fixed keeps the given order. The order grid
+// blocks the no-fly zones grown by zone_margin_m (terrain/grid_from_terrain.hpp).
 // Errors: kTimeout / kCancelled from `stop`; kInvalidArgument for fewer than two points.
 Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::vector<Eigen::Vector3d>& points_m,
                                         double min_clearance_m, double ceiling_m, bool fixed,
                                         const MissionOrderOptions& options = {},
-                                        const TerminationCondition& stop = {});
+                                        const TerminationCondition& stop = {},
+                                        const std::vector<NoFlyZone>& no_fly_zones = {}, double zone_margin_m = 0.0);
 
 }  // namespace skyroute

@@ -159,7 +159,8 @@ Result<OrderedMission, PlanError> MissionPipeline::order(const MissionRequestDat
     }
   }
   auto ordering = orderMissionPoints(world_->terrain(), out.points_m, r.limits.min_clearance_agl_m,
-                                     r.limits.ceiling_amsl_m, r.fixed_order, options_.order, stop);
+                                     r.limits.ceiling_amsl_m, r.fixed_order, options_.order, stop,
+                                     out.world->noFlyZones(), out.world->options().vehicle_radius_m);
   if (!ordering.ok()) {
     PlanError e = toPlanError(ordering.error());
     e.stage = PlanStage::kOrder;

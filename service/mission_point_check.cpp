@@ -138,6 +138,11 @@ std::optional<PlanError> checkMissionPoint(const CollisionWorld& world, const Mi
                           " m AMSL, so the point must be at least " + metresText(ground_m + o.min_clearance_m) +
                           " m AMSL (clearance " + numberText(o.min_clearance_m) + " m)");
   }
+  if (auto zone = world.noFlyZoneAt(p_m, snapshot ? std::optional<double>(snapshot->time_s) : std::nullopt)) {
+    return pointError(PlanErrorCode::kUnderGround, name, point,
+                      "is inside no-fly zone '" + *zone + "' (or within the vehicle radius, " +
+                          numberText(o.vehicle_radius_m) + " m, of it)");
+  }
   const bool clear = snapshot ? world.isPointValid(p_m, *snapshot) : world.isPointValid(p_m);
   if (!clear) return pointError(PlanErrorCode::kUnderGround, name, point, "is inside an obstacle");
   return std::nullopt;

@@ -49,7 +49,8 @@ std::optional<PlanError> checkPointOnTerrain(const Heightfield& terrain, const M
 
 // Everything a mission point must be before any search: on the terrain (checkPointOnTerrain),
 // under the ceiling, above the ground by the clearance (kUnderGround, with the ground height),
-// clear of obstacles (at the snapshot's time when given).
+// clear of no-fly zones (kUnderGround naming the zone) and obstacles (at the snapshot's time when
+// given).
 std::optional<PlanError> checkMissionPoint(const CollisionWorld& world, const MissionPointData& point,
                                            const std::string& name,
                                            std::optional<ObstacleSnapshot> snapshot = std::nullopt);

@@ -68,11 +68,11 @@ std::vector<RouteVertex> routeVertices(const std::vector<TrajectorySampleData>& 
   return out;
 }
 
-Result<std::vector<NoFlyZone>> checkedZones(const std::vector<NoFlyZone>& zones) {
-  std::vector<NoFlyZone> out;
+Result<std::vector<GeofencePolygon>> checkedZones(const std::vector<GeofencePolygon>& zones) {
+  std::vector<GeofencePolygon> out;
   for (std::size_t z = 0; z < zones.size(); ++z) {
     const std::string field = "no_fly_zones[" + std::to_string(z) + "]";
-    NoFlyZone zone = zones[z];
+    GeofencePolygon zone = zones[z];
     for (std::size_t v = 0; v < zone.ring.size(); ++v) {
       const LatLonDeg& p = zone.ring[v];
       const std::string vertex = field + ".ring[" + std::to_string(v) + "]";
@@ -138,7 +138,7 @@ Status writeText(const std::string& path, const std::string& text, const char* w
 }  // namespace
 
 Result<QgcMission> qgcMissionFromTrajectory(const TrajectoryData& trajectory,
-                                            const std::vector<NoFlyZone>& no_fly_zones, const QgcPlanOptions& options) {
+                                            const std::vector<GeofencePolygon>& no_fly_zones, const QgcPlanOptions& options) {
   if (Status ok = checkOptions(options); !ok.ok()) return ok.error();
   const auto& samples = trajectory.samples;
   if (samples.size() < 2)
@@ -220,7 +220,7 @@ nlohmann::json qgcPlanJson(const QgcMission& mission) {
          {"params", {mission.hold_s, mission.acceptance_radius_m, 0.0, nullptr, p.lat_deg, p.lon_deg, p.alt_amsl_m}}});
   }
   json polygons = json::array();
-  for (const NoFlyZone& zone : mission.no_fly_zones) {
+  for (const GeofencePolygon& zone : mission.no_fly_zones) {
     json ring = json::array();
     for (const LatLonDeg& v : zone.ring) ring.push_back({v.lat_deg, v.lon_deg});
     polygons.push_back({{"version", 1}, {"inclusion", false}, {"polygon", std::move(ring)}});
@@ -269,7 +269,7 @@ Status writeQgcWaypoints(const std::string& path, const QgcMission& mission) {
 
 Result<std::vector<std::string>> writeQgcPlanPerVehicle(const std::string& dir,
                                                         const std::vector<TrajectoryData>& trajectories,
-                                                        const std::vector<NoFlyZone>& no_fly_zones,
+                                                        const std::vector<GeofencePolygon>& no_fly_zones,
                                                         const QgcPlanOptions& options) {
   // Every mission first, so a bad trajectory leaves no partial set of files.
   std::vector<std::pair<std::string, QgcMission>> files;
@@ -295,6 +295,18 @@ Result<std::vector<std::string>> writeQgcPlanPerVehicle(const std::string& dir,
     written.push_back(path);
   }
   return written;
+}
+
+std::vector<GeofencePolygon> geofencePolygons(const std::vector<NoFlyZone>& zones, const LocalFrame& frame) {
+  std::vector<GeofencePolygon> out;
+  for (const NoFlyZone& zone : zones) out.push_back(geofencePolygon(toNoFlyZoneData(zone, frame)));
+  return out;
+}
+
+GeofencePolygon geofencePolygon(const NoFlyZoneData& zone) {
+  GeofencePolygon polygon;
+  for (const GeoPoint& p : zone.ring) polygon.ring.push_back(LatLonDeg{p.lat_deg, p.lon_deg});
+  return polygon;
 }
 
 }  // namespace skyroute

@@ -14,7 +14,9 @@
 #include <nlohmann/json.hpp>
 
 #include "service/mission_types.hpp"
+#include "service/no_fly_zone_data.hpp"
 #include "terrain/local_frame.hpp"
+#include "terrain/no_fly_zone.hpp"
 #include "planning/core/result.hpp"
 
 namespace skyroute {
@@ -25,9 +27,15 @@ struct LatLonDeg {
 };
 
 // A keep-out area: its boundary as latitude/longitude vertices (closed or not; at least 3 distinct).
-struct NoFlyZone {
+struct GeofencePolygon {
   std::vector<LatLonDeg> ring;
 };
+
+// The planner's no-fly zones (their horizontal rings, from the frame's east/north back to WGS84)
+// as exclusion polygons: QGroundControl's geofence has no floor, ceiling or time, so each zone
+// excludes its whole column whenever it is given.
+std::vector<GeofencePolygon> geofencePolygons(const std::vector<NoFlyZone>& zones, const LocalFrame& frame);
+GeofencePolygon geofencePolygon(const NoFlyZoneData& zone);
 
 struct QgcPlanOptions {
   double corridor_m = 5.0;            // largest distance between the trajectory and the lines between items
@@ -48,7 +56,7 @@ struct QgcMissionItem {
 struct QgcMission {
   GeoPoint home;                  // the trajectory's begin point
   std::vector<QgcMissionItem> items;
-  std::vector<NoFlyZone> no_fly_zones;  // open rings (a closing vertex is dropped)
+  std::vector<GeofencePolygon> no_fly_zones;  // open rings (a closing vertex is dropped)
   double cruise_speed_mps = 0.0;
   double hover_speed_mps = 0.0;
   int firmware_type = 12;
@@ -63,7 +71,7 @@ struct QgcMission {
 // Errors (kInvalidArgument) name the field: fewer than 2 samples, a non-finite sample, options out of
 // range, a no-fly zone with fewer than 3 distinct vertices or a vertex outside -90..90 / -180..180.
 Result<QgcMission> qgcMissionFromTrajectory(const TrajectoryData& trajectory,
-                                            const std::vector<NoFlyZone>& no_fly_zones = {},
+                                            const std::vector<GeofencePolygon>& no_fly_zones = {},
                                             const QgcPlanOptions& options = {});
 
 nlohmann::json qgcPlanJson(const QgcMission& mission);
@@ -80,7 +88,7 @@ Status writeQgcWaypoints(const std::string& path, const QgcMission& mission);
 // '_' in its file name.
 Result<std::vector<std::string>> writeQgcPlanPerVehicle(const std::string& dir,
                                                         const std::vector<TrajectoryData>& trajectories,
-                                                        const std::vector<NoFlyZone>& no_fly_zones = {},
+                                                        const std::vector<GeofencePolygon>& no_fly_zones = {},
                                                         const QgcPlanOptions& options = {});
 
 }  // namespace skyroute

@@ -32,6 +32,9 @@ Status checkRoutePoint(const CollisionWorld& world, const Eigen::Vector3d& p_m, 
                       "altitude " + numberText(p_m.z(), 7) + " m is under the ground plus clearance (ground " +
                           numberText(ground, 7) + " m + " + numberText(o.min_clearance_m) + " m)");
   }
+  if (auto zone = world.noFlyZoneAt(p_m, snapshot ? std::optional<double>(snapshot->time_s) : std::nullopt)) {
+    return make_error(ErrorCode::kOccupied, name, enuText(p_m) + " is inside no-fly zone '" + *zone + "'");
+  }
   const bool clear = snapshot ? world.isPointValid(p_m, *snapshot) : world.isPointValid(p_m);
   if (!clear) return make_error(ErrorCode::kOccupied, name, enuText(p_m) + " is inside an obstacle");
   return Status::success();

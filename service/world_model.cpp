@@ -81,6 +81,7 @@ Result<std::shared_ptr<const CollisionWorld>> WorldModel::worldFor(double min_cl
   auto world = CollisionWorld::create(terrain_, options);
   if (!world.ok()) return world.error();
   for (const auto& [id, entry] : obstacles_) (*world)->upsertObstacle(entry.first);
+  (*world)->setNoFlyZones(zonesLocked());
   worlds_.emplace(key, *world);
   return std::shared_ptr<const CollisionWorld>(*world);
 }
@@ -132,6 +133,57 @@ void WorldModel::adoptObstacles(const WorldModel& from) {
     }
     apply(update);
   }
+  const double up_shift_m = old_frame.anchor().alt_amsl_m - new_frame.anchor().alt_amsl_m;
+  for (NoFlyZone zone : from.publishedNoFlyZones()) {
+    for (Eigen::Vector2d& v : zone.ring_m) v = move(Eigen::Vector3d(v.x(), v.y(), 0.0)).head<2>();
+    zone.floor_m += up_shift_m;
+    zone.ceiling_m += up_shift_m;
+    upsertNoFlyZone(std::move(zone));
+  }
+}
+
+std::vector<NoFlyZone> WorldModel::zonesLocked() const {
+  std::vector<NoFlyZone> zones = configured_zones_;
+  for (const auto& [name, zone] : published_zones_) zones.push_back(zone);
+  return zones;
+}
+
+void WorldModel::zonesChangedLocked() {
+  ++version_;
+  const std::vector<NoFlyZone> zones = zonesLocked();
+  for (auto& [key, world] : worlds_) world->setNoFlyZones(zones);
+}
+
+void WorldModel::setNoFlyZones(std::vector<NoFlyZone> zones) {
+  std::lock_guard lock(mutex_);
+  configured_zones_ = std::move(zones);
+  zonesChangedLocked();
+}
+
+void WorldModel::upsertNoFlyZone(NoFlyZone zone) {
+  std::lock_guard lock(mutex_);
+  std::string name = zone.name;
+  published_zones_[std::move(name)] = std::move(zone);
+  zonesChangedLocked();
+}
+
+bool WorldModel::removeNoFlyZone(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  if (published_zones_.erase(name) == 0) return false;
+  zonesChangedLocked();
+  return true;
+}
+
+std::vector<NoFlyZone> WorldModel::noFlyZones() const {
+  std::lock_guard lock(mutex_);
+  return zonesLocked();
+}
+
+std::vector<NoFlyZone> WorldModel::publishedNoFlyZones() const {
+  std::lock_guard lock(mutex_);
+  std::vector<NoFlyZone> zones;
+  for (const auto& [name, zone] : published_zones_) zones.push_back(zone);
+  return zones;
 }
 
 std::size_t WorldModel::expire(double now_s) {
@@ -147,6 +199,12 @@ std::size_t WorldModel::expire(double now_s) {
       ++it;
     }
   }
+  auto ended = [&](const NoFlyZone& z) { return z.valid_until_s && *z.valid_until_s <= now_s; };
+  const std::size_t zones_ended =
+      std::erase_if(configured_zones_, ended) +
+      std::erase_if(published_zones_, [&](const auto& entry) { return ended(entry.second); });
+  if (zones_ended > 0) zonesChangedLocked();
+  removed += zones_ended;
   if (removed > 0) ++version_;
   return removed;
 }

@@ -53,13 +53,23 @@ class WorldModel {
   std::uint64_t apply(const ObstacleUpdateData& update);
   // The updates in force, as applied (a world on another terrain takes them over).
   std::vector<ObstacleUpdateData> obstacleUpdates() const;
-  // Applies `from`'s obstacles here; positions go through WGS84 when the two frames differ, so an
-  // obstacle stays where it is on the ground.
+  // Applies `from`'s obstacles and no-fly zones here; positions go through WGS84 when the two
+  // frames differ, so an obstacle or a zone stays where it is on the ground.
   void adoptObstacles(const WorldModel& from);
-  // Drops obstacles whose validity ended at or before now_s; returns how many.
+  // Drops obstacles and no-fly zones whose validity ended at or before now_s; returns how many.
   std::size_t expire(double now_s);
   std::size_t obstacleCount() const;
-  std::uint64_t version() const;  // grows with every change of the obstacles
+  std::uint64_t version() const;  // grows with every change of the obstacles or no-fly zones
+
+  // No-fly zones (checked by the caller), of two kinds: the configured set (a file), replaced as a
+  // whole, and published zones (DDS), keyed by name, which a world on another terrain takes over
+  // (adoptObstacles) while the configured set comes from the new configuration. Every world gets
+  // both; zones whose window ends are dropped by expire() like obstacles.
+  void setNoFlyZones(std::vector<NoFlyZone> zones);
+  void upsertNoFlyZone(NoFlyZone zone);
+  bool removeNoFlyZone(const std::string& name);  // false: no published zone of that name
+  std::vector<NoFlyZone> noFlyZones() const;      // configured, then published
+  std::vector<NoFlyZone> publishedNoFlyZones() const;
 
  private:
   WorldModel() = default;
@@ -71,6 +81,10 @@ class WorldModel {
   std::map<std::pair<double, double>, std::shared_ptr<CollisionWorld>> worlds_;
   std::map<std::uint64_t, std::pair<Obstacle, double>> obstacles_;  // id -> obstacle, valid until (s; inf)
   std::map<std::uint64_t, ObstacleUpdateData> updates_;             // id -> the update it came from
+  std::vector<NoFlyZone> zonesLocked() const;
+  void zonesChangedLocked();  // version and every world
+  std::vector<NoFlyZone> configured_zones_;
+  std::map<std::string, NoFlyZone> published_zones_;
   std::uint64_t version_ = 0;
 };
 

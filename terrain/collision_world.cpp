@@ -215,6 +215,24 @@ std::uint64_t CollisionWorld::obstacleVersion() const {
   return obstacle_version_;
 }
 
+void CollisionWorld::setNoFlyZones(std::vector<NoFlyZone> zones) {
+  std::unique_lock lock(mutex_);
+  zones_ = std::move(zones);
+  ++obstacle_version_;
+}
+
+std::vector<NoFlyZone> CollisionWorld::noFlyZones() const {
+  std::shared_lock lock(mutex_);
+  return zones_;
+}
+
+std::optional<std::string> CollisionWorld::noFlyZoneAt(const Eigen::Vector3d& p_m, std::optional<double> t_s) const {
+  std::shared_lock lock(mutex_);
+  const NoFlyZone* zone = zoneTouchingPoint(zones_, p_m, options_.vehicle_radius_m, t_s);
+  if (!zone) return std::nullopt;
+  return zone->name;
+}
+
 bool CollisionWorld::isTerrainValid(const Eigen::Vector3d& p_m) const {
   if (!(p_m.z() <= options_.ceiling_m)) return false;
   const double ground = dilated_terrain_->heightAt(p_m.x(), p_m.y());
@@ -238,6 +256,7 @@ bool CollisionWorld::isPointValidImpl(const Eigen::Vector3d& p_m, std::optional<
   const fcl::Sphered& vehicle = obstacle_margin_m > 0.0 ? grown : *fcl_->vehicle;
   const fcl::Transform3d vehicle_pose = translation(p_m);
   std::shared_lock lock(mutex_);
+  if (zoneTouchingPoint(zones_, p_m, options_.vehicle_radius_m, t_s, window_s)) return false;
   for (const auto& e : fcl_->entries) {
     const Obstacle& o = e.obstacle;
     if (o.moving() && !t_s) {
@@ -283,6 +302,7 @@ bool CollisionWorld::isSegmentValidImpl(const Eigen::Vector3d& a_m, const Eigen:
   const double r = options_.vehicle_radius_m + std::max(0.0, obstacle_margin_m);
   const double length = (b_m - a_m).norm();
   std::shared_lock lock(mutex_);
+  if (zoneTouchingSegment(zones_, a_m, b_m, options_.vehicle_radius_m, t_s, window_s)) return false;
   if (fcl_->entries.empty()) return true;
   const fcl::Capsuled swept(r, length);
   const fcl::Transform3d swept_pose = capsulePose(a_m, b_m);
@@ -322,6 +342,7 @@ bool CollisionWorld::isStaticSegmentValid(const Eigen::Vector3d& a_m, const Eige
   if (!(dilated_terrain_->minHeightAboveGround(a_m, b_m) >= options_.min_clearance_m)) return false;
   const double r = options_.vehicle_radius_m;
   std::shared_lock lock(mutex_);
+  if (zoneTouchingSegment(zones_, a_m, b_m, r)) return false;
   for (const auto& e : fcl_->entries) {
     const Obstacle& o = e.obstacle;
     if (o.moving() || pointSegmentDistance(o.center_m, a_m, b_m) > o.boundingRadius() + r) continue;
@@ -345,6 +366,7 @@ bool CollisionWorld::isSegmentValidDuring(const Eigen::Vector3d& a_m, double t0_
   const double vehicle_speed = duration > 0.0 ? (b_m - a_m).norm() / duration : 0.0;
   const double r = options_.vehicle_radius_m;
   std::shared_lock lock(mutex_);
+  if (zoneTouchingSegment(zones_, a_m, b_m, r, t0_s, duration)) return false;
   for (const auto& e : fcl_->entries) {
     const Obstacle& o = e.obstacle;
     if (!o.moving()) {

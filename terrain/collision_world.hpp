@@ -9,9 +9,11 @@
 #include <memory>
 #include <optional>
 #include <shared_mutex>
+#include <string>
 #include <vector>
 
 #include "terrain/heightfield.hpp"
+#include "terrain/no_fly_zone.hpp"
 #include "terrain/obstacle.hpp"
 #include "terrain/terrain_octree.hpp"
 
@@ -64,7 +66,15 @@ class CollisionWorld {
   bool removeObstacle(std::uint64_t id);
   void clearObstacles();
   std::vector<Obstacle> obstacles() const;
-  std::uint64_t obstacleVersion() const;
+  std::uint64_t obstacleVersion() const;  // grows with obstacle and no-fly zone changes
+
+  // No-fly zones (checked by the caller with checkNoFlyZone): every validity check below keeps the
+  // vehicle's sphere out of them, at the check's time when it has one (a zone out of force then
+  // does not block), and always without a time.
+  void setNoFlyZones(std::vector<NoFlyZone> zones);
+  std::vector<NoFlyZone> noFlyZones() const;
+  // The name of a zone the vehicle's sphere at p touches (in force at t_s when given).
+  std::optional<std::string> noFlyZoneAt(const Eigen::Vector3d& p_m, std::optional<double> t_s = std::nullopt) const;
 
   // Valid: inside the DEM, at least min_clearance above the (radius-dilated) ground, under the
   // ceiling, and the vehicle sphere clear of every obstacle. Without a time, a moving obstacle
@@ -114,6 +124,7 @@ class CollisionWorld {
   std::unique_ptr<TerrainOctree> octree_;
   mutable std::shared_mutex mutex_;
   std::unique_ptr<FclObstacles> fcl_;
+  std::vector<NoFlyZone> zones_;
   std::uint64_t obstacle_version_ = 0;
 };
 

@@ -4,6 +4,35 @@
 #include <cmath>
 
 namespace skyroute {
+namespace {
+
+// The cells the band's no-fly zones cover, except those holding a point to keep free.
+std::vector<GridCell> zoneCells(const GridLayer& grid, const Heightfield& terrain, const TerrainGridOptions& options) {
+  std::vector<GridCell> cells;
+  const double margin = options.zone_margin_m;
+  for (const NoFlyZone& zone : options.no_fly_zones) {
+    if (zone.floor_m - margin > options.flight_ceiling_m) continue;
+    if (zone.ceiling_m + margin < terrain.minHeightM() + options.min_clearance_m) continue;
+    const Eigen::AlignedBox2d box = zone.boundsEn();
+    const Eigen::Vector2d lo_m = box.min() - Eigen::Vector2d::Constant(margin + grid.cellSize());
+    const Eigen::Vector2d hi_m = box.max() + Eigen::Vector2d::Constant(margin + grid.cellSize());
+    const Eigen::Vector2d lo = ((lo_m - grid.origin()) / grid.cellSize()).array().floor();
+    const Eigen::Vector2d hi = ((hi_m - grid.origin()) / grid.cellSize()).array().ceil();
+    for (int y = std::max(0, static_cast<int>(lo.y())); y <= std::min(grid.height() - 1, static_cast<int>(hi.y())); ++y) {
+      for (int x = std::max(0, static_cast<int>(lo.x())); x <= std::min(grid.width() - 1, static_cast<int>(hi.x())); ++x) {
+        const GridCell c{x, y};
+        if (zone.touchesSquare(grid.cellCenter(c), grid.cellSize(), margin)) cells.push_back(c);
+      }
+    }
+  }
+  for (const Eigen::Vector2d& p : options.keep_free_m) {
+    const auto free = grid.cellAt(p);
+    if (free) cells.erase(std::remove(cells.begin(), cells.end(), *free), cells.end());
+  }
+  return cells;
+}
+
+}  // namespace
 
 Result<GridLayer> buildTerrainGrid(const Heightfield& terrain, const TerrainGridOptions& options) {
   if (!(options.cell_size_m > 0.0) || !std::isfinite(options.cell_size_m)) {
@@ -53,6 +82,7 @@ Result<GridLayer> buildTerrainGrid(const Heightfield& terrain, const TerrainGrid
     }
   }
   grid.setStaticBlocked(blocked, true);
+  grid.setStaticBlocked(zoneCells(grid, terrain, options), true);
   return grid;
 }
 

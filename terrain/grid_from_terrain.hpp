@@ -5,10 +5,12 @@
 #pragma once
 
 #include <atomic>
+#include <vector>
 
 #include "planning/core/result.hpp"
 #include "terrain/grid_layer.hpp"
 #include "terrain/heightfield.hpp"
+#include "terrain/no_fly_zone.hpp"
 
 namespace skyroute {
 
@@ -19,6 +21,13 @@ struct TerrainGridOptions {
   int max_cells_per_axis = 4000;     // refuse absurd grids rather than exhaust memory
   // Set from another thread to stop a long build (checked every row): kCancelled. Not owned.
   const std::atomic<bool>* cancel = nullptr;
+  // No-fly zones reaching into the band (floor under its ceiling, ceiling over the lowest ground
+  // plus clearance) block every cell their polygon, grown by zone_margin_m, touches, whatever
+  // their time window: a grid search has no clock. Cells holding a keep_free_m point (a route's
+  // ends, checked clear of the zones by the caller) are left to the terrain.
+  std::vector<NoFlyZone> no_fly_zones;
+  double zone_margin_m = 0.0;
+  std::vector<Eigen::Vector2d> keep_free_m;
 };
 
 // Errors: kInvalidArgument naming the option (cell size <= 0, grid too large); kCancelled.

@@ -21,6 +21,7 @@ void addReplayCommand(CLI::App& app);   // replay: a feed file with its timing  
 void addPx4Command(CLI::App& app);      // px4: offboard setpoints for PX4           (px4_command.cpp)
 void addCancelCommand(CLI::App& app);   // cancel: a vehicle's mission or a request   (cancel_command.cpp)
 void addStatusCommand(CLI::App& app);   // status: live daemons from their heartbeats (status_command.cpp)
+void addNoFlyCommand(CLI::App& app);    // nofly: publish or lift no-fly zones        (nofly_command.cpp)
 
 // `--security DIR` on a DDS subcommand: the participant it opens uses that identity folder
 // (scripts/make-pki.sh; DIR/station to send requests). One command runs per process, so the

@@ -17,6 +17,7 @@
 #include <CLI/CLI.hpp>
 
 #include "service/cli/commands.hpp"
+#include "service/cli/nofly_option.hpp"
 #include "service/cli/dds_commands.hpp"
 #include "service/cli/fleet_common.hpp"
 #include "service/cli/fleet_grid.hpp"
@@ -32,6 +33,7 @@ namespace {
 const std::string kTool = "fleet";
 
 struct FleetCommandArgs {
+  std::optional<std::string> nofly;
   ConfigArgs config;
   std::optional<std::string> dem;
   std::string map;
@@ -95,6 +97,7 @@ void runGeoFleet(const FleetCommandArgs& a) {
   std::cerr << "loading " << dem << " ..." << std::endl;
   auto world = WorldModel::load(dem, config.world);
   if (!world.ok()) fail(kTool, kExitBadInput, (a.dem ? "--dem " : "terrain.dem ") + world.error().describe());
+  loadNoFlyZones(kTool, a.nofly, config, **world, static_cast<double>(utcNowNs()) * 1e-9);
   const MissionPipeline pipeline(*world, p);
   std::cerr << "planning " << request.vehicle_ids.size() << " vehicles and " << request.tasks.size() << " tasks ..."
             << std::endl;
@@ -184,6 +187,9 @@ void addInputOptions(CLI::App& cmd, FleetCommandArgs& a) {
 
 void addModeOptions(CLI::App& cmd, FleetCommandArgs& a) {
   a.local_only.push_back(cmd.add_option("--dem", a.dem, "DEM file (config terrain.dem; default: the embedded terrain)"));
+  CLI::Option* nofly = addNoFlyOption(cmd, a.nofly);
+  a.local_only.push_back(nofly);
+  a.geo_only.push_back(nofly);
   a.local_only.push_back(cmd.add_option("--map", a.map, "Moving AI .map file: the 2D problem on cells (x column, y row)"));
   a.local_only.push_back(
       cmd.add_flag("--cells", a.cells, "The 2D problem on the DEM's flight-band grid, points as X,Y cells (x east, y north)"));

@@ -13,6 +13,7 @@
 #include "service/cli/dds_cli_common.hpp"
 #include "service/cli/dds_commands.hpp"
 #include "service/cli/gcs_live_map.hpp"
+#include "service/cli/nofly_option.hpp"
 #include "service/cli/progress.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/qgc_plan.hpp"
@@ -31,6 +32,7 @@ struct GcsOptions {
   double timeout_s = 0;  // stop after this long (0 = until Ctrl-C)
   std::string csv, geojson, kml;
   std::string plan_dir;  // one QGroundControl .plan per vehicle
+  std::string nofly;     // GeoJSON no-fly zones for the plans' geofence ("" = none)
   std::string serve;     // HOST:PORT of the live map ("" = none)
   std::string dem;       // the live map's terrain ("" = the embedded terrain)
   bool progress = false; // show the waiting on stderr even when it is not a terminal
@@ -40,6 +42,15 @@ constexpr double kProgressEveryS = 5.0;  // how often a terminal hears that gcs 
 
 void runGcs(const GcsOptions& o) {
   const std::string tool = "gcs";
+  if (!o.nofly.empty() && o.plan_dir.empty() && o.serve.empty()) {
+    fail(tool, kExitUsage, "--nofly applies to the --plan exports and the --serve map only");
+  }
+  // The zones in force: the file's (read before waiting, so a bad file fails at once), then those
+  // published on the domain, by id.
+  std::map<std::string, NoFlyZoneData> zones;
+  if (!o.nofly.empty()) {
+    for (NoFlyZoneData& zone : loadNoFlyZoneData(tool, "--nofly", o.nofly)) zones[zone.zone_id] = std::move(zone);
+  }
   std::unique_ptr<GcsLiveMap> live = o.serve.empty() ? nullptr : GcsLiveMap::start(tool, o.serve, o.dem);
   dds::Entity participant = openParticipant(tool, o.domain);
   auto trajectories = openReader<TrajectoryData>(tool, participant);
@@ -70,6 +81,22 @@ void runGcs(const GcsOptions& o) {
         if (!printed_statuses.firstTime(s)) return;
         std::cout << describe(s) << std::endl;
         if (live) live->state().onStatus(s);
+      },
+      on_bad);
+  if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
+  for (const auto& [id, zone] : zones)
+    if (live) live->state().onNoFlyZone(zone);
+  auto zone_reader = dds::Reader<NoFlyZoneData>::create(participant.get());
+  if (!zone_reader) fail(tool, kExitServiceUnavailable, zone_reader.error().describe());
+  added = loop->add<NoFlyZoneData>(
+      *zone_reader,
+      [&](NoFlyZoneData&& zone) {
+        if (live) live->state().onNoFlyZone(zone);
+        if (zone.remove) {
+          zones.erase(zone.zone_id);
+        } else {
+          zones[zone.zone_id] = std::move(zone);
+        }
       },
       on_bad);
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
@@ -122,7 +149,9 @@ void runGcs(const GcsOptions& o) {
     std::cout << "wrote " << current.size() << " trajectories to " << *path << std::endl;
   }
   if (!o.plan_dir.empty()) {
-    auto written = writeQgcPlanPerVehicle(o.plan_dir, current);
+    std::vector<GeofencePolygon> geofence;
+    for (const auto& [id, zone] : zones) geofence.push_back(geofencePolygon(zone));
+    auto written = writeQgcPlanPerVehicle(o.plan_dir, current, geofence);
     if (!written) fail(tool, kExitUsage, "--plan: " + written.error().describe());
     for (const auto& path : *written) std::cout << "wrote " << path << std::endl;
   }
@@ -153,6 +182,9 @@ void addGcsCommand(CLI::App& app) {
                   "Write them as GeoJSON (3D lines, WGS84, heights above the ellipsoid; default: none)");
   cmd->add_option("--kml", options->kml, "Write them as KML (heights AMSL; default: none)");
   cmd->add_option("--plan", options->plan_dir, "Write one QGroundControl .plan per vehicle into this folder (default: none)");
+  cmd->add_option("--nofly", options->nofly,
+                  "GeoJSON no-fly zones (docs/nofly.md) for the --serve map and each --plan's exclusion geofence, "
+                  "beside the zones published on the domain");
   cmd->add_flag("--progress", options->progress,
                 "Say every 5 s on stderr what has arrived while waiting, even when stderr is not a terminal")
       ->capture_default_str();

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   skyroute::cli::addReplayCommand(app);
   skyroute::cli::addPx4Command(app);
   skyroute::cli::addCancelCommand(app);
+  skyroute::cli::addNoFlyCommand(app);
   skyroute::cli::addStatusCommand(app);
 
   try {

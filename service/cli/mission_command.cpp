@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/cli/cli_common.hpp"
+#include "service/cli/nofly_option.hpp"
 #include "service/cli/commands.hpp"
 #include "service/cli/mission_args.hpp"
 #include "service/daemon_config.hpp"
@@ -33,6 +34,7 @@ const std::vector<std::pair<std::string, std::string>> kOutFormats = {
     {"csv", "CSV"}, {"geojson", "GeoJSON"}, {"kml", "KML"}};
 
 struct MissionCommandArgs {
+  std::optional<std::string> nofly;
   ConfigArgs config;
   std::optional<std::string> dem;
   std::string map;
@@ -195,8 +197,10 @@ void runGeoMission(const MissionCommandArgs& a) {
   std::cerr << "loading " << dem << " ..." << std::endl;
   auto world = WorldModel::load(dem, config.world);
   if (!world.ok()) fail(kTool, kExitBadInput, (a.dem ? "--dem " : "terrain.dem ") + world.error().describe());
+  const double now_s = static_cast<double>(utcNowNs()) * 1e-9;
+  loadNoFlyZones(kTool, a.nofly, config, **world, now_s);
   const MissionPipeline pipeline(*world, p);
-  auto ordered = pipeline.order(mission, static_cast<double>(utcNowNs()) * 1e-9);
+  auto ordered = pipeline.order(mission, now_s);
   if (!ordered.ok()) failPlanError(kTool, a.points, ordered.error());
   const std::vector<OrderedPoint> visited = visitedPoints(mission, *ordered, (*world)->frame());
   const std::vector<double> costs = legCosts(ordered->ordering, visited);
@@ -250,6 +254,7 @@ void addMissionCommand(CLI::App& app) {
   addConfigOptions(*cmd, a->config);
   cmd->add_option("--dem", a->dem, "DEM file (config terrain.dem; default: the embedded terrain)");
   cmd->add_option("--map", a->map, "Moving AI .map file: points are X,Y cells");
+  a->geo_only.push_back(addNoFlyOption(*cmd, a->nofly));
   cmd->add_flag("--cells", a->cells, "Points are X,Y cells of the DEM's flight-band grid (always so with --map)");
   a->geo_only.push_back(cmd->add_option("--mission", a->points.mission_file,
                                         "Mission JSON, as `skyroute request --file` publishes it (docs/dds.md); "

@@ -16,6 +16,7 @@
 #include "service/cli/commands.hpp"
 #include "service/cli/height_ref_option.hpp"
 #include "service/cli/mission_args.hpp"
+#include "service/cli/nofly_option.hpp"
 #include "service/daemon_config.hpp"
 #include "service/map_figure.hpp"
 #include "service/mission_json.hpp"
@@ -32,6 +33,7 @@ const std::string kTool = "plan";
 struct PlanArgs {
   ConfigArgs config;
   std::optional<std::string> dem;
+  std::optional<std::string> nofly;
   MissionPointArgs mission;  // --mission, --from/--via/--to, --fixed-order and the vehicle limits
   std::string vehicle;
   std::string planner;
@@ -147,10 +149,11 @@ void runPlan(const PlanArgs& a) {
   std::cerr << "loading " << dem << " ..." << std::endl;
   auto world = WorldModel::load(dem, config.world);
   if (!world.ok()) fail(kTool, kExitBadInput, "terrain.dem " + world.error().describe());
+  const double now_s = static_cast<double>(utcNowNs()) * 1e-9;
+  loadNoFlyZones(kTool, a.nofly, config, **world, now_s);
   const MissionPipeline pipeline(*world, p);
   auto progress = [](PlanStage, const std::string& what) { std::cerr << what << " ..." << std::endl; };
-  auto planned = pipeline.plan(PipelineRequest{mission, std::nullopt, std::nullopt},
-                               static_cast<double>(utcNowNs()) * 1e-9, {}, progress);
+  auto planned = pipeline.plan(PipelineRequest{mission, std::nullopt, std::nullopt}, now_s, {}, progress);
   if (!planned.ok()) failPlanError(kTool, a.mission, planned.error());
   const MissionPlan& plan = *planned;
   const TrajectoryData data = pipeline.sample(
@@ -165,7 +168,7 @@ void runPlan(const PlanArgs& a) {
     } else if (ext == "geojson") {
       written = writeTrajectoriesOgr(a.out, "GeoJSON", {data});
     } else if (ext == "plan" || ext == "waypoints") {
-      auto qgc = qgcMissionFromTrajectory(data);
+      auto qgc = qgcMissionFromTrajectory(data, geofencePolygons((*world)->noFlyZones(), (*world)->frame()));
       if (!qgc.ok()) fail(kTool, kExitPlanningFailed, "--out " + qgc.error().describe());
       written = ext == "plan" ? writeQgcPlan(a.out, *qgc) : writeQgcWaypoints(a.out, *qgc);
     } else {
@@ -191,6 +194,7 @@ void addPlanCommand(CLI::App& app) {
                            "--png out/plan.png"}));
   addConfigOptions(*plan, a->config);
   plan->add_option("--dem", a->dem, "DEM file (config terrain.dem; default: the embedded terrain)");
+  addNoFlyOption(*plan, a->nofly);
   plan->add_option("--mission", a->mission.mission_file,
                    "Mission JSON, as `skyroute request --file` publishes it (docs/dds.md); options below override it");
   plan->add_option("--from", a->mission.from, "Start LAT,LON,ALT (degrees, degrees, metres AMSL)");

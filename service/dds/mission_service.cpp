@@ -6,6 +6,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "service/no_fly_geojson.hpp"
+
 
 namespace skyroute::dds {
 namespace {
@@ -37,11 +39,17 @@ Result<std::shared_ptr<WorldModel>> loadWorld(const DaemonConfig& config) {
     e.message = config.dem_path + ": " + e.message;
     return e;
   }
+  if (!config.nofly_path.empty()) {
+    auto zones = loadNoFlyGeoJson(config.nofly_path, (*world)->frame());
+    if (!zones.ok()) return make_error(zones.error().code, "terrain.nofly", zones.error().describe());
+    spdlog::info("event=nofly_zones_loaded file={} zones={}", config.nofly_path, zones->size());
+    (*world)->setNoFlyZones(std::move(*zones));
+  }
   return world;
 }
 
 bool terrainChanged(const DaemonConfig& a, const DaemonConfig& b) {
-  return a.dem_path != b.dem_path || a.world.vehicle_radius_m != b.world.vehicle_radius_m ||
+  return a.dem_path != b.dem_path || a.nofly_path != b.nofly_path || a.world.vehicle_radius_m != b.world.vehicle_radius_m ||
          a.world.terrain_margin_m != b.world.terrain_margin_m ||
          a.world.constant_velocity_horizon_s != b.world.constant_velocity_horizon_s;
 }
@@ -63,6 +71,7 @@ struct MissionService::Edge {
   std::optional<Reader<MissionRequestData>> requests;
   std::optional<Reader<CancelRequestData>> cancels;
   std::optional<Reader<ObstacleUpdateData>> obstacles;
+  std::optional<Reader<NoFlyZoneData>> zones;
   std::optional<Writer<TrajectoryData>> trajectories;
   std::optional<Writer<PlanStatusData>> statuses;
   std::optional<Writer<ServiceStatusData>> heartbeat;
@@ -118,6 +127,7 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   if (auto e = emplaceCreated(edge->requests, Reader<MissionRequestData>::create(p))) return *e;
   if (auto e = emplaceCreated(edge->cancels, Reader<CancelRequestData>::create(p))) return *e;
   if (auto e = emplaceCreated(edge->obstacles, Reader<ObstacleUpdateData>::create(p))) return *e;
+  if (auto e = emplaceCreated(edge->zones, Reader<NoFlyZoneData>::create(p))) return *e;
   if (auto e = emplaceCreated(edge->trajectories, Writer<TrajectoryData>::create(p))) return *e;
   if (auto e = emplaceCreated(edge->statuses, Writer<PlanStatusData>::create(p))) return *e;
   if (auto e = emplaceCreated(edge->heartbeat, Writer<ServiceStatusData>::create(p, me.userData()))) return *e;
@@ -162,6 +172,14 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
         ++bad_samples_;
         bad_samples_log_.warn("bad_obstacle_update:" + e.field,
                               fmt::format("event=bad_obstacle_update field={} message=\"{}\"", e.field, e.message));
+      });
+  if (!added.ok()) return added.error();
+  added = l.add(
+      *edge->zones, [this](NoFlyZoneData&& zone) { engine_->updateNoFlyZone(zone); },
+      [this](const Error& e) {
+        ++bad_samples_;
+        bad_samples_log_.warn("bad_nofly_zone:" + e.field,
+                              fmt::format("event=bad_nofly_zone field={} message=\"{}\"", e.field, e.message));
       });
   if (!added.ok()) return added.error();
   // Heartbeat samples carry nothing the node needs (rivals are read from discovery): drained.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "service/dds/conversions.hpp"
+#include "service/dds/no_fly_conversions.hpp"
 #include "service/dds/qos.hpp"
 
 namespace skyroute::dds {
@@ -28,6 +29,8 @@ SKYROUTE_TOPIC(CancelRequestData, CancelRequest, "skyroute_cancel_request", comm
 SKYROUTE_TOPIC(ServiceStatusData, ServiceStatus, "skyroute_service_status", heartbeatQos)
 SKYROUTE_TOPIC(FleetRequestData, FleetRequest, "skyroute_fleet_request", commandQos)
 SKYROUTE_TOPIC(FleetStatusData, FleetStatus, "skyroute_fleet_status", commandQos)
+// Obstacles' durability: a late-joining daemon gets the zones in force.
+SKYROUTE_TOPIC(NoFlyZoneData, NoFlyZone, "skyroute_no_fly_zone", obstacleQos)
 
 #undef SKYROUTE_TOPIC
 

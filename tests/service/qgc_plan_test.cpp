@@ -117,7 +117,7 @@ class QgcPlanTest : public ::testing::Test {
 
 TEST_F(QgcPlanTest, PlanFileValidatesRoundTripsAndStaysInTheCorridor) {
   const TrajectoryData t = weavingTrajectory(*frame_);
-  const NoFlyZone zone{{{46.95, 15.06}, {46.96, 15.06}, {46.96, 15.08}, {46.95, 15.06}}};  // closed ring
+  const GeofencePolygon zone{{{46.95, 15.06}, {46.96, 15.06}, {46.96, 15.08}, {46.95, 15.06}}};  // closed ring
   QgcPlanOptions options;
   options.corridor_m = 4.0;
   auto mission = qgcMissionFromTrajectory(t, {zone}, options);
@@ -240,11 +240,11 @@ TEST_F(QgcPlanTest, BadInputNamesTheField) {
   ASSERT_FALSE(short_one.ok());
   EXPECT_EQ(short_one.error().field, "samples");
 
-  auto line = qgcMissionFromTrajectory(t, {NoFlyZone{{{46.9, 15.0}, {46.91, 15.0}, {46.9, 15.0}}}});
+  auto line = qgcMissionFromTrajectory(t, {GeofencePolygon{{{46.9, 15.0}, {46.91, 15.0}, {46.9, 15.0}}}});
   ASSERT_FALSE(line.ok());
   EXPECT_EQ(line.error().field, "no_fly_zones[0].ring");
-  auto far = qgcMissionFromTrajectory(t, {NoFlyZone{{{46.9, 15.0}, {46.91, 15.0}, {46.9, 15.1}}},
-                                          NoFlyZone{{{46.9, 15.0}, {95.0, 15.0}, {46.9, 15.1}}}});
+  auto far = qgcMissionFromTrajectory(t, {GeofencePolygon{{{46.9, 15.0}, {46.91, 15.0}, {46.9, 15.1}}},
+                                          GeofencePolygon{{{46.9, 15.0}, {95.0, 15.0}, {46.9, 15.1}}}});
   ASSERT_FALSE(far.ok());
   EXPECT_EQ(far.error().field, "no_fly_zones[1].ring[1].lat_deg");
 }

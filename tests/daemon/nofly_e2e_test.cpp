@@ -1,0 +1,151 @@
+// No-fly zones over DDS with a real skyrouted: a daemon that starts after a zone was published
+// still learns it (transient-local) and refuses a mission point inside it naming the zone; a zone
+// published under a flying vehicle's trajectory makes the daemon replan round it; a bad zone file
+// in the configuration stops the daemon naming the file and the feature.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "service/dds/typed_io.hpp"
+#include "tests/daemon/daemon_fixture.hpp"
+
+namespace skyroute::testing {
+namespace {
+
+// This file's DDS domains.
+constexpr int kLateDomain = 166;
+constexpr int kReplanDomain = 167;
+
+// A rectangle in the terrain's ENU frame, as a published zone (WGS84 ring, heights AMSL).
+struct Rect {
+  double west_m, south_m, east_m, north_m;
+  bool containsWithin(const Eigen::Vector3d& p, double margin_m) const {
+    const double dx = std::max({west_m - p.x(), 0.0, p.x() - east_m});
+    const double dy = std::max({south_m - p.y(), 0.0, p.y() - north_m});
+    return std::hypot(dx, dy) <= margin_m;
+  }
+};
+
+class NoFlyE2e : public DaemonFixture {
+ protected:
+  NoFlyZoneData zoneData(const std::string& id, const Rect& r) const {
+    NoFlyZoneData z;
+    z.zone_id = id;
+    for (const auto& [e, n] : {std::pair{r.west_m, r.south_m}, {r.east_m, r.south_m}, {r.east_m, r.north_m},
+                               std::pair{r.west_m, r.north_m}}) {
+      z.ring.push_back(terrain_->frame().toGeo(Eigen::Vector3d(e, n, 0.0)));
+    }
+    z.floor_amsl_m = -1000.0;
+    z.ceiling_amsl_m = 4900.0;  // under the vehicles' 5000 m ceiling only: the way is round
+    return z;
+  }
+};
+
+TEST_F(NoFlyE2e, LateDaemonGetsZonesPublishedBeforeItStarted) {
+  // `skyroute nofly` publishes a GeoJSON zone round the mission's middle point (0, 200) and stays up.
+  const NoFlyZoneData stadium = zoneData("stadium", Rect{-400, -200, 400, 600});
+  nlohmann::json ring = nlohmann::json::array();
+  for (const GeoPoint& p : stadium.ring) ring.push_back({p.lon_deg, p.lat_deg});
+  ring.push_back(ring.front());
+  const nlohmann::json doc = {
+      {"type", "FeatureCollection"},
+      {"features", {{{"type", "Feature"}, {"id", "stadium"},
+                     {"properties", {{"floor_m", stadium.floor_amsl_m}, {"ceiling_m", stadium.ceiling_amsl_m}}},
+                     {"geometry", {{"type", "Polygon"}, {"coordinates", {ring}}}}}}}};
+  const std::string zones_path = e2eTempPath("zones_" + std::to_string(kLateDomain) + ".geojson");
+  std::ofstream(zones_path) << doc.dump();
+  ChildProcess publisher = ChildProcess::spawn(
+      {SKYROUTE_CLI, "nofly", zones_path, "--domain", std::to_string(kLateDomain), "--hold", "120", "--wait", "0"},
+      "nofly_" + std::to_string(kLateDomain));
+  ASSERT_TRUE(publisher.started());
+  // A zone with bad geometry straight from a writer of the test's own (the CLI would refuse it).
+  auto participant = dds::createParticipant(kLateDomain);
+  ASSERT_TRUE(participant.ok()) << participant.error().describe();
+  auto writer = dds::Writer<NoFlyZoneData>::create(participant->get());
+  ASSERT_TRUE(writer.ok()) << writer.error().describe();
+  NoFlyZoneData bad = zoneData("bow", Rect{-400, -200, 400, 600});
+  std::swap(bad.ring[1], bad.ring[2]);  // a bow tie
+  ASSERT_TRUE(writer->write(bad).ok());
+  const auto published = [&] { return publisher.out().find("published zone stadium") != std::string::npos; };
+  for (int i = 0; i < 200 && !published(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_TRUE(published()) << publisher.out() << publisher.err();
+
+  startDaemon(kLateDomain);
+  ASSERT_TRUE(waitForLog("event=nofly_zone zone=stadium", 20.0)) << daemon_.err();
+  ASSERT_TRUE(waitForLog("event=nofly_rejected zone=bow", 20.0)) << daemon_.err();
+  EXPECT_NE(daemon_.err().find("self-intersection"), std::string::npos) << daemon_.err();
+
+  const MissionRequestData m = simpleMission("inside", "uav-1", 0.0);
+  ASSERT_TRUE(station_->requests->write(m).ok());
+  ASSERT_TRUE(station_->waitTerminal({"inside"}, 60.0));
+  const auto status = station_->terminal("inside");
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->state, PlanState::kFailed);
+  EXPECT_EQ(status->field, "points[0]");
+  EXPECT_NE(status->message.find("is inside no-fly zone 'stadium'"), std::string::npos) << status->message;
+
+  // Lifted: the same mission plans.
+  NoFlyZoneData lift;
+  lift.zone_id = "stadium";
+  lift.remove = true;
+  ASSERT_TRUE(writer->write(lift).ok());
+  ASSERT_TRUE(waitForLog("event=nofly_zone zone=stadium remove=true", 20.0)) << daemon_.err();
+  publisher.signal(SIGTERM);
+  EXPECT_EQ(publisher.wait(10.0), 0) << publisher.err();
+  std::filesystem::remove(zones_path);
+  MissionRequestData again = m;
+  again.request_id = "lifted";
+  ASSERT_TRUE(station_->requests->write(again).ok());
+  ASSERT_TRUE(station_->waitState("lifted", PlanState::kSucceeded, 120.0)) << daemon_.err();
+}
+
+TEST_F(NoFlyE2e, ZoneUnderAFlyingVehicleTriggersAReplanRoundIt) {
+  startDaemon(kReplanDomain);
+  const MissionRequestData m = simpleMission("flying", "uav-2", 2000.0);
+  ASSERT_TRUE(station_->requests->write(m).ok());
+  ASSERT_TRUE(station_->waitState("flying", PlanState::kSucceeded, 120.0)) << daemon_.err();
+  ASSERT_TRUE(station_->pumpUntil([&] { return station_->latest("uav-2") != nullptr; }, 20.0));
+  const std::uint32_t first_revision = station_->latest("uav-2")->revision;
+
+  // Across the first leg (from (-5000, 2000) to (0, 2200)) 500 to 1000 m from its start: inside
+  // the replanner's 45 s look-ahead, far enough ahead to go round.
+  const Rect zone{-4500, 1500, -4000, 2600};
+  auto participant = dds::createParticipant(kReplanDomain);
+  ASSERT_TRUE(participant.ok());
+  auto writer = dds::Writer<NoFlyZoneData>::create(participant->get());
+  ASSERT_TRUE(writer.ok());
+  ASSERT_TRUE(writer->waitForReaders(1, 20.0).ok());
+  ASSERT_TRUE(writer->write(zoneData("closed", zone)).ok());
+  ASSERT_TRUE(station_->pumpUntil(
+      [&] { return station_->latest("uav-2")->revision > first_revision || !daemon_.running(); }, 60.0))
+      << daemon_.err();
+  const TrajectoryData& replanned = *station_->latest("uav-2");
+  ASSERT_FALSE(replanned.samples.empty());
+  for (const TrajectorySampleData& s : replanned.samples) {
+    ASSERT_FALSE(zone.containsWithin(s.position_enu_m, 5.0))
+        << "revision " << replanned.revision << " enters the zone at t = " << s.t_rel_s << " s";
+  }
+  EXPECT_LT((replanned.samples.back().position_enu_m - enuOf(m.end)).norm(), 1.0);
+}
+
+TEST_F(NoFlyE2e, BadZoneFileInTheConfigurationStopsTheDaemonNamingIt) {
+  // The zones load with the terrain, before any DDS entity exists: no domain is touched.
+  const std::string zones_path = e2eTempPath("bad_zones.geojson");
+  std::ofstream(zones_path) << R"({"type": "FeatureCollection", "features": [{"type": "Feature", "id": "thin",
+      "properties": {"ceiling_m": 900}, "geometry": {"type": "Polygon",
+      "coordinates": [[[15.07, 46.93], [15.08, 46.93], [15.07, 46.93]]]}}]})";
+  const std::string config_path = e2eTempPath("bad_zones.toml");
+  std::ofstream(config_path) << "[terrain]\nnofly = \"" << zones_path << "\"\n";
+  ChildProcess daemon = ChildProcess::spawn({SKYROUTED, "--config", config_path}, "skyrouted_bad_zones");
+  ASSERT_TRUE(daemon.started());
+  EXPECT_EQ(daemon.wait(60.0), 3) << daemon.err();
+  EXPECT_NE(daemon.err().find("terrain.nofly"), std::string::npos) << daemon.err();
+  EXPECT_NE(daemon.err().find(zones_path + ": features[0] 'thin': has 2 distinct vertices"), std::string::npos)
+      << daemon.err();
+  std::filesystem::remove(zones_path);
+  std::filesystem::remove(config_path);
+}
+
+}  // namespace
+}  // namespace skyroute::testing
