@@ -213,21 +213,24 @@ void drawFrameAndTicks(cairo_t* cr, const Frame& frame) {
   cairo_set_line_width(cr, 1.0);
   cairo_rectangle(cr, kLeftPx - 0.5, kTopPx - 0.5, w + 1, h + 1);
   cairo_stroke(cr);
+  // A tick on both edges of one axis (outwards), labelled on the outer edge.
+  auto segment = [cr](double x0, double y0, double x1, double y1) {
+    cairo_move_to(cr, x0, y0);
+    cairo_line_to(cr, x1, y1);
+  };
   for (const FrameTick& t : frame.bottom_ticks) {
-    cairo_move_to(cr, kLeftPx + t.at_px, kTopPx + h);
-    cairo_line_to(cr, kLeftPx + t.at_px, kTopPx + h + 6);
-    cairo_move_to(cr, kLeftPx + t.at_px, kTopPx);
-    cairo_line_to(cr, kLeftPx + t.at_px, kTopPx - 4);
+    const double x = kLeftPx + t.at_px;
+    segment(x, kTopPx + h, x, kTopPx + h + 6);
+    segment(x, kTopPx, x, kTopPx - 4);
     cairo_stroke(cr);
-    drawText(cr, t.label, kLeftPx + t.at_px, kTopPx + h + 9, 11, 0.5, 0.0);
+    drawText(cr, t.label, x, kTopPx + h + 9, 11, 0.5, 0.0);
   }
   for (const FrameTick& t : frame.left_ticks) {
-    cairo_move_to(cr, kLeftPx, kTopPx + t.at_px);
-    cairo_line_to(cr, kLeftPx - 6, kTopPx + t.at_px);
-    cairo_move_to(cr, kLeftPx + w, kTopPx + t.at_px);
-    cairo_line_to(cr, kLeftPx + w + 4, kTopPx + t.at_px);
+    const double y = kTopPx + t.at_px;
+    segment(kLeftPx, y, kLeftPx - 6, y);
+    segment(kLeftPx + w, y, kLeftPx + w + 4, y);
     cairo_stroke(cr);
-    drawText(cr, t.label, kLeftPx - 9, kTopPx + t.at_px, 11, 1.0, 0.5);
+    drawText(cr, t.label, kLeftPx - 9, y, 11, 1.0, 0.5);
   }
 }
 

@@ -20,15 +20,20 @@ Error parseError(const std::string& name, const std::string& what) {
   return make_error(ErrorCode::kParseError, name, what);
 }
 
-// "features[2] 'tower'" from the feature's id, or its name property, and its index.
-std::string featureName(const json& feature, std::size_t index) {
-  std::string name = "features[" + std::to_string(index) + "]";
+// The feature's id, or its name property ("" when it has neither).
+std::string featureLabel(const json& feature) {
+  if (!feature.is_object()) return "";
   const json* label = nullptr;
   if (feature.contains("id") && (feature["id"].is_string() || feature["id"].is_number())) label = &feature["id"];
   const json& props = feature.contains("properties") ? feature["properties"] : json();
   if (!label && props.is_object() && props.contains("name") && props["name"].is_string()) label = &props["name"];
-  if (label) name += " '" + (label->is_string() ? label->get<std::string>() : label->dump()) + "'";
-  return name;
+  return label ? (label->is_string() ? label->get<std::string>() : label->dump()) : "";
+}
+
+// "features[2] 'tower'": the feature's index and label, as errors name it.
+std::string featureName(const json& feature, std::size_t index) {
+  const std::string label = featureLabel(feature);
+  return "features[" + std::to_string(index) + "]" + (label.empty() ? "" : " '" + label + "'");
 }
 
 // UTC seconds from a number or an ISO 8601 UTC time ("2026-11-25T14:00:00Z", seconds optional).
@@ -139,13 +144,20 @@ Status addFeature(const json& feature, std::size_t index, const LocalFrame& fram
   }
   auto base = zoneProperties(feature, name, frame);
   if (!base.ok()) return base.error();
+  // The zone's id (what a mission error names and `skyroute nofly --lift` takes) is the feature's
+  // label, or features[i] without one; errors about the file name both.
+  const std::string label = featureLabel(feature);
   for (std::size_t k = 0; k < polygons.size(); ++k) {
+    const std::string polygon = type == "MultiPolygon" ? " polygon " + std::to_string(k) : "";
     NoFlyZone zone = *base;
-    if (type == "MultiPolygon") zone.name += " polygon " + std::to_string(k);
-    auto ring = outerRing(*polygons[k], zone.name, frame);
+    zone.name = (label.empty() ? "features[" + std::to_string(index) + "]" : label) + polygon;
+    auto ring = outerRing(*polygons[k], name + polygon, frame);
     if (!ring.ok()) return ring.error();
     zone.ring_m = std::move(*ring);
-    if (auto bad = checkNoFlyZone(zone)) return *bad;
+    if (auto bad = checkNoFlyZone(zone)) {
+      bad->field = name + polygon;
+      return *bad;
+    }
     out.push_back(std::move(zone));
   }
   return Status::success();

@@ -86,10 +86,9 @@ void runGcs(const GcsOptions& o) {
   if (!added) fail(tool, kExitServiceUnavailable, added.error().describe());
   for (const auto& [id, zone] : zones)
     if (live) live->state().onNoFlyZone(zone);
-  auto zone_reader = dds::Reader<NoFlyZoneData>::create(participant.get());
-  if (!zone_reader) fail(tool, kExitServiceUnavailable, zone_reader.error().describe());
-  added = loop->add<NoFlyZoneData>(
-      *zone_reader,
+  auto zone_reader = openReader<NoFlyZoneData>(tool, participant);
+  added = loop.add<NoFlyZoneData>(
+      zone_reader,
       [&](NoFlyZoneData&& zone) {
         if (live) live->state().onNoFlyZone(zone);
         if (zone.remove) {

@@ -100,21 +100,24 @@ Status checkSecurityFolder(const std::string& dir) {
 void addSecurityProperties(dds_qos_t* qos, const std::string& dir) {
   const std::string root = std::filesystem::absolute(dir).string();
   auto file = [&](const char* name) { return "file:" + fileOf(root, name); };
-  dds_qset_prop(qos, "dds.sec.auth.library.path", "dds_security_auth");
-  dds_qset_prop(qos, "dds.sec.auth.library.init", "init_authentication");
-  dds_qset_prop(qos, "dds.sec.auth.library.finalize", "finalize_authentication");
-  dds_qset_prop(qos, "dds.sec.auth.identity_ca", file("identity_ca.pem").c_str());
-  dds_qset_prop(qos, "dds.sec.auth.identity_certificate", file("identity.pem").c_str());
-  dds_qset_prop(qos, "dds.sec.auth.private_key", file("identity.key").c_str());
-  dds_qset_prop(qos, "dds.sec.crypto.library.path", "dds_security_crypto");
-  dds_qset_prop(qos, "dds.sec.crypto.library.init", "init_crypto");
-  dds_qset_prop(qos, "dds.sec.crypto.library.finalize", "finalize_crypto");
-  dds_qset_prop(qos, "dds.sec.access.library.path", "dds_security_ac");
-  dds_qset_prop(qos, "dds.sec.access.library.init", "init_access_control");
-  dds_qset_prop(qos, "dds.sec.access.library.finalize", "finalize_access_control");
-  dds_qset_prop(qos, "dds.sec.access.permissions_ca", file("permissions_ca.pem").c_str());
-  dds_qset_prop(qos, "dds.sec.access.governance", file("governance.p7s").c_str());
-  dds_qset_prop(qos, "dds.sec.access.permissions", file("permissions.p7s").c_str());
+  // Each plugin: its library (found by short name where Debian installs Cyclone's) and entry points.
+  const char* const plugins[][4] = {
+      {"auth", "dds_security_auth", "init_authentication", "finalize_authentication"},
+      {"crypto", "dds_security_crypto", "init_crypto", "finalize_crypto"},
+      {"access", "dds_security_ac", "init_access_control", "finalize_access_control"},
+  };
+  for (const auto& [plugin, library, init, finalize] : plugins) {
+    const std::string prefix = std::string("dds.sec.") + plugin + ".library.";
+    dds_qset_prop(qos, (prefix + "path").c_str(), library);
+    dds_qset_prop(qos, (prefix + "init").c_str(), init);
+    dds_qset_prop(qos, (prefix + "finalize").c_str(), finalize);
+  }
+  const char* const files[][2] = {
+      {"dds.sec.auth.identity_ca", "identity_ca.pem"},     {"dds.sec.auth.identity_certificate", "identity.pem"},
+      {"dds.sec.auth.private_key", "identity.key"},        {"dds.sec.access.permissions_ca", "permissions_ca.pem"},
+      {"dds.sec.access.governance", "governance.p7s"},     {"dds.sec.access.permissions", "permissions.p7s"},
+  };
+  for (const auto& [property, name] : files) dds_qset_prop(qos, property, file(name).c_str());
 }
 
 }  // namespace skyroute::dds

@@ -166,21 +166,19 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
         publishStatus(PlanStatusData::failed(who, toPlanError(e), 0.0));
       });
   if (!added.ok()) return added.error();
-  added = l.add(
-      *edge->obstacles, [this](ObstacleUpdateData&& update) { engine_->updateObstacle(update); },
-      [this](const Error& e) {
-        ++bad_samples_;
-        bad_samples_log_.warn("bad_obstacle_update:" + e.field,
-                              fmt::format("event=bad_obstacle_update field={} message=\"{}\"", e.field, e.message));
-      });
+  // A refused obstacle or zone has no reply topic: counted and logged (rate-limited per field).
+  const auto logBad = [this](const char* event) {
+    return [this, event](const Error& e) {
+      ++bad_samples_;
+      bad_samples_log_.warn(std::string(event) + ":" + e.field,
+                            fmt::format("event={} field={} message=\"{}\"", event, e.field, e.message));
+    };
+  };
+  added = l.add(*edge->obstacles, [this](ObstacleUpdateData&& update) { engine_->updateObstacle(update); },
+                logBad("bad_obstacle_update"));
   if (!added.ok()) return added.error();
-  added = l.add(
-      *edge->zones, [this](NoFlyZoneData&& zone) { engine_->updateNoFlyZone(zone); },
-      [this](const Error& e) {
-        ++bad_samples_;
-        bad_samples_log_.warn("bad_nofly_zone:" + e.field,
-                              fmt::format("event=bad_nofly_zone field={} message=\"{}\"", e.field, e.message));
-      });
+  added = l.add(*edge->zones, [this](NoFlyZoneData&& zone) { engine_->updateNoFlyZone(zone); },
+                logBad("bad_nofly_zone"));
   if (!added.ok()) return added.error();
   // Heartbeat samples carry nothing the node needs (rivals are read from discovery): drained.
   added = l.add(*edge->rivals, [](ServiceStatusData&&) {}, [](const Error&) {});

@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <unistd.h>
 
@@ -50,43 +50,38 @@ TEST_F(SecurityFolder, MadeFoldersPass) {
   }
 }
 
+// The folder's check fails, naming `file` of the folder, with `reason` in its message.
+void expectRefused(const std::string& dir, const std::string& file, const std::string& reason) {
+  const Status s = checkSecurityFolder(dir);
+  ASSERT_FALSE(s.ok()) << dir;
+  EXPECT_EQ(s.error().field, dir + "/" + file);
+  EXPECT_NE(s.error().message.find(reason), std::string::npos) << s.error().message;
+}
+
 TEST_F(SecurityFolder, MissingFileIsNamed) {
   const std::string dir = copyOf("a/station", "missing");
   fs::remove(dir + "/permissions.p7s");
-  const Status s = checkSecurityFolder(dir);
-  ASSERT_FALSE(s.ok());
-  EXPECT_EQ(s.error().field, dir + "/permissions.p7s");
-  EXPECT_NE(s.error().message.find("make-pki.sh"), std::string::npos) << s.error().message;
+  expectRefused(dir, "permissions.p7s", "make-pki.sh");
 }
 
 TEST_F(SecurityFolder, AnotherAuthoritysCertificateIsRefused) {
   const std::string dir = copyOf("a/station", "foreign");
-  fs::copy_file(root_ + "/b/station/identity.pem", dir + "/identity.pem", fs::copy_options::overwrite_existing);
-  fs::copy_file(root_ + "/b/station/identity.key", dir + "/identity.key", fs::copy_options::overwrite_existing);
-  const Status s = checkSecurityFolder(dir);
-  ASSERT_FALSE(s.ok());
-  EXPECT_EQ(s.error().field, dir + "/identity.pem");
-  EXPECT_NE(s.error().message.find("not signed by"), std::string::npos) << s.error().message;
+  for (const char* file : {"identity.pem", "identity.key"}) {
+    fs::copy_file(root_ + "/b/station/" + file, dir + "/" + file, fs::copy_options::overwrite_existing);
+  }
+  expectRefused(dir, "identity.pem", "not signed by");
 }
 
 TEST_F(SecurityFolder, KeyOfAnotherIdentityIsRefused) {
   const std::string dir = copyOf("a/station", "wrong_key");
   fs::copy_file(root_ + "/a/observer/identity.key", dir + "/identity.key", fs::copy_options::overwrite_existing);
-  const Status s = checkSecurityFolder(dir);
-  ASSERT_FALSE(s.ok());
-  EXPECT_EQ(s.error().field, dir + "/identity.key");
-  EXPECT_NE(s.error().message.find("is not the key of"), std::string::npos) << s.error().message;
+  expectRefused(dir, "identity.key", "is not the key of");
 }
 
 TEST_F(SecurityFolder, TextThatIsNoCertificateIsRefused) {
   const std::string dir = copyOf("a/station", "garbage");
-  std::FILE* f = std::fopen((dir + "/identity_ca.pem").c_str(), "w");
-  ASSERT_NE(f, nullptr);
-  std::fputs("not a certificate\n", f);
-  std::fclose(f);
-  const Status s = checkSecurityFolder(dir);
-  ASSERT_FALSE(s.ok());
-  EXPECT_EQ(s.error().field, dir + "/identity_ca.pem");
+  std::ofstream(dir + "/identity_ca.pem") << "not a certificate\n";
+  expectRefused(dir, "identity_ca.pem", "is not a PEM certificate");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "tests/cli_run.hpp"
 #include "tests/png_picture.hpp"
 #include "tests/test_data.hpp"
+#include "tests/test_folder.hpp"
 
 namespace {
 
@@ -20,16 +21,9 @@ constexpr Rgb kStartGreen{20, 150, 40};
 constexpr Rgb kEndRed{200, 20, 20};
 constexpr Rgb kBlockedGrey{90, 90, 90};
 
-class FigureCli : public ::testing::Test {
+class FigureCli : public skyroute::testing::TestFolderTest {
  protected:
-  void SetUp() override {
-    const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = std::filesystem::path(::testing::TempDir()) / ("skyroute_figure_cli_test_" + test);
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::filesystem::path dir_;
+  FigureCli() : TestFolderTest("skyroute_figure_cli_test_") {}
 };
 
 TEST_F(FigureCli, PlanPictureShowsTheRouteMarkersAndProfile) {

@@ -37,7 +37,7 @@ TEST(NoFlyGeoJson, PolygonsBecomeZonesThatRoundTripToWgs84) {
   ASSERT_TRUE(zones.ok()) << zones.error().describe();
   ASSERT_EQ(zones->size(), 3u);
   const NoFlyZone& tower = (*zones)[0];
-  EXPECT_EQ(tower.name, "features[0] 'tower'");
+  EXPECT_EQ(tower.name, "tower");
   EXPECT_EQ(tower.ring_m.size(), 4u);  // the closing vertex is dropped
   EXPECT_DOUBLE_EQ(tower.floor_m, 200.0);  // AMSL less the anchor's 100 m
   EXPECT_DOUBLE_EQ(tower.ceiling_m, 1100.0);
@@ -51,8 +51,8 @@ TEST(NoFlyGeoJson, PolygonsBecomeZonesThatRoundTripToWgs84) {
     EXPECT_NEAR(back[i].lat_deg, expected[i][0], 1e-7);
     EXPECT_NEAR(back[i].lon_deg, expected[i][1], 1e-7);
   }
-  EXPECT_EQ((*zones)[1].name, "features[1] 'range' polygon 0");
-  EXPECT_EQ((*zones)[2].name, "features[1] 'range' polygon 1");
+  EXPECT_EQ((*zones)[1].name, "range polygon 0");
+  EXPECT_EQ((*zones)[2].name, "range polygon 1");
   EXPECT_EQ((*zones)[2].ring_m.size(), 3u);  // an unclosed ring is taken as it is
 }
 
