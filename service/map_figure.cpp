@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include <cairo.h>
 
@@ -15,14 +16,12 @@
 namespace skyroute {
 namespace {
 
-// The frame around the map: room for latitude labels on the left, longitude labels below, the
-// title above.
-constexpr double kLeftPx = 92.0;
-constexpr double kTopPx = 40.0;
-constexpr double kRightPx = 24.0;
-constexpr double kBottomPx = 46.0;
-constexpr double kProfileHeightPx = 220.0;
-constexpr double kProfileBottomPx = 46.0;
+// The frame around the map, in pixels: room for latitude labels on the left, longitude labels
+// below, the title above; the profile panel and its axis labels under that.
+struct FrameMarginsPx {
+  double left, top, right, bottom, profile_height, profile_bottom;
+};
+constexpr FrameMarginsPx kFrame{92.0, 40.0, 24.0, 46.0, 220.0, 46.0};
 
 constexpr Rgb kGroundRgb{160, 120, 80};
 constexpr Rgb kAltitudeRgb{220, 20, 20};
@@ -94,7 +93,7 @@ void paintRaster(cairo_t* cr, const FigureRaster& raster) {
     }
   }
   cairo_surface_mark_dirty(surface.get());
-  cairo_set_source_surface(cr, surface.get(), kLeftPx, kTopPx);
+  cairo_set_source_surface(cr, surface.get(), kFrame.left, kFrame.top);
   cairo_paint(cr);
 }
 
@@ -107,7 +106,7 @@ void drawLines(cairo_t* cr, const Frame& frame, const std::vector<FigureLine>& l
       cairo_new_path(cr);
       for (const Eigen::Vector2d& p : line.points) {
         const Eigen::Vector2d px = frame.toMapPixel(p);
-        cairo_line_to(cr, kLeftPx + px.x(), kTopPx + px.y());
+        cairo_line_to(cr, kFrame.left + px.x(), kFrame.top + px.y());
       }
       const double dash[] = {3.0 * line.width_px, 2.0 * line.width_px};
       cairo_set_dash(cr, dash, line.dashed && !halo ? 2 : 0, 0.0);
@@ -123,43 +122,52 @@ void drawLines(cairo_t* cr, const Frame& frame, const std::vector<FigureLine>& l
   cairo_set_dash(cr, nullptr, 0, 0.0);
 }
 
-// A filled shape in `fill` with a white outline, or (ring) a white shape outlined in `fill`.
-void finishShape(cairo_t* cr, Rgb fill, bool ring, double line_width_px) {
-  setColour(cr, ring ? Rgb{255, 255, 255} : fill);
-  cairo_fill_preserve(cr);
-  cairo_set_line_width(cr, line_width_px);
-  setColour(cr, ring ? fill : Rgb{255, 255, 255});
-  cairo_stroke(cr);
+// How each kind of marker looks: its shape, half its size, and whether it is filled with its
+// colour (white outline) or a white ring in its colour; start and end have colours of their own.
+enum class MarkerShape { kTriangle, kSquare, kCircle };
+struct MarkerStyle {
+  MarkerShape shape;
+  double half_px;
+  bool ring;
+  double line_px;
+  std::optional<Rgb> own_colour;
+};
+
+MarkerStyle styleOf(MarkerKind kind) {
+  switch (kind) {
+    case MarkerKind::kStart: return {MarkerShape::kTriangle, 9.0, false, 2.0, kStartRgb};
+    case MarkerKind::kEnd: return {MarkerShape::kSquare, 8.0, false, 2.0, kEndRgb};
+    case MarkerKind::kMissionPoint: return {MarkerShape::kCircle, 10.0, true, 2.0, std::nullopt};
+    case MarkerKind::kTask: return {MarkerShape::kCircle, 6.0, true, 3.0, std::nullopt};
+    case MarkerKind::kDepot: return {MarkerShape::kSquare, 7.0, false, 2.0, std::nullopt};
+  }
+  return {MarkerShape::kCircle, 6.0, true, 2.0, std::nullopt};
 }
 
 // One marker's symbol centred on (x, y): the same in the map and in the legend.
 void drawMarkerSymbol(cairo_t* cr, MarkerKind kind, double x, double y, int number, Rgb colour) {
+  const MarkerStyle style = styleOf(kind);
+  const double h = style.half_px;
   cairo_new_path(cr);
-  switch (kind) {
-    case MarkerKind::kStart:
-      cairo_move_to(cr, x, y - 10);
-      cairo_line_to(cr, x + 9, y + 7);
-      cairo_line_to(cr, x - 9, y + 7);
-      cairo_close_path(cr);
-      finishShape(cr, kStartRgb, false, 2.0);
-      return;
-    case MarkerKind::kEnd:
-      cairo_rectangle(cr, x - 8, y - 8, 16, 16);
-      finishShape(cr, kEndRgb, false, 2.0);
-      return;
-    case MarkerKind::kMissionPoint:
-      cairo_arc(cr, x, y, 10, 0, 2 * M_PI);
-      finishShape(cr, colour, true, 2.0);
-      if (number > 0) drawText(cr, std::to_string(number), x, y, number > 9 ? 9.5 : 11.0, 0.5, 0.5, true);
-      return;
-    case MarkerKind::kTask:
-      cairo_arc(cr, x, y, 6, 0, 2 * M_PI);
-      finishShape(cr, colour, true, 3.0);
-      return;
-    case MarkerKind::kDepot:
-      cairo_rectangle(cr, x - 7, y - 7, 14, 14);
-      finishShape(cr, colour, false, 2.0);
-      return;
+  if (style.shape == MarkerShape::kTriangle) {
+    cairo_move_to(cr, x, y - h - 1.0);
+    cairo_line_to(cr, x + h, y + 0.8 * h);
+    cairo_line_to(cr, x - h, y + 0.8 * h);
+    cairo_close_path(cr);
+  } else if (style.shape == MarkerShape::kSquare) {
+    cairo_rectangle(cr, x - h, y - h, 2.0 * h, 2.0 * h);
+  } else {
+    cairo_arc(cr, x, y, h, 0, 2 * M_PI);
+  }
+  const Rgb fill = style.own_colour.value_or(colour);
+  setColour(cr, style.ring ? Rgb{255, 255, 255} : fill);
+  cairo_fill_preserve(cr);
+  cairo_set_line_width(cr, style.line_px);
+  setColour(cr, style.ring ? fill : Rgb{255, 255, 255});
+  cairo_stroke(cr);
+  if (kind == MarkerKind::kMissionPoint && number > 0) {
+    setColour(cr, fill);
+    drawText(cr, std::to_string(number), x, y, number > 9 ? 9.5 : 11.0, 0.5, 0.5, true);
   }
 }
 
@@ -167,15 +175,15 @@ void drawMarkers(cairo_t* cr, const Frame& frame, const std::vector<FigureMarker
   for (const FigureMarker& m : markers) {
     if (!m.at.allFinite()) continue;
     const Eigen::Vector2d px = frame.toMapPixel(m.at);
-    drawMarkerSymbol(cr, m.kind, kLeftPx + px.x(), kTopPx + px.y(), m.number, m.colour);
+    drawMarkerSymbol(cr, m.kind, kFrame.left + px.x(), kFrame.top + px.y(), m.number, m.colour);
   }
 }
 
 // Bottom left inside the map: a bar in two halves with its length; top right: an arrow to north.
 void drawScaleAndNorth(cairo_t* cr, const Frame& frame) {
   const double bar_px = frame.scale_bar_units / frame.viewport.metresPerPixel();
-  const double x0 = kLeftPx + 16.0;
-  const double y0 = kTopPx + frame.viewport.heightPx() - 20.0;
+  const double x0 = kFrame.left + 16.0;
+  const double y0 = kFrame.top + frame.viewport.heightPx() - 20.0;
   cairo_set_source_rgba(cr, 1, 1, 1, 0.75);
   cairo_rectangle(cr, x0 - 8, y0 - 26, bar_px + 16, 36);
   cairo_fill(cr);
@@ -191,8 +199,8 @@ void drawScaleAndNorth(cairo_t* cr, const Frame& frame) {
   drawText(cr, "0", x0, y0 - 4, 11, 0.5, 1.0);
   drawText(cr, frame.scale_bar_label, x0 + bar_px, y0 - 4, 11, 0.5, 1.0);
   if (!frame.north_arrow) return;
-  const double nx = kLeftPx + frame.viewport.widthPx() - 28.0;
-  const double ny = kTopPx + 22.0;
+  const double nx = kFrame.left + frame.viewport.widthPx() - 28.0;
+  const double ny = kFrame.top + 22.0;
   cairo_set_source_rgba(cr, 1, 1, 1, 0.75);
   cairo_arc(cr, nx, ny + 8, 18, 0, 2 * M_PI);
   cairo_fill(cr);
@@ -211,7 +219,7 @@ void drawFrameAndTicks(cairo_t* cr, const Frame& frame) {
   const double h = frame.viewport.heightPx();
   setColour(cr, Rgb{0, 0, 0});
   cairo_set_line_width(cr, 1.0);
-  cairo_rectangle(cr, kLeftPx - 0.5, kTopPx - 0.5, w + 1, h + 1);
+  cairo_rectangle(cr, kFrame.left - 0.5, kFrame.top - 0.5, w + 1, h + 1);
   cairo_stroke(cr);
   // A tick on both edges of one axis (outwards), labelled on the outer edge.
   auto segment = [cr](double x0, double y0, double x1, double y1) {
@@ -219,18 +227,18 @@ void drawFrameAndTicks(cairo_t* cr, const Frame& frame) {
     cairo_line_to(cr, x1, y1);
   };
   for (const FrameTick& t : frame.bottom_ticks) {
-    const double x = kLeftPx + t.at_px;
-    segment(x, kTopPx + h, x, kTopPx + h + 6);
-    segment(x, kTopPx, x, kTopPx - 4);
+    const double x = kFrame.left + t.at_px;
+    segment(x, kFrame.top + h, x, kFrame.top + h + 6);
+    segment(x, kFrame.top, x, kFrame.top - 4);
     cairo_stroke(cr);
-    drawText(cr, t.label, x, kTopPx + h + 9, 11, 0.5, 0.0);
+    drawText(cr, t.label, x, kFrame.top + h + 9, 11, 0.5, 0.0);
   }
   for (const FrameTick& t : frame.left_ticks) {
-    const double y = kTopPx + t.at_px;
-    segment(kLeftPx, y, kLeftPx - 6, y);
-    segment(kLeftPx + w, y, kLeftPx + w + 4, y);
+    const double y = kFrame.top + t.at_px;
+    segment(kFrame.left, y, kFrame.left - 6, y);
+    segment(kFrame.left + w, y, kFrame.left + w + 4, y);
     cairo_stroke(cr);
-    drawText(cr, t.label, kLeftPx - 9, y, 11, 1.0, 0.5);
+    drawText(cr, t.label, kFrame.left - 9, y, 11, 1.0, 0.5);
   }
 }
 
@@ -301,8 +309,8 @@ void drawLegend(cairo_t* cr, const Frame& frame, const MapFigureContent& content
     widest = std::max(widest, e.x_advance);
   }
   const double row_px = 24.0;
-  const double x = kLeftPx + 10.0;
-  const double y = kTopPx + 10.0;
+  const double x = kFrame.left + 10.0;
+  const double y = kFrame.top + 10.0;
   cairo_set_source_rgba(cr, 1, 1, 1, 0.85);
   cairo_rectangle(cr, x, y, widest + 56.0, rows.size() * row_px + 8.0);
   cairo_fill(cr);
@@ -318,10 +326,10 @@ void drawLegend(cairo_t* cr, const Frame& frame, const MapFigureContent& content
 void drawProfile(cairo_t* cr, const Frame& frame, const FigureProfile& profile) {
   const std::size_t n = std::min({profile.distance_m.size(), profile.altitude_m.size(), profile.ground_m.size()});
   if (n < 2) return;
-  const double top = kTopPx + frame.viewport.heightPx() + kBottomPx + 10.0;
-  const double left = kLeftPx;
+  const double top = kFrame.top + frame.viewport.heightPx() + kFrame.bottom + 10.0;
+  const double left = kFrame.left;
   const double width = frame.viewport.widthPx();
-  const double height = kProfileHeightPx - 10.0;
+  const double height = kFrame.profile_height - 10.0;
   double lo = std::numeric_limits<double>::infinity();
   double hi = -lo;
   for (std::size_t i = 0; i < n; ++i) {
@@ -398,9 +406,9 @@ void drawProfile(cairo_t* cr, const Frame& frame, const FigureProfile& profile) 
 
 Status drawFigure(const Frame& frame, const MapFigureContent& content, const std::string& png_path) {
   const bool with_profile = content.profile && content.profile->distance_m.size() >= 2;
-  const int width = static_cast<int>(kLeftPx + frame.viewport.widthPx() + kRightPx);
-  const int height = static_cast<int>(kTopPx + frame.viewport.heightPx() + kBottomPx +
-                                      (with_profile ? kProfileHeightPx + kProfileBottomPx : 0.0));
+  const int width = static_cast<int>(kFrame.left + frame.viewport.widthPx() + kFrame.right);
+  const int height = static_cast<int>(kFrame.top + frame.viewport.heightPx() + kFrame.bottom +
+                                      (with_profile ? kFrame.profile_height + kFrame.profile_bottom : 0.0));
   SurfacePtr surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height));
   ContextPtr context(cairo_create(surface.get()));
   cairo_t* cr = context.get();
@@ -408,7 +416,7 @@ Status drawFigure(const Frame& frame, const MapFigureContent& content, const std
   cairo_paint(cr);
   paintRaster(cr, frame.raster);
   cairo_save(cr);
-  cairo_rectangle(cr, kLeftPx, kTopPx, frame.viewport.widthPx(), frame.viewport.heightPx());
+  cairo_rectangle(cr, kFrame.left, kFrame.top, frame.viewport.widthPx(), frame.viewport.heightPx());
   cairo_clip(cr);
   drawLines(cr, frame, content.lines);
   drawMarkers(cr, frame, content.markers);
@@ -417,7 +425,7 @@ Status drawFigure(const Frame& frame, const MapFigureContent& content, const std
   cairo_restore(cr);
   drawFrameAndTicks(cr, frame);
   setColour(cr, Rgb{0, 0, 0});
-  if (!content.title.empty()) drawText(cr, content.title, kLeftPx, kTopPx / 2, 14, 0.0, 0.5, true);
+  if (!content.title.empty()) drawText(cr, content.title, kFrame.left, kFrame.top / 2, 14, 0.0, 0.5, true);
   if (with_profile) drawProfile(cr, frame, *content.profile);
   if (cairo_status(cr) != CAIRO_STATUS_SUCCESS) {
     return make_error(ErrorCode::kInternal, png_path, std::string("drawing failed: ") + cairo_status_to_string(cairo_status(cr)));
@@ -432,7 +440,7 @@ Status drawFigure(const Frame& frame, const MapFigureContent& content, const std
 
 }  // namespace
 
-Eigen::Vector2d figureMapOrigin() { return {kLeftPx, kTopPx}; }
+Eigen::Vector2d figureMapOrigin() { return {kFrame.left, kFrame.top}; }
 
 TerrainFigureLayout layoutTerrainFigure(const Heightfield& terrain, const MapFigureContent& content,
                                         const MapFigureOptions& options) {
