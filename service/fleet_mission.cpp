@@ -10,6 +10,7 @@
 
 #include "planning/fleet/fleet_planner.hpp"
 #include "service/fleet_vehicle_route.hpp"
+#include "service/mission_point_check.hpp"
 #include "service/request_footprint.hpp"
 #include "service/trajectory_data.hpp"
 #include "terrain/grid_from_terrain.hpp"
@@ -309,15 +310,16 @@ Result<double, PlanError> placeRoutePoints(const FleetRequestData& r, const Coll
                                            const LocalFrame& frame, FleetPlanOutput& out) {
   double top_m = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < r.vehicle_ids.size(); ++i) {
+    // Each point is checked as a mission's are, so its error quotes it as the user wrote it.
+    if (auto bad = checkMissionPoint(world, r.begins[i], indexed("begins", i))) return *bad;
+    if (auto bad = checkMissionPoint(world, r.ends[i], indexed("ends", i))) return *bad;
     out.begins_m.push_back(r.begins[i].toEnu(frame));
     out.ends_m.push_back(r.ends[i].toEnu(frame));
-    if (Status ok = checkRoutePoint(world, out.begins_m[i], indexed("begins", i)); !ok.ok()) return toPlanError(ok.error());
-    if (Status ok = checkRoutePoint(world, out.ends_m[i], indexed("ends", i)); !ok.ok()) return toPlanError(ok.error());
     top_m = std::max({top_m, out.begins_m[i].z(), out.ends_m[i].z()});
   }
   for (std::size_t j = 0; j < r.tasks.size(); ++j) {
+    if (auto bad = checkMissionPoint(world, r.tasks[j], indexed("tasks", j))) return *bad;
     out.tasks_m.push_back(r.tasks[j].toEnu(frame));
-    if (Status ok = checkRoutePoint(world, out.tasks_m[j], indexed("tasks", j)); !ok.ok()) return toPlanError(ok.error());
     top_m = std::max(top_m, out.tasks_m[j].z());
   }
   return top_m;

@@ -249,6 +249,24 @@ TEST_F(FleetCli, GeoJsonKmlAndPngOfTheFleet) {
   EXPECT_GE(image->GetRasterXSize(), 1000);  // a map 1000 pixels on its long side, in its frame
 }
 
+// A fleet's points are checked as a mission's: each error quotes the point as written (latitude,
+// longitude, altitude AMSL) and says what is wrong, with the DEM's bounds or the ground height.
+TEST_F(FleetCli, PointErrorsQuoteThePointAsWritten) {
+  const std::string tasks = " --tasks '46.95,15.06,1000'";
+  CliRun r = run("--vehicles 'a@47.90,15.03,900;b@46.90,15.15,900'" + tasks);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--vehicles[0]: begins[0] (47.9, 15.03, 900 m AMSL) is outside the DEM (lat "), std::string::npos)
+      << r.err;
+  r = run("--vehicles 'a@15.03,46.90,900;b@46.90,15.15,900'" + tasks);
+  EXPECT_NE(r.err.find("latitude and longitude may be swapped"), std::string::npos) << r.err;
+  r = run("--vehicles 'a@46.90,15.03,100;b@46.90,15.15,900'" + tasks);
+  EXPECT_NE(r.err.find("(46.9, 15.03, 100 m AMSL) is under the ground plus clearance: the ground here is "),
+            std::string::npos)
+      << r.err;
+  r = run("--vehicles 'a@46.90,15.03,900;b@46.90,15.15,900' --tasks '46.95,15.06,1000;46.95,16.06,1000'");
+  EXPECT_NE(r.err.find("--tasks[1]: tasks[1] (46.95, 16.06, 1000 m AMSL) is outside the DEM"), std::string::npos) << r.err;
+}
+
 TEST_F(FleetCli, VehiclesAndTasksFromTheCommandLine) {
   CliRun r = run("--vehicles 'north@46.97,15.04,1000;south@46.91,15.13,1000' --tasks '46.95,15.07,1050;46.93,15.11,1050'");
   ASSERT_EQ(r.code, 0) << r.err;
