@@ -24,6 +24,7 @@ struct FrameMarginsPx {
 constexpr FrameMarginsPx kFrame{92.0, 40.0, 24.0, 46.0, 220.0, 46.0};
 
 constexpr Rgb kGroundRgb{160, 120, 80};
+constexpr Rgb kClearanceRgb{245, 170, 60};
 constexpr Rgb kAltitudeRgb{220, 20, 20};
 constexpr Rgb kStartRgb{20, 150, 40};
 constexpr Rgb kEndRgb{200, 20, 20};
@@ -369,6 +370,22 @@ void drawProfile(cairo_t* cr, const Frame& frame, const FigureProfile& profile) 
   }
   setColour(cr, kGroundRgb);
   cairo_fill(cr);
+  if (profile.clearance_m > 0.0) {  // the clearance band: from the ground up by the clearance
+    for (std::size_t i = 1; i < n; ++i) {
+      if (!std::isfinite(profile.ground_m[i - 1]) || !std::isfinite(profile.ground_m[i])) continue;
+      const Eigen::Vector2d a = at(profile.distance_m[i - 1], profile.ground_m[i - 1]);
+      const Eigen::Vector2d b = at(profile.distance_m[i], profile.ground_m[i]);
+      const Eigen::Vector2d c = at(profile.distance_m[i], profile.ground_m[i] + profile.clearance_m);
+      const Eigen::Vector2d d = at(profile.distance_m[i - 1], profile.ground_m[i - 1] + profile.clearance_m);
+      cairo_move_to(cr, a.x(), a.y());
+      cairo_line_to(cr, b.x(), b.y());
+      cairo_line_to(cr, c.x(), c.y());
+      cairo_line_to(cr, d.x(), d.y());
+      cairo_close_path(cr);
+    }
+    setColour(cr, kClearanceRgb, 0.45);
+    cairo_fill(cr);
+  }
   cairo_new_path(cr);
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d p = at(profile.distance_m[i], profile.altitude_m[i]);
@@ -402,6 +419,12 @@ void drawProfile(cairo_t* cr, const Frame& frame, const FigureProfile& profile) 
   drawText(cr, "flight", left + width - 70, top + 6, 12, 1.0, 0.0, true);
   setColour(cr, kGroundRgb);
   drawText(cr, "ground", left + width - 8, top + 6, 12, 1.0, 0.0, true);
+  if (profile.clearance_m > 0.0) {
+    setColour(cr, Rgb{200, 120, 30});
+    char band[48];
+    std::snprintf(band, sizeof band, "clearance %g m", profile.clearance_m);
+    drawText(cr, band, left + width - 130, top + 6, 12, 1.0, 0.0, true);
+  }
 }
 
 Status drawFigure(const Frame& frame, const MapFigureContent& content, const std::string& png_path) {

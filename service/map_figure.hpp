@@ -43,6 +43,7 @@ struct FigureProfile {
   std::vector<double> distance_m;
   std::vector<double> altitude_m;
   std::vector<double> ground_m;
+  double clearance_m = 0.0;  // shaded above the ground: the band the flight must stay over (0: none)
 };
 
 struct MapFigureContent {

@@ -77,6 +77,7 @@ void writePng(const std::string& path, const WorldModel& world, const MissionPla
     figure.markers.push_back({kind, points[i].head<2>(), static_cast<int>(i), Rgb{30, 60, 200}});
   }
   figure.profile = trajectoryProfile(terrain, data);
+  figure.profile->clearance_m = plan.mission.world->options().min_clearance_m;
   if (Status saved = saveTerrainFigure(terrain, figure, path); !saved.ok()) {
     fail(kTool, kExitUsage, "--png " + saved.error().describe());
   }

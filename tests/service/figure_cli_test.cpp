@@ -40,6 +40,7 @@ TEST_F(FigureCli, PlanPictureShowsTheRouteMarkersAndProfile) {
   EXPECT_GT(picture.count(kEndRed, 10), 100);     // the end square
   EXPECT_GT(picture.count(Rgb{220, 20, 20}, 10), 1500);  // the trajectory and the flight profile
   EXPECT_GT(picture.count(Rgb{160, 120, 80}, 4), 5000);  // the ground in the profile
+  EXPECT_GT(picture.count(Rgb{250, 217, 168}, 6), 1000);  // the clearance band over it (orange at 45 %)
 }
 
 TEST_F(FigureCli, FleetPictureShowsEveryVehicle) {
