@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/support/bench_progress.hpp"
 #include "service/mission_pipeline.hpp"
 #include "service/planner_registry.hpp"
 #include "service/route_planner.hpp"
@@ -100,7 +101,9 @@ int main(int argc, char** argv) {
   int tried = 0, paths[2] = {0, 0}, trajectories[2] = {0, 0}, both = 0;
   double length_m[2] = {0.0, 0.0};
   std::map<std::string, int> failures[2];
+  skyroute::bench::BenchProgress progress("grid_route_bench", static_cast<std::size_t>(missions));
   for (int k = 0; k < missions; ++k) {
+    if (k > 0) progress.done("mission " + std::to_string(k - 1));
     std::vector<Eigen::Vector3d> points;
     for (int j = 0; j < 3; ++j) {
       const double e = coordinate_m(rng), n = coordinate_m(rng);

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/support/bench_progress.hpp"
 #include "service/flight_replanner.hpp"
 #include "service/mission_pipeline.hpp"
 #include "service/planner_registry.hpp"
@@ -143,6 +144,7 @@ int main(int argc, char** argv) {
     std::vector<SeedOutcome> outcomes;
   };
   std::vector<Totals> totals(configs.size());
+  skyroute::bench::BenchProgress progress("replan_bench", configs.size() * static_cast<std::size_t>(seeds));
   for (std::size_t c = 0; c < configs.size(); ++c) {
     for (int k = 0; k < seeds; ++k) {
       ReplanOptions options = configs[c].options;
@@ -160,6 +162,7 @@ int main(int argc, char** argv) {
         std::printf("| %s | %llu | start failed: %s |\n", configs[c].name.c_str(),
                     static_cast<unsigned long long>(out.seed), started.error().describe().c_str());
         totals[c].outcomes.push_back(out);
+        progress.done(configs[c].name + " seed " + std::to_string(out.seed));
         continue;
       }
       FlightReplanner& r = **started;
@@ -194,6 +197,7 @@ int main(int argc, char** argv) {
                   out.min_separation_m, out.replans, out.adopted, out.failed, out.max_replan_wall_ms);
       std::fflush(stdout);
       totals[c].outcomes.push_back(out);
+      progress.done(configs[c].name + " seed " + std::to_string(out.seed));
     }
   }
 

@@ -56,6 +56,7 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
+#include "bench/support/bench_progress.hpp"
 #include "bench/support/path_refinement.hpp"
 #include "planning/sampling/lospo.hpp"
 #include "planning/sampling/rrt_star.hpp"
@@ -467,6 +468,7 @@ int main(int argc, char** argv) {
   std::map<std::tuple<std::string, double>, int> solved_count;
   std::map<std::string, std::vector<double>> plan_times;  // CPU ms of the whole leg, product default budget
   int total_pairs = 0;
+  skyroute::bench::BenchProgress progress("rrt_star_bench", cases.size() * static_cast<std::size_t>(pairs_per_dem));
   for (const DemCase& dc : cases) {
     skyroute::CollisionWorldOptions wo;
     wo.ceiling_m = dc.ceiling_m;
@@ -504,6 +506,7 @@ int main(int argc, char** argv) {
         for (double b : budgets) runs.push_back(runProduct(world->collision, pairs[k], b, 1000 + k));
         runs.push_back(runProduct(world->collision, pairs[k], 0.0, 1000 + k));
       }
+      progress.done(dc.name + " pair " + std::to_string(k));
       for (Run& r : runs) {
         r.dem = dc.name;
         r.pair = static_cast<int>(k);
