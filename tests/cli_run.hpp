@@ -1,5 +1,5 @@
-// Runs the `skyroute` CLI as a user would (a shell command line, stderr folded into stdout) and
-// returns its exit code and output, for the CLI tests.
+// Runs the `skyroute` CLI (or any command line) as a user would, stderr folded into stdout, and
+// returns its exit code and output, for the CLI and end-to-end tests.
 #pragma once
 
 #include <sys/wait.h>
@@ -15,9 +15,10 @@ struct CliOutput {
   std::string text;
 };
 
-inline CliOutput runCli(const std::string& args) {
+// Any shell command line, stderr folded into stdout.
+inline CliOutput runCommand(const std::string& command_line) {
   CliOutput out;
-  const std::string cmd = std::string(SKYROUTE_CLI) + " " + args + " 2>&1";
+  const std::string cmd = command_line + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return out;
   std::array<char, 4096> buf{};
@@ -26,5 +27,9 @@ inline CliOutput runCli(const std::string& args) {
   out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return out;
 }
+
+#ifdef SKYROUTE_CLI
+inline CliOutput runCli(const std::string& args) { return runCommand(std::string(SKYROUTE_CLI) + " " + args); }
+#endif
 
 }  // namespace skyroute::testing

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "service/dds/loopback.hpp"
+#include "tests/cli_run.hpp"
 #include "tests/daemon/daemon_process.hpp"
 #include "tests/test_data.hpp"
 
@@ -17,21 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandOutput {
-  int exit_code = -1;
-  std::string text;  // stdout and stderr
-};
-
-CommandOutput runShell(const std::string& command) {
-  CommandOutput out;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return out;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) out.text += buffer;
-  const int status = ::pclose(pipe);
-  out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return out;
-}
+using CommandOutput = CliOutput;
 
 std::string sourcePath(const std::string& relative) { return projectDataPath("../" + relative); }
 
@@ -42,12 +29,12 @@ class SecurityE2e : public ::testing::Test {
     pki_ = tempPath("pki", "main");
     foreign_ = tempPath("pki", "foreign");
     for (const std::string& dir : {pki_, foreign_}) fs::remove_all(dir);
-    made_ = runShell("bash " + sourcePath("scripts/make-pki.sh") + " " + pki_ + " --days 2");
+    made_ = runCommand("bash " + sourcePath("scripts/make-pki.sh") + " " + pki_ + " --days 2");
     if (made_.exit_code == 0) {
-      made_ = runShell("bash " + sourcePath("scripts/make-pki.sh") + " " + foreign_ + " --days 2 --cn-prefix elsewhere");
+      made_ = runCommand("bash " + sourcePath("scripts/make-pki.sh") + " " + foreign_ + " --days 2 --cn-prefix elsewhere");
     }
     if (made_.exit_code == 0) {
-      made_ = runShell("bash " + sourcePath("tests/daemon/make_expired_identity.sh") + " " + pki_);
+      made_ = runCommand("bash " + sourcePath("tests/daemon/make_expired_identity.sh") + " " + pki_);
     }
   }
   static void TearDownTestSuite() {
@@ -84,7 +71,7 @@ class SecurityE2e : public ::testing::Test {
     std::string command = std::string(SKYROUTE_CLI) + " gcs --domain " + std::to_string(domain_) +
                           " --count 1 --timeout " + std::to_string(timeout_s);
     if (!security.empty()) command += " --security " + security;
-    return runShell(command);
+    return runCommand(command);
   }
 
   // `skyroute request` with the demo mission; `security` is an identity folder or "" for none.
@@ -92,7 +79,7 @@ class SecurityE2e : public ::testing::Test {
     std::string command = std::string(SKYROUTE_CLI) + " request --domain " + std::to_string(domain_) + " --file " +
                           projectDataPath("missions/demo_mission.json") + " --wait " + std::to_string(wait_s);
     if (!security.empty()) command += " --security " + security;
-    return runShell(command);
+    return runCommand(command);
   }
 
   int acceptedRequests() const {
@@ -136,7 +123,7 @@ TEST_F(SecurityE2e, UnauthenticatedParticipantGetsNothingPlanned) {
   EXPECT_NE(seen.exit_code, 0) << seen.text;
   EXPECT_EQ(seen.text.find("trajectory vehicle="), std::string::npos) << seen.text;
   // Nor does it learn who the daemon is: a secured daemon's participant names no instance.
-  const CommandOutput status = runShell(std::string(SKYROUTE_CLI) + " status --domain 162 --wait 2");
+  const CommandOutput status = runCommand(std::string(SKYROUTE_CLI) + " status --domain 162 --wait 2");
   EXPECT_NE(status.exit_code, 0) << status.text;
   EXPECT_EQ(status.text.find("instance"), std::string::npos) << status.text;
 }
@@ -155,7 +142,7 @@ TEST_F(SecurityE2e, ExpiredCertificateIsRefusedBeforeJoining) {
   EXPECT_NE(r.text.find("identity.pem"), std::string::npos) << r.text;
   EXPECT_NE(r.text.find("expired on"), std::string::npos) << r.text;
   // The daemon refuses its own bad identity the same way, and does not start.
-  const CommandOutput daemon = runShell(std::string(SKYROUTED) + " --domain 164 --security " + pki_ + "/expired");
+  const CommandOutput daemon = runCommand(std::string(SKYROUTED) + " --domain 164 --security " + pki_ + "/expired");
   EXPECT_EQ(daemon.exit_code, 3) << daemon.text;
   EXPECT_NE(daemon.text.find("security.dir"), std::string::npos) << daemon.text;
 }
