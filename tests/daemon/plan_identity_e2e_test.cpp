@@ -73,34 +73,57 @@ TEST_F(PlanIdentityE2E, CommandLineOverridesNameTheirKeyAndShowInThePrintedConfi
   }
 }
 
-TEST_F(PlanIdentityE2E, PlanWritesTheTrajectoryTheDaemonPublishesSampleForSample) {
+// `skyroute plan --config` and the daemon with the same configuration, the demo mission requested
+// over DDS and its trajectory taken by `skyroute gcs`: the two CSV files, as text.
+std::pair<std::string, std::string> planAndPublish(const std::string& config_text, const std::string& domain,
+                                                   const std::string& tag) {
   const std::string mission = testing::projectDataPath("missions/demo_mission.json");
-  const std::string config = tempPath("config.toml");
-  // A non-default seed and sample spacing, so both programs must take them from the same file.
-  std::ofstream(config) << "[planning]\nseed = 11\nsample_dt_s = 0.25\n";
-  const std::string from_cli = tempPath("plan.csv");
-  const std::string from_daemon = tempPath("gcs.csv");
-  ASSERT_EQ(run({SKYROUTE_CLI, "plan", "--config", config, "--mission", mission, "--out", from_cli}, "plan"), 0);
+  const std::string config = tempPath(tag + "_config.toml");
+  std::ofstream(config) << config_text;
+  const std::string from_cli = tempPath(tag + "_plan.csv");
+  const std::string from_daemon = tempPath(tag + "_gcs.csv");
+  EXPECT_EQ(run({SKYROUTE_CLI, "plan", "--config", config, "--mission", mission, "--out", from_cli}, tag + "_plan"), 0);
 
-  const std::string domain = "131";
-  ChildProcess daemon = ChildProcess::spawn({SKYROUTED, "--domain", domain, "--config", config}, "identity_daemon");
-  ASSERT_TRUE(daemon.started());
+  ChildProcess daemon = ChildProcess::spawn({SKYROUTED, "--domain", domain, "--config", config}, tag + "_daemon");
+  EXPECT_TRUE(daemon.started());
   ChildProcess gcs = ChildProcess::spawn(
-      {SKYROUTE_CLI, "gcs", "--domain", domain, "--count", "1", "--timeout", "120", "--csv", from_daemon},
-      "identity_gcs");
+      {SKYROUTE_CLI, "gcs", "--domain", domain, "--count", "1", "--timeout", "120", "--csv", from_daemon}, tag + "_gcs");
   const int requested =
-      run({SKYROUTE_CLI, "request", "--domain", domain, "--file", mission, "--wait", "120"}, "identity_request");
+      run({SKYROUTE_CLI, "request", "--domain", domain, "--file", mission, "--wait", "120"}, tag + "_request");
   EXPECT_EQ(requested, 0) << daemon.err();
   EXPECT_EQ(gcs.wait(120.0), 0) << gcs.err();
   daemon.signal(SIGTERM);
   EXPECT_EQ(daemon.wait(10.0), 0) << daemon.err();
+  std::pair<std::string, std::string> both{slurp(from_cli), slurp(from_daemon)};
+  for (const std::string& path : {config, from_cli, from_daemon}) std::filesystem::remove(path);
+  return both;
+}
 
-  const std::string a = slurp(from_cli);
-  const std::string b = slurp(from_daemon);
+void expectSameSamples(const std::string& a, const std::string& b) {
   ASSERT_GT(std::count(a.begin(), a.end(), '\n'), 100) << "too few samples from skyroute plan";
   EXPECT_EQ(a.substr(0, a.find('\n')), b.substr(0, b.find('\n'))) << "different columns";
   EXPECT_TRUE(a == b) << "skyroute plan and the daemon's trajectory differ";
-  for (const std::string& path : {config, from_cli, from_daemon}) std::filesystem::remove(path);
+}
+
+TEST_F(PlanIdentityE2E, PlanWritesTheTrajectoryTheDaemonPublishesSampleForSample) {
+  // A non-default seed and sample spacing, so both programs must take them from the same file.
+  const auto [a, b] = planAndPublish("[planning]\nseed = 11\nsample_dt_s = 0.25\n", "131", "identity");
+  expectSameSamples(a, b);
+}
+
+// The same with a no-fly zone across the mission's first leg, from the configuration's
+// terrain.nofly: both programs fly round it the same way, and not the way they fly without it.
+TEST_F(PlanIdentityE2E, NoFlyZoneFromTheConfigurationShapesBothTrajectoriesAlike) {
+  const std::string zones = tempPath("zones.geojson");
+  std::ofstream(zones) << R"({"type": "FeatureCollection", "features": [{"type": "Feature", "id": "range",
+    "properties": {"floor_m": 0, "ceiling_m": 9000}, "geometry": {"type": "Polygon", "coordinates":
+    [[[15.064, 46.934], [15.078, 46.934], [15.078, 46.946], [15.064, 46.946], [15.064, 46.934]]]}}]})";
+  const std::string planning = "[planning]\nseed = 11\nsample_dt_s = 0.25\n";
+  const auto [a, b] = planAndPublish("[terrain]\nnofly = \"" + zones + "\"\n" + planning, "132", "zoned");
+  expectSameSamples(a, b);
+  const auto [free_a, free_b] = planAndPublish(planning, "132", "free");
+  EXPECT_NE(a, free_a) << "the zone changed nothing";
+  std::filesystem::remove(zones);
 }
 
 }  // namespace
