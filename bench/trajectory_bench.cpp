@@ -25,11 +25,11 @@
 #include <random>
 #include <vector>
 
+#include "bench/seed003_world.hpp"
 #include "planning/sampling/lospo.hpp"
 #include "planning/sampling/rrt_star.hpp"
 #include "planning/sampling/world_motion_validator.hpp"
 #include "service/moving_obstacle_scenario.hpp"
-#include "terrain/terrain_world.hpp"
 
 #include "trajectory/spline7.hpp"
 #include "trajectory/time_allocation.hpp"
@@ -213,17 +213,8 @@ void printSeed003Summary(const NodeStats (&stats)[2], int runs, const std::vecto
 
 int seed003Figures(int runs, std::uint64_t first_seed, double step_m) {
   using namespace skyroute;
-  CollisionWorldOptions world_options;  // as the replanning benchmark flies the scenario
-  world_options.vehicle_radius_m = 10.0;
-  world_options.min_clearance_m = 50.0;
-  world_options.ceiling_m = 1500.0;
-  world_options.build_octree = false;
-  const std::string dem = std::string(SKYROUTE_SHARED_DATA_DIR) + "/dem/N44W072.hgt";
-  auto world = loadTerrainWorld(dem, world_options);
-  if (!world.ok()) {
-    std::fprintf(stderr, "%s: %s\n", dem.c_str(), world.error().describe().c_str());
-    return 1;
-  }
+  auto world = bench::loadSeed003World();  // as the replanning benchmark flies the scenario
+  if (!world) return 1;
   const MovingObstacleScenario scenario = seed003Table1Scenario(*world->heightfield);
   const double inf = std::numeric_limits<double>::infinity();
   const Eigen::Vector2d lo = scenario.corner_en_m, hi = lo + Eigen::Vector2d(12600.0, 12600.0);
