@@ -9,20 +9,20 @@
 // --seed003: the experiments of seed 003 sections 2 and 3-1 on the replanning scenario's 12.6 km
 // square of N44W072 (seed003Table1Scenario's start and goal, terrain only): RRT* stopped at 100
 // and at 500 tree nodes (Figs 2-3), LOSPO on each path (Fig. 5, the 16.35 % reduction), and the
-// 7th-order trajectory of the LOSPO path with eq. 3's constant V_ref and with our trapezoidal
-// allocation (Fig. 8: how far the curve strays from the path). One RRT* seed per run; --step-m:
+// 7th-order trajectory of the LOSPO path with eq. 3's constant V_ref, with and without the extra
+// waypoints, and with our trapezoidal allocation (Figs 6-8: how far the curve strays from the path). One RRT* seed per run; --step-m:
 // the RRT* steering range (default 20 % of the sampling box's diagonal, about 3.6 km here);
 // docs/papers.md records the output.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <cstdlib>
 #include <ctime>
 #include <limits>
-#include <string>
+#include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "bench/seed003_world.hpp"
@@ -30,7 +30,6 @@
 #include "planning/sampling/rrt_star.hpp"
 #include "planning/sampling/world_motion_validator.hpp"
 #include "service/moving_obstacle_scenario.hpp"
-
 #include "trajectory/spline7.hpp"
 #include "trajectory/time_allocation.hpp"
 #include "trajectory/trajectory_builder.hpp"
