@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/seed003_world.hpp"
 #include "bench/support/bench_progress.hpp"
 #include "service/flight_replanner.hpp"
 #include "service/mission_pipeline.hpp"
@@ -105,17 +106,9 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  CollisionWorldOptions world_options;
-  world_options.vehicle_radius_m = 10.0;
-  world_options.min_clearance_m = 50.0;
-  world_options.ceiling_m = 1500.0;
-  world_options.build_octree = false;
-  const std::string dem = std::string(SKYROUTE_SHARED_DATA_DIR) + "/dem/N44W072.hgt";
-  auto world = loadTerrainWorld(dem, world_options);
-  if (!world.ok()) {
-    std::fprintf(stderr, "%s: %s\n", dem.c_str(), world.error().describe().c_str());
-    return 1;
-  }
+  const CollisionWorldOptions world_options = seed003ScenarioWorldOptions();
+  auto world = skyroute::bench::loadSeed003World();
+  if (!world) return 1;
   const MovingObstacleScenario scenario = seed003Table1Scenario(*world->heightfield);
   for (const Obstacle& o : scenario.obstacles) world->collision->upsertObstacle(o);
   const VehicleLimits limits = seed003ScenarioLimits();

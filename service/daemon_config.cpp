@@ -133,7 +133,9 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"planning", "sample_dt_s", "spacing of the trajectory samples, seconds", &p.sample_dt_s, 0.001, 10},
       {"planning", "corridor_margin_m", "RRT* samples within this distance of a leg's bounding box, metres",
        &p.replan.route.corridor_margin_m, 0, 1e6},
-      {"planning", "lospo_spacing_m", "LOSPO vertex spacing and extra trajectory waypoints, metres",
+      {"planning", "lospo_spacing_m",
+       "rrtstar-lospo: spacing of the vertices LOSPO inserts along each leg's RRT* path before it joins the farthest "
+       "visible ones (smaller: a shorter path for more checks); not the trajectory's extra waypoints, metres",
        &p.replan.route.lospo.spacing_m, 1, 10000},
       {"planning", "order_grid_max_cells", "cells per axis of the MMD*L ordering grid at most", &s.order_cells, 8, 2000},
       {"planning", "order_band_margin_m", "the ordering grid's flight band reaches this far above the highest point, metres",

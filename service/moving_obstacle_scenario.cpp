@@ -37,6 +37,15 @@ MovingObstacleScenario seed003Table1Scenario(const Heightfield& terrain, const G
   return s;
 }
 
+CollisionWorldOptions seed003ScenarioWorldOptions() {
+  CollisionWorldOptions options;
+  options.vehicle_radius_m = 10.0;
+  options.min_clearance_m = 50.0;
+  options.ceiling_m = 1500.0;
+  options.build_octree = false;
+  return options;
+}
+
 VehicleLimits seed003ScenarioLimits() {
   VehicleLimits limits;
   limits.v_ref_mps = 50.0;

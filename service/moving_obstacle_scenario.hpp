@@ -7,6 +7,7 @@
 
 #include <vector>
 
+#include "terrain/collision_world.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/obstacle.hpp"
 #include "trajectory/vehicle_limits.hpp"
@@ -25,6 +26,9 @@ struct MovingObstacleScenario {
 // The scenario's vehicle: V_ref 50 m/s with the speed, acceleration and climb margins the
 // replanning tests and benchmark fly it with.
 VehicleLimits seed003ScenarioLimits();
+// The scenario's world: that vehicle's radius (10 m) and terrain clearance (50 m), a 1500 m AMSL
+// ceiling, no octree (the checks run on the heightfield).
+CollisionWorldOptions seed003ScenarioWorldOptions();
 
 MovingObstacleScenario seed003Table1Scenario(const Heightfield& terrain, const GeoPoint& south_west_corner = {44.2, -71.9, 0.0},
                                              double altitude_m = 450.0);

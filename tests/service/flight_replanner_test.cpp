@@ -16,14 +16,7 @@
 namespace skyroute {
 namespace {
 
-CollisionWorldOptions scenarioWorldOptions() {
-  CollisionWorldOptions world_options;
-  world_options.vehicle_radius_m = 10.0;
-  world_options.min_clearance_m = 50.0;
-  world_options.ceiling_m = 1500.0;
-  world_options.build_octree = false;
-  return world_options;
-}
+CollisionWorldOptions scenarioWorldOptions() { return seed003ScenarioWorldOptions(); }
 
 VehicleLimits scenarioLimits() { return seed003ScenarioLimits(); }
 
