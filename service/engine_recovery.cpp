@@ -52,6 +52,7 @@ void Engine::recover(const JournalState& state) {
           continue;  // its trajectory ended or was replaced
         }
         job->resume = *it->second;
+        job->resume_start_utc_ns = m.flight_start_utc_ns != 0 ? m.flight_start_utc_ns : flightStartUtcNs(*it->second);
         ++resumed;
       } else {
         registry_.begin(m.request.vehicle_id, m.request.request_id);
@@ -78,9 +79,8 @@ void Engine::planResumed(Job& job) {
   const MissionPipeline pipeline(world_model, options.pipeline);
   TerminationCondition stop;
   stop.withCancelFlag(job.cancel);
-  // The flight starts when the published trajectory started, so the rebuilt one is timed alike.
-  const TrajectorySampleData& first = published.samples.front();
-  const double start_world_s = static_cast<double>(first.utc_ns) * 1e-9 - first.t_rel_s;
+  // The flight starts when its first plan started, so the rebuilt one is timed alike.
+  const double start_world_s = static_cast<double>(job.resume_start_utc_ns) * 1e-9;
   auto planned = pipeline.plan(PipelineRequest{r, std::nullopt, std::nullopt}, start_world_s, stop);
   const double time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (!planned.ok() || job.cancel->load()) {
@@ -102,21 +102,27 @@ void Engine::planResumed(Job& job) {
   mission->plan = std::move(planned.value());
   mission->cancel = job.cancel;
   mission->plan_id = published.plan_id;
-  mission->revision_base = published.revision;
-  mission->recovered = published;
+  const TrajectoryIdentity identity{r.vehicle_id, published.plan_id, published.revision, r.request_id};
+  // The rebuilt flight is what the replanning loop checks from now on. When it is not the
+  // published trajectory (that one came from a replan, whose curve the journal does not keep),
+  // it goes out as the next revision at once, so what the vehicle flies is what is checked.
+  const bool same = sameSamples(pipeline.sample(mission->plan, identity), published);
+  mission->revision_base = same ? published.revision : published.revision + 1;
+  if (same) mission->recovered = published;
+  std::unique_lock mission_lock(mission->mutex);
   bool registered = false;
   {
     std::lock_guard lock(mutex_);
     // A new plan for the vehicle since the restart takes precedence.
-    if (!stopping_ && missions_.find(r.vehicle_id) == missions_.end()) {
+    if (!stopping_ && !job.cancel->load() && missions_.find(r.vehicle_id) == missions_.end()) {
       missions_[r.vehicle_id] = mission;
       registered = true;
     }
   }
-  TrajectoryIdentity identity{r.vehicle_id, published.plan_id, published.revision, r.request_id};
-  const bool identical = sameSamples(pipeline.sample(mission->plan, identity), published);
+  if (registered && !same) sink_.publishTrajectory(trajectoryOf(*mission));
+  mission_lock.unlock();
   spdlog::info("event=flight_resumed request={} vehicle={} plan={} revision={} registered={} same_samples={} time_s={:.3f}",
-               r.request_id, r.vehicle_id, published.plan_id, published.revision, registered, identical, time_s);
+               r.request_id, r.vehicle_id, published.plan_id, mission->revision_base, registered, same, time_s);
   replan_cv_.notify_one();
 }
 

@@ -19,6 +19,7 @@ struct Engine::Job {
   // A flying mission recovered from the state journal: its flight is rebuilt, the trajectory
   // published before the restart kept (never answered with a status: the request was answered).
   std::optional<TrajectoryData> resume;
+  std::int64_t resume_start_utc_ns = 0;      // when the recovered flight started (its first plan)
   std::shared_ptr<std::atomic<bool>> cancel = std::make_shared<std::atomic<bool>>(false);
 };
 

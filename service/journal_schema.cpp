@@ -13,7 +13,7 @@ CREATE TABLE schema_version(version INTEGER NOT NULL);
 CREATE TABLE meta(key TEXT PRIMARY KEY, value INTEGER NOT NULL);
 CREATE TABLE missions(vehicle_id TEXT NOT NULL, request_id TEXT NOT NULL, request_json TEXT NOT NULL,
                       state TEXT NOT NULL, accepted_utc_ns INTEGER NOT NULL DEFAULT 0,
-                      PRIMARY KEY(vehicle_id, request_id));
+                      flight_start_utc_ns INTEGER NOT NULL DEFAULT 0, PRIMARY KEY(vehicle_id, request_id));
 CREATE TABLE trajectories(vehicle_id TEXT PRIMARY KEY, plan_id TEXT NOT NULL, revision INTEGER NOT NULL,
                           request_id TEXT NOT NULL, record BLOB NOT NULL, ends_utc_ns INTEGER NOT NULL DEFAULT 0);
 CREATE TABLE obstacles(obstacle_id INTEGER PRIMARY KEY, update_json TEXT NOT NULL,
@@ -23,9 +23,11 @@ CREATE TABLE fleet_allocations(request_id TEXT PRIMARY KEY, status_json TEXT NOT
 )sql";
 
 // Version 1 -> 2: the new columns and tables; each trajectory's end and each obstacle's end of
-// validity read from its record.
+// validity read from its record. A flight's start stays 0 (unknown): recovery then takes its
+// current trajectory's start.
 constexpr const char* kMigrateV1ToV2 = R"sql(
 ALTER TABLE missions ADD COLUMN accepted_utc_ns INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE missions ADD COLUMN flight_start_utc_ns INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE trajectories ADD COLUMN ends_utc_ns INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE obstacles ADD COLUMN valid_until_utc_ns INTEGER NOT NULL DEFAULT 0;
 CREATE TABLE meta(key TEXT PRIMARY KEY, value INTEGER NOT NULL);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <system_error>
 
@@ -51,6 +52,11 @@ Status readRows(SqliteDb& db, const std::string& sql, const Read& read) {
 }
 
 }  // namespace
+
+std::int64_t flightStartUtcNs(const TrajectoryData& t) {
+  if (t.samples.empty()) return 0;
+  return t.samples.front().utc_ns - static_cast<std::int64_t>(std::llround(t.samples.front().t_rel_s * 1e9));
+}
 
 std::uint64_t planNumber(const std::string& plan_id) {
   const std::size_t dash = plan_id.find_last_of('-');
@@ -116,8 +122,9 @@ Status StateJournal::recordTrajectory(const TrajectoryData& t, std::int64_t now_
                       });
     if (s.ok() && t.revision == 0) {
       // A new plan: its mission flies, and any other mission this vehicle flew has ended.
-      s = runSql(*db_, "UPDATE missions SET state = 'flying' WHERE vehicle_id = ?1 AND request_id = ?2",
-                 [&](SqliteStatement& q) { q.bind(1, t.vehicle_id).bind(2, t.request_id); });
+      s = runSql(*db_,
+                 "UPDATE missions SET state = 'flying', flight_start_utc_ns = ?3 WHERE vehicle_id = ?1 AND request_id = ?2",
+                 [&](SqliteStatement& q) { q.bind(1, t.vehicle_id).bind(2, t.request_id).bind(3, flightStartUtcNs(t)); });
       if (s.ok()) {
         s = runSql(*db_, "DELETE FROM missions WHERE vehicle_id = ?1 AND state = 'flying' AND request_id <> ?2",
                    [&](SqliteStatement& q) { q.bind(1, t.vehicle_id).bind(2, t.request_id); });
@@ -206,14 +213,17 @@ Result<JournalState> StateJournal::load(std::int64_t now_utc_ns) {
   if (Status s = transaction([&] { return pruneLocked(now_utc_ns); }); !s.ok()) return s.error();
   std::lock_guard lock(mutex_);
   JournalState state;
-  Status s = readRows(*db_, "SELECT vehicle_id, request_id, request_json, state FROM missions ORDER BY accepted_utc_ns, rowid",
+  Status s = readRows(*db_,
+                      "SELECT vehicle_id, request_id, request_json, state, flight_start_utc_ns FROM missions "
+                      "ORDER BY accepted_utc_ns, rowid",
                       [&](SqliteStatement& q) -> Status {
                         const std::string row = "mission '" + q.text(1) + "' of vehicle '" + q.text(0) + "'";
                         auto request = missionFromJson(json::parse(q.text(2), nullptr, false));
                         if (!request.ok()) return damagedRow(*db_, row, request.error());
                         request->vehicle_id = q.text(0);
                         request->request_id = q.text(1);
-                        state.missions.push_back(JournalState::Mission{std::move(*request), q.text(3) == "flying"});
+                        state.missions.push_back(
+                            JournalState::Mission{std::move(*request), q.text(3) == "flying", q.integer(4)});
                         return Status::success();
                       });
   if (s.ok()) {

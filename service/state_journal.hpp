@@ -30,6 +30,7 @@ struct JournalState {
   struct Mission {
     MissionRequestData request;
     bool flying = false;  // its trajectory was published (else: accepted, never planned)
+    std::int64_t flight_start_utc_ns = 0;  // when its first trajectory starts (0: not known)
   };
   std::vector<Mission> missions;                 // in the order they were accepted
   std::vector<TrajectoryData> trajectories;      // one per vehicle, as last published
@@ -90,6 +91,9 @@ class StateJournal {
   std::int64_t last_prune_utc_ns_ = 0;
   JournalWriteStats stats_;
 };
+
+// When a trajectory's flight started: its first sample's time less that sample's time since the start.
+std::int64_t flightStartUtcNs(const TrajectoryData& trajectory);
 
 // The number at the end of a plan id ("uav-1-17" -> 17), 0 when there is none.
 std::uint64_t planNumber(const std::string& plan_id);

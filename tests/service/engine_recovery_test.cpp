@@ -196,6 +196,48 @@ TEST_F(EngineRecoveryTest, FlyingMissionComesBackWithItsSamplesAndReplansOnTheJo
   EXPECT_GT(planNumber(after.trajectories[2].plan_id), planNumber(published.plan_id));
 }
 
+// A replanned revision's curve is not in the journal (its samples are): the rebuilt flight differs
+// from it, and goes out at once as the next revision of the same plan, so what is flown is what
+// the replanning loop checks.
+TEST_F(EngineRecoveryTest, RebuiltFlightOfAReplannedMissionGoesOutAsTheNextRevision) {
+  RecordingSink before;
+  Life first = start(before);
+  ASSERT_FALSE(first.engine->submit(request("m1", "uav-1")).has_value());
+  ASSERT_TRUE(first.engine->planNext());
+  const TrajectoryData planned = before.trajectories.front();
+  now_ns_ += 20'000'000'000;
+  ObstacleUpdateData blocking;
+  blocking.obstacle.id = 4;
+  blocking.obstacle.size_m = Eigen::Vector3d::Constant(250.0);
+  blocking.obstacle.center_m = planned.samples[static_cast<std::size_t>(50.0 / 0.05)].position_enu_m;
+  blocking.valid_from_utc_ns = now_ns_;
+  blocking.valid_until_utc_ns = now_ns_ + 5'000'000'000;  // gone again after the restart
+  ASSERT_FALSE(first.engine->updateObstacle(blocking).has_value());
+  ASSERT_EQ(first.engine->replanCycle(), 1u);
+  const TrajectoryData replanned = before.trajectories.back();
+  ASSERT_EQ(replanned.revision, 1u);
+  now_ns_ += 10'000'000'000;
+  crash(first);
+
+  RecordingSink after;
+  Life second = start(after);
+  auto state = second.journal->load(now_ns_);
+  ASSERT_TRUE(state.ok());
+  EXPECT_TRUE(state->obstacles.empty());  // it ended before the restart
+  second.engine->recover(*state);
+  ASSERT_EQ(after.trajectories.size(), 1u);
+  EXPECT_EQ(after.trajectories[0].revision, 1u);
+  EXPECT_TRUE(sameSamples(after.trajectories[0], replanned));
+  ASSERT_TRUE(second.engine->planNext());
+  ASSERT_EQ(after.trajectories.size(), 2u);
+  EXPECT_EQ(after.trajectories[1].plan_id, planned.plan_id);
+  EXPECT_EQ(after.trajectories[1].revision, 2u);
+  EXPECT_TRUE(sameSamples(after.trajectories[1], planned));  // the request planned again from its start
+  const std::vector<TrajectoryData> current = second.engine->currentTrajectories();
+  ASSERT_EQ(current.size(), 1u);
+  EXPECT_EQ(current[0].revision, 2u);
+}
+
 TEST_F(EngineRecoveryTest, RequestAcceptedButNeverPlannedIsPlannedAfterTheRestart) {
   RecordingSink before;
   Life first = start(before);
