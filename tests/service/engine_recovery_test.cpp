@@ -8,13 +8,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <filesystem>
 #include <mutex>
 
 #include "service/engine.hpp"
 #include "service/journaling_sink.hpp"
 #include "service/state_journal.hpp"
 #include "tests/service/default_world_fixture.hpp"
-#include "tests/test_folder.hpp"
+#include "tests/same_trajectory.hpp"
 
 namespace skyroute {
 namespace {
@@ -66,13 +67,7 @@ class CuttableSink : public EngineSink {
   std::atomic<bool> cut_{false};
 };
 
-bool sameSamples(const TrajectoryData& a, const TrajectoryData& b) {
-  return a.samples.size() == b.samples.size() &&
-         std::equal(a.samples.begin(), a.samples.end(), b.samples.begin(), [](const auto& x, const auto& y) {
-           return x.utc_ns == y.utc_ns && x.position_enu_m == y.position_enu_m && x.velocity_enu_mps == y.velocity_enu_mps &&
-                  x.geo.lat_deg == y.geo.lat_deg && x.geo.lon_deg == y.geo.lon_deg;
-         });
-}
+using testing::sameSamples;
 
 class EngineRecoveryTest : public testing::DefaultWorldTest {
  protected:

@@ -14,6 +14,7 @@
 #include "service/journal_codec.hpp"
 #include "service/journal_schema.hpp"
 #include "service/state_journal.hpp"
+#include "tests/same_trajectory.hpp"
 #include "tests/test_folder.hpp"
 
 namespace skyroute {
@@ -49,27 +50,8 @@ TrajectoryData trajectory(const std::string& vehicle, const std::string& plan_id
 }
 
 void expectSameTrajectory(const TrajectoryData& a, const TrajectoryData& b) {
-  EXPECT_EQ(a.vehicle_id, b.vehicle_id);
-  EXPECT_EQ(a.plan_id, b.plan_id);
-  EXPECT_EQ(a.revision, b.revision);
-  EXPECT_EQ(a.request_id, b.request_id);
-  EXPECT_EQ(a.created_utc_ns, b.created_utc_ns);
-  EXPECT_EQ(a.visiting_order, b.visiting_order);
-  ASSERT_EQ(a.legs.size(), b.legs.size());
-  for (std::size_t i = 0; i < a.legs.size(); ++i) {
-    EXPECT_EQ(a.legs[i].from_point, b.legs[i].from_point);
-    EXPECT_EQ(a.legs[i].end_s, b.legs[i].end_s);
-  }
-  ASSERT_EQ(a.samples.size(), b.samples.size());
-  for (std::size_t i = 0; i < a.samples.size(); ++i) {
-    const TrajectorySampleData& x = a.samples[i];
-    const TrajectorySampleData& y = b.samples[i];
-    ASSERT_TRUE(x.t_rel_s == y.t_rel_s && x.utc_ns == y.utc_ns && x.position_enu_m == y.position_enu_m &&
-                x.velocity_enu_mps == y.velocity_enu_mps && x.acceleration_enu_mps2 == y.acceleration_enu_mps2 &&
-                x.heading_deg == y.heading_deg && x.geo.lat_deg == y.geo.lat_deg && x.geo.lon_deg == y.geo.lon_deg &&
-                x.geo.alt_amsl_m == y.geo.alt_amsl_m)
-        << "sample " << i << " differs";
-  }
+  EXPECT_TRUE(testing::sameTrajectory(a, b)) << "trajectory of " << a.vehicle_id << " revision " << a.revision
+                                              << " differs from " << b.vehicle_id << " revision " << b.revision;
 }
 
 MissionRequestData mission(const std::string& id, const std::string& vehicle) {
