@@ -20,6 +20,7 @@ CREATE TABLE obstacles(obstacle_id INTEGER PRIMARY KEY, update_json TEXT NOT NUL
                        valid_until_utc_ns INTEGER NOT NULL DEFAULT 0);
 CREATE TABLE no_fly_zones(zone_id TEXT PRIMARY KEY, zone_json TEXT NOT NULL, valid_until_utc_ns INTEGER NOT NULL);
 CREATE TABLE fleet_allocations(request_id TEXT PRIMARY KEY, status_json TEXT NOT NULL);
+CREATE TABLE owner(instance_id TEXT NOT NULL);
 )sql";
 
 // Version 1 -> 2: the new columns and tables; each trajectory's end and each obstacle's end of
@@ -33,6 +34,7 @@ ALTER TABLE obstacles ADD COLUMN valid_until_utc_ns INTEGER NOT NULL DEFAULT 0;
 CREATE TABLE meta(key TEXT PRIMARY KEY, value INTEGER NOT NULL);
 CREATE TABLE no_fly_zones(zone_id TEXT PRIMARY KEY, zone_json TEXT NOT NULL, valid_until_utc_ns INTEGER NOT NULL);
 CREATE TABLE fleet_allocations(request_id TEXT PRIMARY KEY, status_json TEXT NOT NULL);
+CREATE TABLE owner(instance_id TEXT NOT NULL);
 )sql";
 
 Error refused(const SqliteDb& db, const std::string& what) {

@@ -1,7 +1,7 @@
 // The state journal's SQLite schema and its versions. Version 1 kept missions, trajectories and
 // obstacles; version 2 (current) adds when each mission was accepted and its flight started, each
-// trajectory's and obstacle's end (so ended ones are pruned), no-fly zones, fleet allocations and
-// the plan counter. A journal of
+// trajectory's and obstacle's end (so ended ones are pruned), no-fly zones, fleet allocations,
+// the plan counter and the daemon instance that last opened it. A journal of
 // an older version is migrated in one transaction; a newer one, a file that is not a skyroute
 // journal, or a damaged one, is refused with an error naming the file and what is wrong.
 #pragma once

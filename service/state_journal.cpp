@@ -209,6 +209,13 @@ Status StateJournal::recordFleet(const FleetStatusData& status) {
   });
 }
 
+Status StateJournal::recordOwner(const std::string& instance_id) {
+  return transaction([&]() -> Status {
+    if (Status s = db_->exec("DELETE FROM owner"); !s.ok()) return s;
+    return runSql(*db_, "INSERT INTO owner(instance_id) VALUES (?1)", [&](SqliteStatement& q) { q.bind(1, instance_id); });
+  });
+}
+
 Result<JournalState> StateJournal::load(std::int64_t now_utc_ns) {
   if (Status s = transaction([&] { return pruneLocked(now_utc_ns); }); !s.ok()) return s.error();
   std::lock_guard lock(mutex_);
@@ -261,6 +268,12 @@ Result<JournalState> StateJournal::load(std::int64_t now_utc_ns) {
   if (s.ok()) {
     s = readRows(*db_, "SELECT value FROM meta WHERE key = 'plan_counter'", [&](SqliteStatement& q) -> Status {
       state.plan_counter = static_cast<std::uint64_t>(std::max<std::int64_t>(0, q.integer(0)));
+      return Status::success();
+    });
+  }
+  if (s.ok()) {
+    s = readRows(*db_, "SELECT instance_id FROM owner", [&](SqliteStatement& q) -> Status {
+      state.owner_instance_id = q.text(0);
       return Status::success();
     });
   }

@@ -38,6 +38,7 @@ struct JournalState {
   std::vector<NoFlyZoneData> zones;
   std::vector<FleetStatusData> fleets;           // succeeded fleets with a current trajectory
   std::uint64_t plan_counter = 0;                // the highest plan number used so far
+  std::string owner_instance_id;                 // the daemon instance that last opened it ("" = none)
 };
 
 // How long the write transactions took (the replanning cycle waits for the revision's).
@@ -71,6 +72,9 @@ class StateJournal {
   Status recordNoFlyZone(const NoFlyZoneData& zone);
   // A fleet's allocation (kept while one of its trajectories is current).
   Status recordFleet(const FleetStatusData& status);
+  // The daemon instance (ServiceInstance::instance_id) now writing the journal. After a crash its
+  // successor knows the dead instance, which discovery still lists for a lease, by this id.
+  Status recordOwner(const std::string& instance_id);
 
   // Everything in force at now_utc_ns, after pruning what ended. Errors: a damaged row, naming
   // the file and the row.

@@ -229,6 +229,10 @@ Status MissionService::configure(const DaemonConfig& config) {
   auto engine = Engine::create(*world, config.engine, journal_sink_ ? static_cast<EngineSink&>(*journal_sink_) : *this);
   if (!engine.ok()) return engine.error();
   instance_ = ServiceInstance::current(config.service_id, config.heartbeat_period_s);
+  if (journal_) {
+    predecessor_instance_id_ = recovered_->owner_instance_id;
+    if (Status s = journal_->recordOwner(instance_.instance_id); !s.ok()) return s.error();
+  }
   bad_samples_log_.setWindowS(config.engine.log_repeat_window_s);
   auto edge = makeEdge(config, **world);
   if (!edge.ok()) return edge.error();
@@ -254,6 +258,7 @@ std::optional<ServiceInstance> MissionService::olderRival() {
   std::optional<ServiceInstance> older;
   for (const ServiceInstance& other : matchedInstances(edge_->rivals->handle())) {
     if (other.service_id != service_id || other.instance_id == instance_.instance_id) continue;
+    if (!predecessor_instance_id_.empty() && other.instance_id == predecessor_instance_id_) continue;
     if (other.precedes(instance_)) {
       older = other;
     } else if (std::find(younger_rivals_logged_.begin(), younger_rivals_logged_.end(), other.instance_id) ==

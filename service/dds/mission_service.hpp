@@ -97,6 +97,9 @@ class MissionService final : public EngineSink {
   std::shared_ptr<StateJournal> journal_;           // null without service.state_dir
   std::unique_ptr<JournalingSink> journal_sink_;    // the engine's sink when journaling: in front of this
   std::optional<JournalState> recovered_;           // what the journal held at configure, until activate
+  // The instance that wrote the journal before this one: killed, but discovery lists it until its
+  // lease ends; never a rival (two live daemons never share a journal).
+  std::string predecessor_instance_id_;
   std::unique_ptr<Engine> engine_;
   // Engine threads publish through the edge while a reload may swap it: shared for publishing,
   // exclusive for the swap.

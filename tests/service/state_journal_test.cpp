@@ -181,7 +181,8 @@ TEST_F(StateJournalTest, EverythingRecordedComesBackAfterReopening) {
     zone.ring = {{44.1, -71.9, 0.0}, {44.11, -71.9, 0.0}, {44.11, -71.89, 0.0}};
     zone.ceiling_amsl_m = 900.0;
     ASSERT_TRUE(journal->recordNoFlyZone(zone).ok());
-    EXPECT_EQ(journal->writeStats().writes, 8u);
+    ASSERT_TRUE(journal->recordOwner("0000000000000123").ok());  // digits only: kept as text
+    EXPECT_EQ(journal->writeStats().writes, 9u);
   }
   auto journal = open();
   ASSERT_TRUE(journal);
@@ -206,6 +207,7 @@ TEST_F(StateJournalTest, EverythingRecordedComesBackAfterReopening) {
   ASSERT_EQ(state->zones.size(), 1u);
   EXPECT_EQ(state->zones[0].zone_id, "tower");
   EXPECT_EQ(state->plan_counter, 7u);
+  EXPECT_EQ(state->owner_instance_id, "0000000000000123");
 }
 
 TEST_F(StateJournalTest, MissionRowsFollowTheirMission) {
