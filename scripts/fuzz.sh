@@ -23,7 +23,7 @@ PACKAGES=(
   clang-14 libclang-rt-14-dev libfuzzer-14-dev
   cmake ccache pkg-config
   libeigen3-dev libgdal-dev liboctomap-dev libfcl-dev cyclonedds-dev cyclonedds-tools
-  libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev libcairo2-dev libssl-dev openssl
+  libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev libcairo2-dev libssl-dev openssl libsqlite3-dev
 )
 install_missing_packages fuzz "${PACKAGES[@]}"
 

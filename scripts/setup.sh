@@ -12,7 +12,7 @@ PACKAGES=(
   libeigen3-dev libgdal-dev gdal-bin liboctomap-dev libfcl-dev
   libproj-dev proj-data
   cyclonedds-dev cyclonedds-tools
-  libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev libcairo2-dev libssl-dev openssl
+  libnanoflann-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libtomlplusplus-dev libcairo2-dev libssl-dev openssl libsqlite3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libompl-dev
   tshark  # the ROS 2 mirror's packet-capture test (tests/daemon/ros2_e2e_test.cpp)

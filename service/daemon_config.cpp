@@ -103,6 +103,10 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"dds", "startup_probe_s",
        "before serving, listen this long for another daemon with this service_id (then refuse to start); 0 serves at once, seconds",
        &c.startup_probe_s, 0, 10},
+      {"service", "state_dir",
+       "folder of the state journal (journal.sqlite, docs/journal.md): accepted missions, current trajectories, "
+       "obstacles and no-fly zones survive a crash and a restart; \"\" = kept in memory only",
+       &c.state_dir},
       {"security", "dir",
        "DDS Security: the folder of this daemon's identity, certificates and signed permissions (scripts/make-pki.sh "
        "makes DIR/daemon; docs/dds.md); \"\" = unsecured",
@@ -254,7 +258,7 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
         std::any_of(keys.begin(), keys.end(), [&](const Key& k) { return section == k.section; });
     if (!known_section) {
       return make_error(ErrorCode::kInvalidArgument, section,
-                        "unknown section [" + section + "] (known: terrain, dds, security, ros2, planning, replanning, bounds, obstacles, log)");
+                        "unknown section [" + section + "] (known: terrain, dds, service, security, ros2, planning, replanning, bounds, obstacles, log)");
     }
     if (!table) return make_error(ErrorCode::kInvalidArgument, section, "must be a table [" + section + "]");
     for (const auto& [key_name, node] : *table) {

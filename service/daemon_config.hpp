@@ -22,6 +22,8 @@ struct DaemonConfig {
   double heartbeat_period_s = 1.0;      // ServiceStatus period
   double flush_timeout_s = 0.5;         // on stop, writers wait this long (in all) for acknowledgements
   double startup_probe_s = 0.3;         // before serving, listen this long for another daemon with this service_id
+  // [service]
+  std::string state_dir;                // the state journal's folder (state_journal.hpp); "" = none
   // [security]
   std::string security_dir;             // DDS Security identity folder (scripts/make-pki.sh); "" = unsecured
   // [ros2]

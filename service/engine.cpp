@@ -228,6 +228,12 @@ std::optional<PlanError> Engine::submit(MissionRequestData request) {
       if (!problem) problem = checkRequestSize(request, *world_, options_);
       if (!problem) problem = queueRefusal();
       if (!problem) {
+        if (Status recorded = sink_.recordAccepted(request); !recorded.ok()) {
+          problem = PlanError{PlanErrorCode::kInternal, "service.state_dir",
+                              "the request could not be recorded in the state journal: " + recorded.error().message};
+        }
+      }
+      if (!problem) {
         registry_.begin(request.vehicle_id, request.request_id);
         auto job = std::make_unique<Job>();
         job->request = request;
@@ -262,6 +268,7 @@ std::optional<PlanError> Engine::submit(MissionRequestData request) {
 bool Engine::cancel(const CancelRequestData& request) {
   std::vector<MissionRequestData> cancelled;
   std::vector<std::shared_ptr<Mission>> ended;
+  std::vector<std::string> retracted;
   bool matched = false;
   {
     std::lock_guard lock(mutex_);
@@ -272,6 +279,7 @@ bool Engine::cancel(const CancelRequestData& request) {
     };
     for (auto it = queue_.begin(); it != queue_.end();) {
       if (matches((*it)->request)) {
+        if ((*it)->resume) retracted.push_back((*it)->request.vehicle_id);  // its trajectory was republished
         cancelled.push_back((*it)->request);
         it = queue_.erase(it);
       } else {
@@ -304,6 +312,7 @@ bool Engine::cancel(const CancelRequestData& request) {
     cancelled.push_back(mission->request);
     sink_.retractTrajectory(mission->request.vehicle_id);
   }
+  for (const std::string& vehicle : retracted) sink_.retractTrajectory(vehicle);
   for (const MissionRequestData& r : cancelled) finish(cancelledStatus(r, "cancelled on request"));
   if (!cancelled.empty() || matched) {
     spdlog::info("event=cancel vehicle={} request={} cancelled={}", request.vehicle_id, request.request_id,
@@ -341,6 +350,7 @@ std::optional<PlanError> Engine::updateObstacle(const ObstacleUpdateData& update
   }
   {
     std::lock_guard lock(mutex_);  // the world in force (a reload may be replacing it)
+    sink_.recordObstacle(update);
     world_->apply(update);
     replan_wake_ = true;
   }
@@ -353,6 +363,7 @@ std::optional<PlanError> Engine::updateObstacle(const ObstacleUpdateData& update
 std::optional<PlanError> Engine::updateNoFlyZone(const NoFlyZoneData& zone) {
   std::lock_guard lock(mutex_);  // the world in force (a reload may be replacing it)
   if (zone.remove) {
+    sink_.recordNoFlyZone(zone);
     world_->removeNoFlyZone(zone.zone_id);
   } else {
     auto checked = toNoFlyZone(zone, world_->frame());
@@ -362,6 +373,7 @@ std::optional<PlanError> Engine::updateNoFlyZone(const NoFlyZoneData& zone) {
                                                                    zone.zone_id, problem.field, problem.message));
       return problem;
     }
+    sink_.recordNoFlyZone(zone);
     world_->upsertNoFlyZone(std::move(*checked));
   }
   replan_wake_ = true;
@@ -372,8 +384,9 @@ std::optional<PlanError> Engine::updateNoFlyZone(const NoFlyZoneData& zone) {
 
 TrajectoryData Engine::trajectoryOf(const Mission& mission) const {
   const MissionPipeline pipeline(mission.world_model, options().pipeline);
-  return pipeline.sample(mission.plan, TrajectoryIdentity{mission.request.vehicle_id, mission.plan_id,
-                                                          mission.plan.flight->revision(), mission.request.request_id});
+  return pipeline.sample(mission.plan,
+                         TrajectoryIdentity{mission.request.vehicle_id, mission.plan_id,
+                                            mission.revision_base + mission.plan.flight->revision(), mission.request.request_id});
 }
 
 std::vector<TrajectoryData> Engine::currentTrajectories() const {
@@ -385,7 +398,9 @@ std::vector<TrajectoryData> Engine::currentTrajectories() const {
   std::vector<TrajectoryData> out;
   for (const std::shared_ptr<Mission>& mission : missions) {
     std::lock_guard mission_lock(mission->mutex);
-    if (!mission->ended) out.push_back(trajectoryOf(*mission));
+    if (mission->ended) continue;
+    const bool as_recovered = mission->recovered && mission->plan.flight->revision() == 0;
+    out.push_back(as_recovered ? *mission->recovered : trajectoryOf(*mission));
   }
   return out;
 }
@@ -393,6 +408,10 @@ std::vector<TrajectoryData> Engine::currentTrajectories() const {
 void Engine::plan(Job& job) {
   if (job.fleet) {
     planFleetJob(job);
+    return;
+  }
+  if (job.resume) {
+    planResumed(job);
     return;
   }
   const auto started = std::chrono::steady_clock::now();

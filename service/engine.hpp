@@ -72,7 +72,20 @@ class EngineSink {
   virtual void retractTrajectory(const std::string& vehicle_id) { (void)vehicle_id; }
   // The state of a fleet request (accepted, planning, then succeeded with the allocation, or failed).
   virtual void publishFleetStatus(const FleetStatusData& status) { (void)status; }
+
+  // Write-ahead hooks (the state journal, journaling_sink.hpp): each is called before its event is
+  // published or takes effect. recordAccepted is called under the engine's lock, before the
+  // request is queued, so no worker can answer a request before it is recorded; when it fails the
+  // request is refused.
+  virtual Status recordAccepted(const MissionRequestData& request) {
+    (void)request;
+    return Status::success();
+  }
+  virtual void recordObstacle(const ObstacleUpdateData& update) { (void)update; }
+  virtual void recordNoFlyZone(const NoFlyZoneData& zone) { (void)zone; }
 };
+
+struct JournalState;
 
 class Engine {
  public:
@@ -123,6 +136,12 @@ class Engine {
   Status canReplaceWorld() const;  // the refusal replaceWorld would give now, if any
   // Every active mission's current trajectory, sampled again (to publish on a new DDS domain).
   std::vector<TrajectoryData> currentTrajectories() const;
+  // After a restart, before start() (engine_recovery.cpp): the journal's obstacles and no-fly
+  // zones go into the world, every vehicle's trajectory is published again as it was (same plan,
+  // revision and samples) and the fleets' allocations with them, requests accepted but never
+  // planned are queued again, and each flying mission's flight is rebuilt from its request on a
+  // worker so the replanning loop goes on with it (its next revision follows the journal's).
+  void recover(const JournalState& state);
 
   ServiceStatusData status(const std::string& service_id) const;
   std::size_t activeMissions() const;
@@ -145,6 +164,7 @@ class Engine {
   // Plans a taken job and drops it from in_flight_.
   void planTaken(std::unique_ptr<Job> job);
   void planFleetJob(Job& job);
+  void planResumed(Job& job);  // a recovered flying mission's flight (engine_recovery.cpp)
   void status(const MissionRequestData& request, PlanState state, double planning_time_s = 0.0);
   // Publishes a request's final status and records it for duplicates of the request.
   void finish(const PlanStatusData& status);

@@ -130,7 +130,7 @@ void Engine::stop() {
     for (const auto& job : queue_) {
       if (job->fleet) {
         dropped_fleets.push_back(job->fleet->request_id);
-      } else {
+      } else if (!job->resume) {  // a recovered flight's request was answered before the restart
         dropped.push_back(job->request);
       }
     }

@@ -16,6 +16,10 @@ namespace skyroute {
 struct Engine::Job {
   MissionRequestData request;                // a mission (request.vehicle_id set), or
   std::optional<FleetRequestData> fleet;     // a fleet (request left empty)
+  // A flying mission recovered from the state journal: its flight is rebuilt, the trajectory
+  // published before the restart kept (never answered with a status: the request was answered).
+  std::optional<TrajectoryData> resume;
+  std::int64_t resume_start_utc_ns = 0;      // when the recovered flight started (its first plan)
   std::shared_ptr<std::atomic<bool>> cancel = std::make_shared<std::atomic<bool>>(false);
 };
 
@@ -27,6 +31,10 @@ struct Engine::Mission {
   std::shared_ptr<std::atomic<bool>> cancel;
   std::mutex mutex;                          // the flight and `ended`
   bool ended = false;                        // cancelled or replaced: no more revisions
+  // A flight rebuilt after a restart: revisions count on from the journal's, and until its first
+  // replan the trajectory published before the restart stays its current one.
+  std::uint32_t revision_base = 0;
+  std::optional<TrajectoryData> recovered;
 };
 
 namespace engine_detail {

@@ -5,7 +5,8 @@
 // nothing and is logged); SIGUSR1 comes from the node itself when an older daemon serves the same
 // service_id. The signals are blocked in every thread and taken with sigwait here, so no handler
 // runs inside Cyclone's or the engine's threads.
-// Exit codes: 0 stopped by a signal, 2 bad configuration, 3 could not start, 5 another daemon
+// Exit codes: 0 stopped by a signal, 2 bad configuration, 3 could not start (a refused state
+// journal among the causes), 5 another daemon
 // serves this service_id on the domain (refused to start, or stopped for it).
 #include <signal.h>
 #include <unistd.h>
@@ -32,6 +33,7 @@ struct Overrides {
   std::optional<std::string> dem;
   std::optional<int> domain;
   std::optional<std::string> security_dir;
+  std::optional<std::string> state_dir;
   std::optional<std::string> log_level;
   std::optional<std::string> log_format;
   std::optional<std::uint64_t> seed;
@@ -45,6 +47,7 @@ skyroute::Result<skyroute::DaemonConfig> buildConfig(const Overrides& o) {
   if (o.dem) config.dem_path = *o.dem;
   if (o.domain) config.domain = *o.domain;
   if (o.security_dir) config.security_dir = *o.security_dir;
+  if (o.state_dir) config.state_dir = *o.state_dir;
   if (o.log_level) config.log_level = *o.log_level;
   if (o.log_format) config.log_format = *o.log_format;
   if (o.seed) config.engine.pipeline.seed = *o.seed;
@@ -83,12 +86,17 @@ int main(int argc, char** argv) {
   app.add_option("--security", overrides.security_dir,
                  "DDS Security: this daemon's identity folder, made by scripts/make-pki.sh (DIR/daemon) (config "
                  "security.dir; default: unsecured)");
+  app.add_option("--state-dir", overrides.state_dir,
+                 "Keep the state journal (DIR/journal.sqlite) so a restart after a crash republishes every "
+                 "vehicle's trajectory and plans unfinished missions again; docs/journal.md (config "
+                 "service.state_dir; default: none)");
   app.add_option("--seed", overrides.seed, "Seed of every plan (config planning.seed, default 1)");
   app.add_option("--log-level", overrides.log_level, "trace | debug | info | warn | error (config log.level, default info)");
   app.add_option("--log-format", overrides.log_format, "text | json (config log.format, default text)");
   app.add_flag("--print-config", print_config, "print the effective configuration as TOML and exit");
   app.footer("Example:\n  skyrouted --dem ../shared/data/dem/N44W072.hgt --domain 7\n\n"
-             "Exit codes: 0 stopped cleanly, 2 usage, 3 the configuration or the DEM unreadable or invalid, "
+             "Exit codes: 0 stopped cleanly, 2 usage, 3 the configuration, the DEM or the state journal unreadable "
+             "or invalid, "
              "4 DDS unavailable.");
   try {
     app.parse(argc, argv);
@@ -120,8 +128,9 @@ int main(int argc, char** argv) {
     std::cerr << "skyrouted: " << s.error().describe() << std::endl;
     return 2;
   }
-  spdlog::info("event=starting version={} dem={} domain={} security={}", SKYROUTE_VERSION, config->dem_path,
-               config->domain, config->security_dir.empty() ? "off" : config->security_dir);
+  spdlog::info("event=starting version={} dem={} domain={} security={} state_dir={}", SKYROUTE_VERSION,
+               config->dem_path, config->domain, config->security_dir.empty() ? "off" : config->security_dir,
+               config->state_dir.empty() ? "none" : config->state_dir);
 
   skyroute::dds::MissionService service;
   std::string conflict;  // why the node must stop for another daemon (written before SIGUSR1)

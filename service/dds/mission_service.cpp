@@ -6,6 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "service/journal_schema.hpp"
 #include "service/no_fly_geojson.hpp"
 
 
@@ -210,11 +211,28 @@ Status MissionService::configure(const DaemonConfig& config) {
     return make_error(ErrorCode::kInvalidArgument, "lifecycle", "configure needs the unconfigured state");
   }
   const auto started = Clock::now();
+  if (!config.state_dir.empty()) {  // first: a refused journal stops the start before the DEM loads
+    auto journal = StateJournal::open(config.state_dir);
+    if (!journal.ok()) return journal.error();
+    auto state = (*journal)->load(utcNowNs());
+    if (!state.ok()) return state.error();
+    spdlog::info("event=journal_opened path={} schema_found={} schema={} missions={} trajectories={} obstacles={} "
+                 "zones={}",
+                 (*journal)->path(), (*journal)->foundSchemaVersion(), kJournalSchemaVersion, state->missions.size(),
+                 state->trajectories.size(), state->obstacles.size(), state->zones.size());
+    journal_ = std::move(*journal);
+    journal_sink_ = std::make_unique<JournalingSink>(*this, journal_);
+    recovered_ = std::move(*state);
+  }
   auto world = loadWorld(config);
   if (!world.ok()) return world.error();
-  auto engine = Engine::create(*world, config.engine, *this);
+  auto engine = Engine::create(*world, config.engine, journal_sink_ ? static_cast<EngineSink&>(*journal_sink_) : *this);
   if (!engine.ok()) return engine.error();
   instance_ = ServiceInstance::current(config.service_id, config.heartbeat_period_s);
+  if (journal_) {
+    predecessor_instance_id_ = recovered_->owner_instance_id;
+    if (Status s = journal_->recordOwner(instance_.instance_id); !s.ok()) return s.error();
+  }
   bad_samples_log_.setWindowS(config.engine.log_repeat_window_s);
   auto edge = makeEdge(config, **world);
   if (!edge.ok()) return edge.error();
@@ -240,6 +258,7 @@ std::optional<ServiceInstance> MissionService::olderRival() {
   std::optional<ServiceInstance> older;
   for (const ServiceInstance& other : matchedInstances(edge_->rivals->handle())) {
     if (other.service_id != service_id || other.instance_id == instance_.instance_id) continue;
+    if (!predecessor_instance_id_.empty() && other.instance_id == predecessor_instance_id_) continue;
     if (other.precedes(instance_)) {
       older = other;
     } else if (std::find(younger_rivals_logged_.begin(), younger_rivals_logged_.end(), other.instance_id) ==
@@ -283,6 +302,10 @@ Status MissionService::activate() {
     if (Clock::now() >= probe_end) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  if (recovered_) {
+    engine_->recover(*recovered_);
+    recovered_.reset();
+  }
   engine_->start();
   startDdsThread();
   state_ = State::kActive;
@@ -307,6 +330,11 @@ Status MissionService::deactivate() {
   // cancelled while the writers are still there. Requests arriving meanwhile are refused busy.
   engine_->stop();
   stopDdsThread();
+  if (journal_) {
+    const JournalWriteStats w = journal_->writeStats();
+    spdlog::info("event=journal_stats writes={} mean_ms={:.3f} max_ms={:.3f}", w.writes,
+                 w.writes ? w.total_ms / static_cast<double>(w.writes) : 0.0, w.max_ms);
+  }
   // Flush: reliable readers get what was written, all writers sharing one deadline.
   const auto deadline = Clock::now() + seconds(config().flush_timeout_s);
   auto left_s = [&] { return std::max(0.0, std::chrono::duration<double>(deadline - Clock::now()).count()); };
@@ -328,6 +356,9 @@ Status MissionService::cleanup() {
   }
   if (state_ == State::kUnconfigured) return Status::success();
   engine_.reset();
+  journal_sink_.reset();
+  journal_.reset();
+  recovered_.reset();
   {
     std::unique_lock lock(edge_mutex_);
     edge_.reset();
@@ -344,6 +375,11 @@ Status MissionService::reload(const DaemonConfig& config) {
   const DaemonConfig old = this->config();
   // Everything is checked and built first; nothing running changes until all of it worked.
   if (Status ok = validateEngineOptions(config.engine); !ok.ok()) return ok;
+  if (config.state_dir != old.state_dir) {
+    return make_error(ErrorCode::kInvalidArgument, "service.state_dir",
+                      "the state journal's folder cannot change while the daemon runs (restart it to use " +
+                          (config.state_dir.empty() ? std::string("none") : config.state_dir) + ")");
+  }
   std::shared_ptr<WorldModel> world;
   if (terrainChanged(old, config)) {
     if (Status free = engine_->canReplaceWorld(); !free.ok()) return free;  // before loading a large DEM

@@ -28,7 +28,9 @@
 #include "service/dds/service_instance.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/engine.hpp"
+#include "service/journaling_sink.hpp"
 #include "service/log_throttle.hpp"
+#include "service/state_journal.hpp"
 
 namespace skyroute::dds {
 
@@ -44,11 +46,13 @@ class MissionService final : public EngineSink {
   MissionService(const MissionService&) = delete;
   MissionService& operator=(const MissionService&) = delete;
 
-  // Loads the terrain, makes the world model and the engine, creates the DDS entities.
-  // config.dem_path must be set. Errors name the key or the file.
+  // Opens the state journal (service.state_dir, when set), loads the terrain, makes the world
+  // model and the engine, creates the DDS entities. config.dem_path must be set. Errors name the
+  // key or the file (a damaged or newer journal: kParseError naming it).
   Status configure(const DaemonConfig& config);
   // Listens for dds.startup_probe_s for an older instance with this service_id (then fails,
-  // naming it: kInvalidArgument "dds.service_id"), then starts the engine and the DDS thread.
+  // naming it: kInvalidArgument "dds.service_id"), then recovers what the journal kept
+  // (Engine::recover) and starts the engine and the DDS thread.
   Status activate();
   // Stops the engine first (every plan in progress is cancelled and answered cancelled), then
   // the DDS thread, then waits up to flush_timeout_s in all for readers to acknowledge.
@@ -90,6 +94,12 @@ class MissionService final : public EngineSink {
   State state_ = State::kUnconfigured;
   ServiceInstance instance_;
   std::shared_ptr<WorldModel> world_;
+  std::shared_ptr<StateJournal> journal_;           // null without service.state_dir
+  std::unique_ptr<JournalingSink> journal_sink_;    // the engine's sink when journaling: in front of this
+  std::optional<JournalState> recovered_;           // what the journal held at configure, until activate
+  // The instance that wrote the journal before this one: killed, but discovery lists it until its
+  // lease ends; never a rival (two live daemons never share a journal).
+  std::string predecessor_instance_id_;
   std::unique_ptr<Engine> engine_;
   // Engine threads publish through the edge while a reload may swap it: shared for publishing,
   // exclusive for the swap.

@@ -53,6 +53,8 @@ class ChildProcess {
   ChildProcess(ChildProcess&& o) noexcept { *this = std::move(o); }
   ChildProcess& operator=(ChildProcess&& o) noexcept {
     std::swap(pid_, o.pid_);
+    std::swap(exited_, o.exited_);  // a process spawned into a waited-for one's place is running
+    std::swap(code_, o.code_);
     std::swap(out_path_, o.out_path_);
     std::swap(err_path_, o.err_path_);
     return *this;

@@ -1,0 +1,105 @@
+// The daemon's state journal: what skyrouted needs to come back after a crash, in SQLite (WAL),
+// one transaction per event, written before the event is published (write-ahead):
+//   missions      every accepted request as accepted, until it fails, is cancelled, replaced by a
+//                 newer mission of its vehicle, or its trajectory ends ("accepted" until its first
+//                 trajectory, then "flying");
+//   trajectories  each vehicle's current trajectory, its revision and every sample as published;
+//   obstacles, no-fly zones in force (ended ones pruned), fleet allocations whose trajectories
+//                 are still current, and the plan counter (plan ids never repeat after a restart).
+// Rows are replaced in place, so the journal's size follows the vehicles and obstacles in force,
+// not the daemon's age. Thread-safe: the engine's threads write, each call one transaction.
+// Schema versions and what a refused file looks like: journal_schema.hpp.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "planning/core/result.hpp"
+#include "service/mission_types.hpp"
+#include "service/no_fly_zone_data.hpp"
+#include "service/sqlite_db.hpp"
+
+namespace skyroute {
+
+// What a journal holds, as recovery reads it (ended trajectories and obstacles left out).
+struct JournalState {
+  struct Mission {
+    MissionRequestData request;
+    bool flying = false;  // its trajectory was published (else: accepted, never planned)
+    std::int64_t flight_start_utc_ns = 0;  // when its first trajectory starts (0: not known)
+  };
+  std::vector<Mission> missions;                 // in the order they were accepted
+  std::vector<TrajectoryData> trajectories;      // one per vehicle, as last published
+  std::vector<ObstacleUpdateData> obstacles;
+  std::vector<NoFlyZoneData> zones;
+  std::vector<FleetStatusData> fleets;           // succeeded fleets with a current trajectory
+  std::uint64_t plan_counter = 0;                // the highest plan number used so far
+  std::string owner_instance_id;                 // the daemon instance that last opened it ("" = none)
+};
+
+// How long the write transactions took (the replanning cycle waits for the revision's).
+struct JournalWriteStats {
+  std::uint64_t writes = 0;
+  double total_ms = 0.0;
+  double max_ms = 0.0;
+};
+
+class StateJournal {
+ public:
+  static constexpr const char* kFileName = "journal.sqlite";
+  // Opens DIR/journal.sqlite (creating DIR and the file when absent), checks and migrates it
+  // (journal_schema.hpp). Errors name the file: kFileNotFound when it cannot be made or opened,
+  // kParseError when it is damaged, not a journal, or from a newer skyrouted.
+  static Result<std::unique_ptr<StateJournal>> open(const std::string& dir);
+
+  const std::string& path() const { return db_->path(); }
+  int foundSchemaVersion() const { return found_version_; }  // 0: the file was new
+
+  // A request accepted for planning (before its acceptance is published).
+  Status recordAccepted(const MissionRequestData& request, std::int64_t now_utc_ns);
+  // A vehicle's new trajectory or revision (before it is published): its mission becomes flying,
+  // an older mission of the vehicle ends. Prunes what ended by now_utc_ns (at most once a second).
+  Status recordTrajectory(const TrajectoryData& trajectory, std::int64_t now_utc_ns);
+  // The vehicle's trajectory no longer holds (its mission was cancelled).
+  Status recordRetracted(const std::string& vehicle_id);
+  // The request failed or was cancelled: it will not be planned again.
+  Status recordFinished(const std::string& vehicle_id, const std::string& request_id);
+  Status recordObstacle(const ObstacleUpdateData& update);
+  Status recordNoFlyZone(const NoFlyZoneData& zone);
+  // A fleet's allocation (kept while one of its trajectories is current).
+  Status recordFleet(const FleetStatusData& status);
+  // The daemon instance (ServiceInstance::instance_id) now writing the journal. After a crash its
+  // successor knows the dead instance, which discovery still lists for a lease, by this id.
+  Status recordOwner(const std::string& instance_id);
+
+  // Everything in force at now_utc_ns, after pruning what ended. Errors: a damaged row, naming
+  // the file and the row.
+  Result<JournalState> load(std::int64_t now_utc_ns);
+
+  JournalWriteStats writeStats() const;
+
+ private:
+  StateJournal(std::unique_ptr<SqliteDb> db, int found_version) : db_(std::move(db)), found_version_(found_version) {}
+  // Runs `body` in one transaction (rolled back when it fails) and times it.
+  template <typename Body>
+  Status transaction(const Body& body);
+  Status pruneLocked(std::int64_t now_utc_ns);
+
+  mutable std::mutex mutex_;
+  std::unique_ptr<SqliteDb> db_;
+  int found_version_ = 0;
+  std::int64_t last_prune_utc_ns_ = 0;
+  JournalWriteStats stats_;
+};
+
+// When a trajectory's flight started: its first sample's time less that sample's time since the start.
+std::int64_t flightStartUtcNs(const TrajectoryData& trajectory);
+
+// The number at the end of a plan id ("uav-1-17" -> 17), 0 when there is none.
+std::uint64_t planNumber(const std::string& plan_id);
+
+}  // namespace skyroute
