@@ -24,6 +24,12 @@ class BadSamplesE2E : public testing::DaemonFixture {
     u.valid_from_utc_ns = valid_from_ns;
     return u;
   }
+  static ObstacleUpdateData removal(std::uint64_t id) {
+    ObstacleUpdateData gone;
+    gone.obstacle.id = id;
+    gone.remove = true;
+    return gone;
+  }
   bool heartbeatShowsObstacles(std::uint32_t n) {
     return station_->pumpUntil([&] { return station_->last_heartbeat && station_->last_heartbeat->obstacles == n; },
                                10.0);
@@ -73,10 +79,7 @@ TEST_F(BadSamplesE2E, AnObstacleUpdateBackInTimeIsRefusedAndTheUpdateInForceStay
   EXPECT_TRUE(waitForLog("an update may not go back in time", 1.0)) << daemon_.err();
   // A later update of it is taken, and a removal needs no time.
   ASSERT_TRUE(station_->obstacles->write(sphere(11, 3000.0, now_ns + 1'000'000'000LL)).ok());
-  ObstacleUpdateData gone;
-  gone.obstacle.id = 11;
-  gone.remove = true;
-  ASSERT_TRUE(station_->obstacles->write(gone).ok());
+  ASSERT_TRUE(station_->obstacles->write(removal(11)).ok());
   EXPECT_TRUE(heartbeatShowsObstacles(0));
   EXPECT_EQ(logCount("event=obstacle_rejected"), 1u) << daemon_.err();
   expectStillServing("after-back-in-time");
@@ -95,10 +98,7 @@ TEST_F(BadSamplesE2E, ANewObstacleBeyondMaxActiveIsRefusedAndKnownOnesStillMove)
   EXPECT_TRUE(waitForLog("3 obstacles are in force (obstacles.max_active)", 1.0)) << daemon_.err();
   EXPECT_TRUE(heartbeatShowsObstacles(3));
   ASSERT_TRUE(station_->obstacles->write(sphere(2, 500.0, now_ns + 1'000'000'000LL)).ok());
-  ObstacleUpdateData gone;
-  gone.obstacle.id = 1;
-  gone.remove = true;
-  ASSERT_TRUE(station_->obstacles->write(gone).ok());
+  ASSERT_TRUE(station_->obstacles->write(removal(1)).ok());
   ASSERT_TRUE(heartbeatShowsObstacles(2));
   ASSERT_TRUE(station_->obstacles->write(sphere(4, 3000.0, now_ns + 2'000'000'000LL)).ok());
   EXPECT_TRUE(heartbeatShowsObstacles(3));
