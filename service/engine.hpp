@@ -3,9 +3,7 @@
 // (mission_pipeline.hpp: order -> legs -> trajectory -> checks, the same as `skyroute plan`), and
 // the mission's flight is then kept and replanned.
 // Every replanning cycle (t_ref = 0.1 s, and at once after an obstacle update) each active mission
-// checks the obstacles ahead and, when one will meet it, publishes a new revision, or, when no
-// better one is found, a non-terminal replanned status with the error (once per world change).
-// Updates that arrive before a cycle are taken together: one replan per vehicle and cycle.
+// checks the obstacles ahead and, when one will meet it, publishes a new revision.
 //
 // Size: a request is refused (kTooLarge) when the lower bound of its trajectory's duration or
 // sample count, or its memory estimate, exceeds its bound (request_footprint.hpp), at submit and

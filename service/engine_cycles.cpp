@@ -1,5 +1,8 @@
 // The engine's threads: the planning workers that take queued requests, the replanning loop that
 // steps every active mission each cycle (t_ref, or at once after an obstacle update), and stop().
+// A cycle takes every world change since the last one together: one step, so at most one replan,
+// per vehicle however many updates arrived. A step that finds nothing better is answered with a
+// non-terminal replanned status (the error, the revision kept), once per change of the world.
 #include <algorithm>
 #include <chrono>
 #include <thread>
