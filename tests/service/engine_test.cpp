@@ -95,6 +95,14 @@ class EngineTest : public testing::DefaultWorldTest {
     r.end = geo(4500, 4500, 150);
     return r;
   }
+  // Corner to corner through the centre, 200 m up.
+  MissionRequestData diagonalRequest(const std::string& id) const {
+    MissionRequestData r = request(id);
+    r.points = {enu(0, 0, 200)};
+    r.begin = enu(-4500, -4500, 200);
+    r.end = enu(4500, 4500, 200);
+    return r;
+  }
   Eigen::Vector3d toEnu(const MissionPointData& p) const {
     return p.frame == MissionPointData::Frame::kEnu ? p.enu_m : heightfield_->frame().toEnu(p.geo);
   }
@@ -305,10 +313,7 @@ TEST_F(EngineTest, BadRequestsGetTheirErrorAndTheNextRequestIsServed) {
 }
 
 TEST_F(EngineTest, ObstacleOnTheRouteGivesARevisionThatAvoidsItAndContinuesTheFlight) {
-  MissionRequestData r = request("replan");
-  r.points = {enu(0, 0, 200)};
-  r.begin = enu(-4500, -4500, 200);
-  r.end = enu(4500, 4500, 200);
+  const MissionRequestData r = diagonalRequest("replan");
   ASSERT_FALSE(engine_->submit(r).has_value());
   ASSERT_TRUE(engine_->planNext());
   ASSERT_EQ(sink_.trajectories.size(), 1u);
@@ -364,11 +369,7 @@ TEST_F(EngineTest, ObstacleOnTheRouteGivesARevisionThatAvoidsItAndContinuesTheFl
 class EngineLoadTest : public EngineTest {
  protected:
   TrajectoryData flyFor20S() {
-    MissionRequestData r = request("load");
-    r.points = {enu(0, 0, 200)};
-    r.begin = enu(-4500, -4500, 200);
-    r.end = enu(4500, 4500, 200);
-    EXPECT_FALSE(engine_->submit(r).has_value());
+    EXPECT_FALSE(engine_->submit(diagonalRequest("load")).has_value());
     EXPECT_TRUE(engine_->planNext());
     EXPECT_EQ(sink_.trajectories.size(), 1u);
     clock_.advance(20.0);
