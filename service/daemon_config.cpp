@@ -36,7 +36,7 @@ struct Key {
 struct IntegerShadow {
   std::int64_t domain, seed, threads, max_queue, max_points, leg_max_iterations, order_cells, grid_cells,
       grid_window_segments, max_attempts, replan_leg_iterations, max_stored_results, max_samples, fleet_vehicles,
-      fleet_tasks;
+      fleet_tasks, max_obstacles;
 };
 
 IntegerShadow shadowOf(const DaemonConfig& c) {
@@ -55,7 +55,8 @@ IntegerShadow shadowOf(const DaemonConfig& c) {
                        static_cast<std::int64_t>(c.engine.max_stored_results),
                        static_cast<std::int64_t>(p.bounds.trajectory.max_samples),
                        static_cast<std::int64_t>(p.fleet.max_vehicles),
-                       static_cast<std::int64_t>(p.fleet.max_tasks)};
+                       static_cast<std::int64_t>(p.fleet.max_tasks),
+                       static_cast<std::int64_t>(c.engine.obstacles.max_obstacles)};
 }
 
 void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
@@ -75,6 +76,7 @@ void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
   p.bounds.trajectory.max_samples = static_cast<std::size_t>(s.max_samples);
   p.fleet.max_vehicles = static_cast<std::size_t>(s.fleet_vehicles);
   p.fleet.max_tasks = static_cast<std::size_t>(s.fleet_tasks);
+  c.engine.obstacles.max_obstacles = static_cast<std::size_t>(s.max_obstacles);
 }
 
 std::vector<std::string> plannerChoices() {
@@ -186,6 +188,8 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"obstacles", "extent_factor",
        "an obstacle's size at most, and its position at most this far outside the DEM, in DEM longer sides",
        &e.obstacles.extent_factor, 0.01, 100},
+      {"obstacles", "max_active", "obstacles in force at most; an update for a new obstacle beyond them is refused",
+       &s.max_obstacles, 1, 1e6},
       {"log", "level", "log level", &c.log_level, -kInf, kInf, {"trace", "debug", "info", "warn", "error"}},
       {"log", "format", "text, or json (one object per line)", &c.log_format, -kInf, kInf, {"text", "json"}},
       {"log", "repeat_window_s",

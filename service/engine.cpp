@@ -62,6 +62,26 @@ void logPlanned(const MissionRequestData& r, const MissionPlan& plan) {
   }
 }
 
+// An update for an obstacle in force that is older than the one applied (valid_from earlier:
+// two feeds, or a replayed log) would move it back in time; an update for a new obstacle beyond
+// the limit would grow the world without bound. Both are refused, naming the field.
+std::optional<PlanError> checkObstacleOrder(const ObstacleUpdateData& update, const WorldModel& world,
+                                            const ObstacleBounds& bounds) {
+  const std::optional<std::int64_t> in_force = world.validFromOf(update.obstacle.id);
+  if (in_force && !update.remove && update.valid_from_utc_ns < *in_force) {
+    return PlanError{PlanErrorCode::kInvalidArgument, "valid_from_utc_ns",
+                     "obstacle " + std::to_string(update.obstacle.id) + ": valid_from_utc_ns " +
+                         std::to_string(update.valid_from_utc_ns) + " is before the update in force (" +
+                         std::to_string(*in_force) + "): an update may not go back in time"};
+  }
+  if (!in_force && !update.remove && world.obstacleCount() >= bounds.max_obstacles) {
+    return PlanError{PlanErrorCode::kLimitsOutOfRange, "obstacle_id",
+                     "obstacle " + std::to_string(update.obstacle.id) + " refused: " +
+                         std::to_string(bounds.max_obstacles) + " obstacles are in force (obstacles.max_active)"};
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 namespace engine_detail {
@@ -342,6 +362,7 @@ std::optional<PlanError> Engine::updateObstacle(const ObstacleUpdateData& update
     problem = validateObstacleUpdate(update);
     if (!problem) problem = checkObstacleBounds(update, world->terrain(), options().obstacles);
   }
+  if (!problem) problem = checkObstacleOrder(update, *world, options().obstacles);
   if (problem) {
     throttle_.warn("obstacle_rejected:" + std::to_string(update.obstacle.id) + ":" + problem->field,
                    fmt::format("event=obstacle_rejected id={} code={} field={} message=\"{}\"", update.obstacle.id,
@@ -431,6 +452,7 @@ void Engine::plan(Job& job) {
     error = *too_large;
   } else {
     const MissionPipeline pipeline(world_model, options.pipeline);
+    const std::uint64_t changes_planned = world_model->version();  // the world the plan sees
     TerminationCondition stop;
     stop.withCancelFlag(job.cancel);
     auto planned = pipeline.plan(PipelineRequest{r, std::nullopt, std::nullopt}, static_cast<double>(clock_()) * 1e-9,
@@ -441,6 +463,7 @@ void Engine::plan(Job& job) {
       mission->world_model = world_model;
       mission->plan = std::move(planned.value());
       mission->cancel = job.cancel;
+      mission->changes_checked = changes_planned;
       logPlanned(r, mission->plan);
     } else {
       error = planned.error();

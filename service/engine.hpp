@@ -170,6 +170,10 @@ class Engine {
   void finish(const PlanStatusData& status);
   // The published form of a mission's current trajectory (the pipeline's sampling stage).
   TrajectoryData trajectoryOf(const Mission& mission) const;
+  // A replan that found nothing better, answered (once per change of the world) with a status
+  // that is not terminal: state replanned, the error, and the revision that stays in force.
+  void publishReplanFailure(const MissionRequestData& request, const Error& failure, std::uint32_t revision,
+                            double latency_ms, std::uint64_t coalesced);
   void startWorkers(int count);  // under mutex_
   void workerLoop();
   void replanLoop();

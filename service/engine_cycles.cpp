@@ -1,5 +1,9 @@
 // The engine's threads: the planning workers that take queued requests, the replanning loop that
 // steps every active mission each cycle (t_ref, or at once after an obstacle update), and stop().
+// A cycle takes every world change since the last one together: one step, so at most one replan,
+// per vehicle however many updates arrived. A step that finds nothing better is answered with a
+// non-terminal replanned status (the error, the revision kept), once per change of the world.
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -14,14 +18,19 @@ using engine_detail::fleetFailed;
 
 std::size_t Engine::replanCycle() {
   const double now_s = static_cast<double>(clock_()) * 1e-9;
-  world()->expire(now_s);
+  const std::shared_ptr<WorldModel> world_model = world();
+  world_model->expire(now_s);
   throttle_.flush();
+  // Every change of the world up to here is checked in this cycle, by one step per flight:
+  // updates that arrived since the last cycle are coalesced into at most one replan per vehicle.
+  const std::uint64_t changes = world_model->version();
   std::vector<std::shared_ptr<Mission>> missions;
   {
     std::lock_guard lock(mutex_);
     if (!options_.replanning) return 0;
     for (const auto& [vehicle, mission] : missions_) missions.push_back(mission);
   }
+  const auto started = std::chrono::steady_clock::now();
   std::size_t published = 0;
   for (const std::shared_ptr<Mission>& mission : missions) {
     if (stopping_) break;
@@ -38,18 +47,27 @@ std::size_t Engine::replanCycle() {
       }
       continue;
     }
+    const std::uint64_t coalesced = changes - std::min(changes, mission->changes_checked);
+    mission->changes_checked = changes;
+    if (coalesced > 0) mission->failure_answered = false;
     const ReplanStep step = mission->plan.flight->step(now_s);
     if (step.replanned) {
+      mission->failure_answered = false;
       const TrajectoryData data = trajectoryOf(*mission);
       sink_.publishTrajectory(data);
       mission_lock.unlock();
       ++replans_;
       ++published;
-      spdlog::info("event=replanned request={} vehicle={} plan={} revision={} latency_ms={:.1f}",
+      spdlog::info("event=replanned request={} vehicle={} plan={} revision={} latency_ms={:.1f} updates_coalesced={}",
                    mission->request.request_id, mission->request.vehicle_id, mission->plan_id, data.revision,
-                   step.latency_ms);
+                   step.latency_ms, coalesced);
       status(mission->request, PlanState::kReplanned, step.latency_ms * 1e-3);
     } else if (step.failure) {
+      const bool answer = !mission->failure_answered;
+      mission->failure_answered = true;
+      const std::uint32_t revision = mission->plan.flight->revision();
+      mission_lock.unlock();
+      if (answer && !stopping_) publishReplanFailure(mission->request, *step.failure, revision, step.latency_ms, coalesced);
       // A blocked vehicle fails every cycle (10 Hz) until the obstacle moves: one line per window.
       throttle_.warn("replan_failed:" + mission->request.vehicle_id + ":" + step.failure->field,
                      fmt::format("event=replan_failed request={} vehicle={} field={} message=\"{}\"",
@@ -57,7 +75,22 @@ std::size_t Engine::replanCycle() {
                                  step.failure->message));
     }
   }
+  spdlog::debug("event=replan_cycle flights={} replanned={} world_version={} ms={:.1f}", missions.size(), published,
+                changes, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count());
   return published;
+}
+
+void Engine::publishReplanFailure(const MissionRequestData& request, const Error& failure, std::uint32_t revision,
+                                  double latency_ms, std::uint64_t coalesced) {
+  // Not terminal: the mission goes on with the revision in force, and the next cycles try again.
+  PlanError error = toPlanError(failure);
+  error.stage = PlanStage::kReplan;
+  error.message = "no new revision: " + error.message + "; revision " + std::to_string(revision) + " stays in force";
+  PlanStatusData s = PlanStatusData::failed(request, error, latency_ms * 1e-3);
+  s.state = PlanState::kReplanned;
+  spdlog::info("event=replan_answered request={} vehicle={} revision={} code={} updates_coalesced={}", request.request_id,
+               request.vehicle_id, revision, to_string(error.code), coalesced);
+  sink_.publishStatus(s);
 }
 
 void Engine::startWorkers(int count) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -35,6 +36,12 @@ struct Engine::Mission {
   // replan the trajectory published before the restart stays its current one.
   std::uint32_t revision_base = 0;
   std::optional<TrajectoryData> recovered;
+  // The engine's count of world changes when this flight was last checked: the changes since
+  // are the ones a cycle's check takes together (one replan however many there were).
+  std::uint64_t changes_checked = 0;
+  // A failed replan has been answered with a status since the last revision or world change
+  // (a blocked vehicle fails every cycle; it is told once per change).
+  bool failure_answered = false;
 };
 
 namespace engine_detail {

@@ -9,6 +9,7 @@
 //   - a speed (back-and-forth speed_mps, constant velocity's magnitude) is at most max_speed_mps.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 
 #include "service/mission_types.hpp"
@@ -19,6 +20,9 @@ namespace skyroute {
 struct ObstacleBounds {
   double max_speed_mps = 400.0;  // faster than anything that flies low over terrain
   double extent_factor = 1.0;    // k above
+  // Obstacles in force at most: each costs memory and every replanning check, so a feed of ever
+  // new ids is refused beyond this instead of growing the daemon (updates of known ids go on).
+  std::size_t max_obstacles = 4096;
 };
 
 // kLimitsOutOfRange naming the field ("size_m.x", "position_enu_m.z", "to_enu_m.x", "speed_mps",

@@ -214,6 +214,13 @@ std::size_t WorldModel::obstacleCount() const {
   return obstacles_.size();
 }
 
+std::optional<std::int64_t> WorldModel::validFromOf(std::uint64_t id) const {
+  std::lock_guard lock(mutex_);
+  const auto it = updates_.find(id);
+  if (it == updates_.end()) return std::nullopt;
+  return it->second.valid_from_utc_ns;
+}
+
 std::uint64_t WorldModel::version() const {
   std::lock_guard lock(mutex_);
   return version_;

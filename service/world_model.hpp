@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -59,6 +60,8 @@ class WorldModel {
   // Drops obstacles and no-fly zones whose validity ended at or before now_s; returns how many.
   std::size_t expire(double now_s);
   std::size_t obstacleCount() const;
+  // valid_from of the update in force for obstacle `id`; nothing when no such obstacle is.
+  std::optional<std::int64_t> validFromOf(std::uint64_t id) const;
   std::uint64_t version() const;  // grows with every change of the obstacles or no-fly zones
 
   // No-fly zones (checked by the caller), of two kinds: the configured set (a file), replaced as a

@@ -1,7 +1,7 @@
 // skyroute replay: publishes a recorded obstacle feed with its original timing (scaled by
-// --speed), once or --loop until Ctrl-C. Malformed lines are reported and skipped. Obstacles the
-// feed places in WGS84 (position_deg) are put in the local frame of --dem, which must be the
-// daemon's DEM (by default both use the embedded terrain).
+// --speed) or at a fixed --rate, once, or --loop until Ctrl-C or --duration. Malformed lines are
+// reported and skipped. Obstacles the feed places in WGS84 (position_deg) are put in the local
+// frame of --dem, which must be the daemon's DEM (by default both use the embedded terrain).
 #include <chrono>
 #include <iostream>
 
@@ -26,6 +26,8 @@ struct ReplayOptions {
   bool loop = false;
   int readers = 0;
   double wait_s = 10.0;
+  double rate = 0.0;       // updates per second, ignoring the feed's t_s (0 = the feed's timing)
+  double duration_s = 0.0; // stop after this long (0 = at the end, or never with --loop)
 };
 
 void runReplay(const ReplayOptions& o) {
@@ -61,11 +63,20 @@ void runReplay(const ReplayOptions& o) {
 
   std::size_t published = 0;
   bool stopped = false;
+  const auto started = std::chrono::steady_clock::now();
+  auto at = [&](double s) {
+    return std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(s));
+  };
   do {
     const auto pass_start = std::chrono::steady_clock::now();
     for (const FeedEntry& entry : feed->entries) {
-      const auto due = pass_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                        std::chrono::duration<double>(entry.t_s / o.speed));
+      // With --rate the updates go out evenly, one every 1/rate s, counted from the start.
+      const auto due = o.rate > 0.0 ? started + at(static_cast<double>(published) / o.rate)
+                                    : pass_start + at(entry.t_s / o.speed);
+      if (o.duration_s > 0.0 && due - started >= at(o.duration_s)) {
+        stopped = true;
+        break;
+      }
       for (;;) {
         const double wait_s = std::chrono::duration<double>(due - std::chrono::steady_clock::now()).count();
         if (wait_s <= 0.0) break;
@@ -94,7 +105,8 @@ void addReplayCommand(CLI::App& app) {
   auto options = std::make_shared<ReplayOptions>();
   CLI::App* cmd = app.add_subcommand("replay", "Publish a recorded obstacle feed with its original timing");
   cmd->footer(helpFooter({"skyroute replay data/feeds/default_terrain_table1.jsonl --domain 0 --readers 1",
-                          "skyroute replay feed.jsonl --domain 0 --speed 2 --loop --dem white_mountains.tif"}));
+                          "skyroute replay feed.jsonl --domain 0 --speed 2 --loop --dem white_mountains.tif",
+                          "skyroute replay feed.jsonl --domain 0 --rate 10000 --loop --duration 60"}));
   cmd->add_option("FILE", options->input, "Feed file (JSON lines, docs/obstacle_feed.md)")->required();
   cmd->add_option("--domain", options->domain, "DDS domain id")->capture_default_str();
   addSecurityOption(*cmd);
@@ -106,6 +118,11 @@ void addReplayCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--wait", options->wait_s, "Seconds to wait for --readers")->capture_default_str();
+  cmd->add_option("--rate", options->rate,
+                  "Publish this many updates per second, evenly, ignoring the feed's t_s (a flood test)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--duration", options->duration_s, "Stop after this many seconds (with --loop: a timed run)")
+      ->check(CLI::NonNegativeNumber);
   cmd->callback([options] { runReplay(*options); });
 }
 

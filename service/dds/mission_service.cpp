@@ -487,7 +487,9 @@ void MissionService::ddsThread() {
     const auto now = Clock::now();
     if (now >= next_heartbeat) {
       publishHeartbeat();
-      next_heartbeat = now + seconds(config().heartbeat_period_s);
+      // On the period's grid, so a late heartbeat does not delay every later one.
+      const auto period = seconds(config().heartbeat_period_s);
+      next_heartbeat = now - next_heartbeat < period ? next_heartbeat + period : now + period;
       bad_samples_log_.flush(now);
     }
     const double wait_s = std::chrono::duration<double>(next_heartbeat - Clock::now()).count();

@@ -103,9 +103,10 @@ class Reader {
     return Reader(std::move(*topic), std::move(*reader));
   }
 
-  // Takes everything available; each valid sample is converted and passed to on_sample, each
-  // sample that fails validation to on_error (the loop goes on). Returns the number taken, or
-  // the DDS error. Handlers run after the loan is returned, on the caller's thread.
+  // Takes what is available, at most 256 samples a call; each valid sample is converted and
+  // passed to on_sample, each sample that fails validation to on_error (the loop goes on).
+  // Returns the number taken, or the DDS error. Handlers run after the loan is returned, on the
+  // caller's thread.
   Result<std::size_t> takeAvailable(const SampleHandler& on_sample, const ErrorHandler& on_error) const {
     return take<false>(on_sample, [&](const Error& e, const Plain*) {
       if (on_error) on_error(e);
@@ -127,6 +128,10 @@ class Reader {
   template <bool kWithIdentity, class OnFailure>
   Result<std::size_t> take(const SampleHandler& on_sample, const OnFailure& on_failure) const {
     constexpr std::size_t kBatch = 32;
+    // At most this many per call: under a flood the reader never empties, and the thread that
+    // takes also has other work (the daemon's heartbeat). What is left keeps the read condition
+    // triggered, so the next wait returns at once.
+    constexpr std::size_t kMaxPerCall = 8 * kBatch;
     std::size_t total = 0;
     for (;;) {
       std::array<void*, kBatch> loans{};
@@ -162,7 +167,7 @@ class Reader {
         }
       }
       total += static_cast<std::size_t>(n);
-      if (static_cast<std::size_t>(n) < kBatch) return total;
+      if (static_cast<std::size_t>(n) < kBatch || total >= kMaxPerCall) return total;
     }
   }
 

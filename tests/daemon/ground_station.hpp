@@ -32,6 +32,7 @@ struct Station {
   std::vector<TrajectoryData> trajectory_log;
   std::vector<ObstacleUpdateData> obstacle_log;
   int heartbeats = 0;
+  std::vector<std::int64_t> heartbeat_stamps_ns;  // each heartbeat's stamp, as the daemon sent it
   std::optional<ServiceStatusData> last_heartbeat;
 
   static std::unique_ptr<Station> open(int domain) {
@@ -57,6 +58,7 @@ struct Station {
     }, ignore);
     (void)s->loop->add(*s->heartbeat, [self](ServiceStatusData&& x) {
       ++self->heartbeats;
+      self->heartbeat_stamps_ns.push_back(x.stamp_utc_ns);
       self->last_heartbeat = std::move(x);
     }, ignore);
     (void)s->loop->add(*s->obstacle_echo, [self](ObstacleUpdateData&& x) { self->obstacle_log.push_back(std::move(x)); }, ignore);

@@ -14,6 +14,9 @@
 #include <set>
 #include <thread>
 
+#include <spdlog/sinks/ringbuffer_sink.h>
+#include <spdlog/spdlog.h>
+
 #include "service/engine.hpp"
 #include "terrain/terrain_world.hpp"
 #include "tests/service/default_world_fixture.hpp"
@@ -90,6 +93,14 @@ class EngineTest : public testing::DefaultWorldTest {
     r.begin = geo(-4500, -4500, 150);
     r.points = {enu(3500, 3000, 200), geo(-3000, 2500, 200), enu(3000, -3500, 200)};
     r.end = geo(4500, 4500, 150);
+    return r;
+  }
+  // Corner to corner through the centre, 200 m up.
+  MissionRequestData diagonalRequest(const std::string& id) const {
+    MissionRequestData r = request(id);
+    r.points = {enu(0, 0, 200)};
+    r.begin = enu(-4500, -4500, 200);
+    r.end = enu(4500, 4500, 200);
     return r;
   }
   Eigen::Vector3d toEnu(const MissionPointData& p) const {
@@ -302,10 +313,7 @@ TEST_F(EngineTest, BadRequestsGetTheirErrorAndTheNextRequestIsServed) {
 }
 
 TEST_F(EngineTest, ObstacleOnTheRouteGivesARevisionThatAvoidsItAndContinuesTheFlight) {
-  MissionRequestData r = request("replan");
-  r.points = {enu(0, 0, 200)};
-  r.begin = enu(-4500, -4500, 200);
-  r.end = enu(4500, 4500, 200);
+  const MissionRequestData r = diagonalRequest("replan");
   ASSERT_FALSE(engine_->submit(r).has_value());
   ASSERT_TRUE(engine_->planNext());
   ASSERT_EQ(sink_.trajectories.size(), 1u);
@@ -355,6 +363,107 @@ TEST_F(EngineTest, ObstacleOnTheRouteGivesARevisionThatAvoidsItAndContinuesTheFl
   clock_.advance(second.samples.back().t_rel_s + 1.0);
   engine_->replanCycle();
   EXPECT_EQ(engine_->activeMissions(), 0u);
+}
+
+// A mission flown 20 s, and spheres of 250 m put on its trajectory `ahead_s` seconds later.
+class EngineLoadTest : public EngineTest {
+ protected:
+  TrajectoryData flyFor20S() {
+    EXPECT_FALSE(engine_->submit(diagonalRequest("load")).has_value());
+    EXPECT_TRUE(engine_->planNext());
+    EXPECT_EQ(sink_.trajectories.size(), 1u);
+    clock_.advance(20.0);
+    return sink_.trajectories.front();
+  }
+  ObstacleUpdateData sphereAhead(const TrajectoryData& t, std::uint64_t id, double ahead_s) const {
+    ObstacleUpdateData u;
+    u.obstacle.id = id;
+    u.obstacle.shape = ObstacleShape::kSphere;
+    u.obstacle.size_m = Eigen::Vector3d::Constant(250.0);
+    u.obstacle.center_m = t.samples[static_cast<std::size_t>((20.0 + ahead_s) / 0.05)].position_enu_m;
+    u.valid_from_utc_ns = clock_.now_ns;
+    return u;
+  }
+};
+
+TEST_F(EngineLoadTest, UpdatesForOneVehicleWithinOneCycleAreOneReplanAndTheLogCountsThem) {
+  const TrajectoryData first = flyFor20S();
+  auto log = std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(64);
+  log->set_pattern("%v");
+  auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>("engine_load_test", log));
+  for (std::uint64_t id = 1; id <= 5; ++id) ASSERT_FALSE(engine_->updateObstacle(sphereAhead(first, id, 26.0 + id)));
+  const std::size_t published = engine_->replanCycle();
+  spdlog::set_default_logger(previous);
+  EXPECT_EQ(published, 1u);
+  EXPECT_EQ(engine_->replans(), 1u);
+  ASSERT_EQ(sink_.trajectories.size(), 2u);
+  EXPECT_EQ(sink_.trajectories.back().revision, 1u);
+  const std::vector<std::string> lines = log->last_formatted();
+  EXPECT_EQ(std::count_if(lines.begin(), lines.end(),
+                          [](const std::string& l) { return l.find("event=replanned") != std::string::npos; }),
+            1);
+  EXPECT_TRUE(std::any_of(lines.begin(), lines.end(), [](const std::string& l) {
+    return l.find("event=replanned") != std::string::npos && l.find("updates_coalesced=5") != std::string::npos;
+  })) << (lines.empty() ? "" : lines.back());
+}
+
+TEST_F(EngineLoadTest, AReplanThatFindsNothingIsAnsweredOncePerChangeAndTheRevisionStays) {
+  const TrajectoryData first = flyFor20S();
+  clock_.advance(first.samples.back().t_rel_s - 20.0 - 30.0);  // the goal 30 s ahead
+  // The goal inside an obstacle: no replan can help.
+  ObstacleUpdateData over_goal = sphereAhead(first, 9, 0.0);
+  over_goal.valid_from_utc_ns = clock_.now_ns;
+  over_goal.obstacle.center_m = first.samples.back().position_enu_m;
+  over_goal.obstacle.size_m = Eigen::Vector3d::Constant(400.0);
+  ASSERT_FALSE(engine_->updateObstacle(over_goal));
+  const std::size_t statuses_before = sink_.statuses.size();
+  for (int cycle = 0; cycle < 3; ++cycle) {
+    EXPECT_EQ(engine_->replanCycle(), 0u);
+    clock_.advance(0.1);
+  }
+  ASSERT_EQ(sink_.statuses.size(), statuses_before + 1) << "one answer for one change, not one per cycle";
+  const PlanStatusData& answer = sink_.statuses.back();
+  EXPECT_EQ(answer.state, PlanState::kReplanned);
+  EXPECT_FALSE(isTerminal(answer.state));
+  EXPECT_NE(answer.error_code, PlanErrorCode::kNone);
+  EXPECT_EQ(answer.stage, PlanStage::kReplan);
+  EXPECT_NE(answer.message.find("revision 0 stays in force"), std::string::npos) << answer.message;
+  EXPECT_EQ(sink_.trajectories.size(), 1u);
+  // A new change is answered again.
+  over_goal.valid_from_utc_ns = clock_.now_ns;
+  ASSERT_FALSE(engine_->updateObstacle(over_goal));
+  engine_->replanCycle();
+  EXPECT_EQ(sink_.statuses.size(), statuses_before + 2);
+}
+
+TEST_F(EngineLoadTest, AnObstacleUpdateBackInTimeAndOneObstacleTooManyAreRefusedByField) {
+  EngineOptions options = engine_->options();
+  options.obstacles.max_obstacles = 2;
+  ASSERT_TRUE(engine_->setOptions(options).ok());
+  const TrajectoryData first = flyFor20S();
+  ObstacleUpdateData a = sphereAhead(first, 1, 30.0);
+  ASSERT_FALSE(engine_->updateObstacle(a));
+  ObstacleUpdateData older = a;
+  older.valid_from_utc_ns -= 1'000'000'000;
+  const auto back = engine_->updateObstacle(older);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->field, "valid_from_utc_ns");
+  EXPECT_EQ(world_->validFromOf(1), a.valid_from_utc_ns) << "the update in force stays";
+  ASSERT_FALSE(engine_->updateObstacle(sphereAhead(first, 2, 35.0)));
+  const auto third = engine_->updateObstacle(sphereAhead(first, 3, 40.0));
+  ASSERT_TRUE(third.has_value());
+  EXPECT_EQ(third->field, "obstacle_id");
+  EXPECT_EQ(third->code, PlanErrorCode::kLimitsOutOfRange);
+  EXPECT_EQ(world_->obstacleCount(), 2u);
+  // Known ids still move, and a removal makes room.
+  a.valid_from_utc_ns += 1'000'000'000;
+  EXPECT_FALSE(engine_->updateObstacle(a));
+  ObstacleUpdateData gone;
+  gone.obstacle.id = 2;
+  gone.remove = true;
+  EXPECT_FALSE(engine_->updateObstacle(gone));
+  EXPECT_FALSE(engine_->updateObstacle(sphereAhead(first, 3, 40.0)));
 }
 
 TEST_F(EngineTest, ExpiredObstacleIsDropped) {
