@@ -15,7 +15,7 @@ namespace {
 class SoakE2E : public testing::DaemonFixture {};
 
 TEST_F(SoakE2E, TwoMinutesOfTwentyVehiclesAndTenUpdatesASecondLoseNothingAndHoldMemory) {
-  constexpr int kDomain = 142;
+  constexpr int kDomain = 125;
   startDaemon(kDomain);
   const testing::SoakSummary soak = testing::runSoak(*station_, daemon_, *terrain_, 2.0, 30.0);
 

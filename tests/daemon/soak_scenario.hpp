@@ -118,6 +118,7 @@ class Soak {
         if (t.revision > it->second + 1) superseded_ += static_cast<int>(t.revision - it->second - 1);
         it->second = std::max(it->second, t.revision);
       }
+      if (!ours(t.vehicle_id)) continue;  // another station's vehicle on the same domain
       if (t.revision == 0) waiting_[index(t.vehicle_id)] = false;
       answer(w, t.vehicle_id, station_.trajectory_times[traj_seen_], [&](const Pending& p) {
         return t.plan_id != p.plan_id || t.revision > p.revision;
@@ -125,7 +126,8 @@ class Soak {
     }
     for (; status_seen_ < station_.status_log.size(); ++status_seen_) {
       const PlanStatusData& s = station_.status_log[status_seen_];
-      if (isTerminal(s.state) && s.state != PlanState::kSucceeded && s.vehicle_id.rfind("uav-", 0) == 0) {
+      if (!ours(s.vehicle_id)) continue;
+      if (isTerminal(s.state) && s.state != PlanState::kSucceeded) {
         waiting_[index(s.vehicle_id)] = false;  // refused or failed: asked again when due
       }
       if (s.state == PlanState::kReplanned && s.error_code == PlanErrorCode::kNone) {
@@ -178,6 +180,13 @@ class Soak {
 
   static std::string name(int v) { return "uav-" + std::to_string(v); }
   static int index(const std::string& vehicle) { return std::stoi(vehicle.substr(4)); }
+  static bool ours(const std::string& vehicle) {
+    if (vehicle.size() < 5 || vehicle.size() > 6 || vehicle.rfind("uav-", 0) != 0) return false;
+    for (std::size_t i = 4; i < vehicle.size(); ++i) {
+      if (vehicle[i] < '0' || vehicle[i] > '9') return false;
+    }
+    return index(vehicle) < kVehicles;
+  }
   void ask(int v) {
     asked_.push_back("soak-" + std::to_string(asked_.size()));
     waiting_[v] = true;
