@@ -43,10 +43,10 @@ bool soakTable(testing::Station& station, testing::ChildProcess& daemon, const H
                     static_cast<double>(window.rss_max_kb) / 1024.0, window.heartbeat_gap_s);
         std::fflush(stdout);
       });
-  std::printf("updates missing an answer: %d (the drain's count in the last window); revisions announced %zu, lost %d, "
+  std::printf("updates missing an answer: %d (the drain's count in the last window); revisions published %zu, lost %d, "
               "superseded before the station read them %d; requests %zu, without a terminal status %zu; RSS growth "
               "first -> last window %.2f %%; longest heartbeat gap %.2f s; daemon %s\n",
-              soak.missing(), soak.revisions_announced, soak.revisions_lost, soak.revisions_superseded, soak.requests,
+              soak.missing(), soak.revisions_published, soak.revisions_lost, soak.revisions_superseded, soak.requests,
               soak.requests_unanswered, 100.0 * soak.rssGrowth(), soak.longestHeartbeatGapS(),
               soak.daemon_running ? "running" : "EXITED");
   return soak.missing() == 0 && soak.revisions_lost == 0 && soak.requests_unanswered == 0 && soak.rssGrowth() < 0.05 &&

@@ -31,11 +31,11 @@ TEST_F(SoakE2E, TwoMinutesOfTwentyVehiclesAndTenUpdatesASecondLoseNothingAndHold
   // The load was real: updates met vehicles and were answered in every window.
   for (const testing::SoakWindow& w : soak.windows) EXPECT_GT(w.answer_ms.size(), 0u);
   EXPECT_GT(answered, 100u);
-  EXPECT_GT(soak.revisions_announced, 0u);
+  EXPECT_GT(soak.revisions_published, 0u);
   // Nothing lost: every update that met a vehicle answered within 5 s, the newest revision of
   // every plan at the station, every request ended.
   EXPECT_EQ(soak.missing(), 0);
-  EXPECT_EQ(soak.revisions_lost, 0) << soak.revisions_announced << " revisions announced";
+  EXPECT_EQ(soak.revisions_lost, 0) << soak.revisions_published << " revisions published";
   EXPECT_EQ(soak.requests_unanswered, 0u) << soak.requests << " requests";
   // Memory held after the first window, and no thread stalled (heartbeat period 1 s).
   EXPECT_LT(soak.rssGrowth(), 0.05) << "RSS " << soak.windows.front().rss_max_kb << " -> "

@@ -9,12 +9,11 @@
 // tests/daemon/obstacle_reach.hpp), answers missing after 5 s, and the longest gap between
 // heartbeats. Over the run: revisions lost and requests without a terminal status.
 //
-// A revision is lost when the daemon announced it (a `replanned` status without an error: the
-// status topic is reliable and keep-all, so every announcement arrives) but the trajectory in
-// force at the ground station at the end is older than the newest one announced for its plan.
-// The trajectory topic keeps the last revision per vehicle by design, so a revision replaced
-// before the station read it is superseded, not lost: the newest always arrives. Those are
-// counted apart as `superseded`.
+// A revision is lost when the daemon published it (its log line `event=replanned` or
+// `event=replan_hold` names the plan and the revision) but the trajectory in force at the ground
+// station at the end is older than the newest one published for its plan. The trajectory topic
+// keeps the last revision per vehicle by design, so a revision replaced before the station read
+// it is superseded, not lost: the newest always arrives. Those are counted apart as `superseded`.
 #pragma once
 
 #include <algorithm>
@@ -23,6 +22,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -44,7 +44,7 @@ struct SoakSummary {
   std::vector<SoakWindow> windows;
   int revisions_lost = 0;
   int revisions_superseded = 0;
-  std::size_t revisions_announced = 0;
+  std::size_t revisions_published = 0;  // replans and holds, from the daemon's log
   std::size_t requests = 0;
   std::size_t requests_unanswered = 0;  // no terminal status by the end
   bool daemon_running = true;
@@ -130,10 +130,6 @@ class Soak {
       if (isTerminal(s.state) && s.state != PlanState::kSucceeded) {
         waiting_[index(s.vehicle_id)] = false;  // refused or failed: asked again when due
       }
-      if (s.state == PlanState::kReplanned && s.error_code == PlanErrorCode::kNone) {
-        ++announced_[s.request_id];
-        ++announced_total_;
-      }
       if (s.state == PlanState::kReplanned && s.error_code != PlanErrorCode::kNone) {
         answer(w, s.vehicle_id, Clock::now(), [](const Pending&) { return true; });
       }
@@ -149,20 +145,32 @@ class Soak {
       }
     }
   }
-  // Revisions announced for the plan in force at each vehicle but newer than its trajectory there.
-  int lostRevisions() const {
+  // Revisions the daemon's log says it published for the plan in force at each vehicle but newer
+  // than the trajectory there; `published` counts them all.
+  int lostRevisions(const std::string& daemon_log, std::size_t* published) const {
+    std::map<std::string, std::uint32_t> newest;  // plan id -> highest revision published
+    std::size_t count = 0;
+    std::istringstream lines(daemon_log);
+    for (std::string l; std::getline(lines, l);) {
+      if (l.find("event=replanned ") == std::string::npos && l.find("event=replan_hold ") == std::string::npos) continue;
+      const std::size_t plan = l.find(" plan="), revision = l.find(" revision=");
+      if (plan == std::string::npos || revision == std::string::npos) continue;
+      const std::string plan_id = l.substr(plan + 6, l.find(' ', plan + 6) - (plan + 6));
+      std::uint32_t& n = newest[plan_id];
+      n = std::max(n, static_cast<std::uint32_t>(std::stoul(l.substr(revision + 10))));
+      ++count;
+    }
+    if (published) *published = count;
     int lost = 0;
     for (int v = 0; v < kVehicles; ++v) {
       const TrajectoryData* t = station_.latest(name(v));
       if (!t) continue;
-      const auto announced = announced_.find(t->request_id);
-      const std::uint32_t newest = announced == announced_.end() ? 0u : static_cast<std::uint32_t>(announced->second);
-      if (newest > t->revision) lost += static_cast<int>(newest - t->revision);
+      const auto found = newest.find(t->plan_id);
+      if (found != newest.end() && found->second > t->revision) lost += static_cast<int>(found->second - t->revision);
     }
     return lost;
   }
   int superseded() const { return superseded_; }
-  std::size_t announced() const { return announced_total_; }
   std::size_t requests() const { return asked_.size(); }
   std::size_t unansweredRequests() const {
     std::size_t n = 0;
@@ -226,8 +234,6 @@ class Soak {
   const Heightfield& terrain_;
   std::vector<Pending> pending_;
   std::map<std::string, std::uint32_t> received_;  // request id -> highest revision received
-  std::map<std::string, std::size_t> announced_;   // request id -> revisions announced by status
-  std::size_t announced_total_ = 0;
   std::map<int, bool> waiting_;                    // vehicle asked again, no trajectory yet
   std::vector<std::string> asked_;
   std::size_t traj_seen_ = 0, status_seen_ = 0;
@@ -278,9 +284,8 @@ inline SoakSummary runSoak(Station& station, ChildProcess& daemon, const Heightf
     last.answer_ms.insert(last.answer_ms.end(), drain.answer_ms.begin(), drain.answer_ms.end());
     last.missing += drain.missing;
   }
-  summary.revisions_lost = soak.lostRevisions();
+  summary.revisions_lost = soak.lostRevisions(daemon.err(), &summary.revisions_published);
   summary.revisions_superseded = soak.superseded();
-  summary.revisions_announced = soak.announced();
   summary.requests = soak.requests();
   summary.requests_unanswered = soak.unansweredRequests();
   summary.daemon_running = daemon.running();
