@@ -616,6 +616,7 @@ constexpr double kHoldRoomM = 30.0;
 }  // namespace
 
 bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict_s) {
+  const auto hold_started = std::chrono::steady_clock::now();
   const Trajectory& current = route_.built.trajectory;
   const double from_s = std::max(now_s, start_world_s_);
   // The latest stop that stays clear: try stopping later first (more of the current trajectory
@@ -638,8 +639,10 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
     stops.emplace_back(stop_s, 0.9);
   }
   bool gentle_clear = false;
+  int tried = 0;
   for (const auto& [stop_s, brake_share] : stops) {
     if (brake_share > 0.5 && gentle_clear) continue;
+    ++tried;
     StopOptions stop_options;
     stop_options.brake_accel_share = brake_share;
     const std::optional<Segment> stopping = stopSegment(stateAt(stop_s), limits_, stop_options);
@@ -660,7 +663,8 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
     }
     segments.push_back(rest);
     Trajectory hold(std::move(segments));
-    const double conflict = firstConflictS(hold, from_s, now_s, options_.horizon_s);
+    // Up to the stop it is the current trajectory, clear until conflict_s: checked from there.
+    const double conflict = firstConflictS(hold, from_s, stop_s, now_s + options_.horizon_s - stop_s);
     gentle_clear = brake_share <= 0.5 && std::isinf(conflict);
     // Among clear stops, the latest with room to spare where it comes to rest, else the one with
     // the most room (the latest clear stop tends to end as close as the check allows).
@@ -700,7 +704,9 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
   waypoint_times_world_s_ = {from_s};
   start_world_s_ = from_s;
   holding_ = true;
-  spdlog::debug("event=replan_hold stop_in_s={:.1f} conflict_in_s={:.1f}", best_stop_s - now_s, best_conflict - now_s);
+  spdlog::debug("event=replan_hold stop_in_s={:.1f} conflict_in_s={:.1f} room_m={:.0f} stops_tried={} ms={:.1f}",
+                best_stop_s - now_s, best_conflict - now_s, best_room_m, tried,
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - hold_started).count());
   return true;
 }
 
