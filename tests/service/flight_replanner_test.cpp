@@ -368,5 +368,24 @@ TEST(FlightReplanner, NoPlanMakesAHoldThatKeepsTheTrajectoryThenStopsClear) {
   EXPECT_LT((r.stateAt(r.arrivalWorldS()).position_m - route.points.back()).norm(), 1e-3);
 }
 
+// Bad replanning options are refused by name before any planning.
+TEST(FlightReplanner, BadCommitAndHoldOptionsAreRefusedByName) {
+  const std::pair<const char*, void (*)(ReplanOptions&)> cases[] = {
+      {"max_commit_s", [](ReplanOptions& o) { o.max_commit_s = -1.0; }},
+      {"max_commit_s", [](ReplanOptions& o) { o.max_commit_s = std::numeric_limits<double>::infinity(); }},
+      {"calm_accel_share", [](ReplanOptions& o) { o.calm_jerk_mps3 = 0.0; }},
+      {"replan_accel_fraction", [](ReplanOptions& o) { o.replan_accel_fraction = 1.5; }},
+  };
+  for (const auto& [field, spoil] : cases) {
+    ReplanOptions options = scenarioReplanOptions();
+    spoil(options);
+    auto r = FlightReplanner::start(nullptr, {Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX()}, scenarioLimits(),
+                                    options, 0.0);
+    ASSERT_FALSE(r.ok()) << field;
+    EXPECT_EQ(r.error().code, ErrorCode::kInvalidArgument) << field;
+    EXPECT_EQ(r.error().field, field);
+  }
+}
+
 }  // namespace
 }  // namespace skyroute
