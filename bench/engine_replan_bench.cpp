@@ -4,12 +4,18 @@
 // message built) and the difference to e2e_latency_bench is the DDS and scheduling share.
 // A cycle that makes no revision is followed by the next one t_ref later, as in the daemon; its
 // wait counts in the latency.
-// Usage: engine_replan_bench [--rounds N] [--verbose] [--debug] [--case embedded|n44|both] [--no-local] [--no-retime] [--no-band]
+// An update is answered by a new revision: a replanned trajectory, or a hold (the trajectory kept
+// as far as it is clear, then a stop; status holding) when no plan is found in the cycle. Between
+// updates the flown part of the answer is checked against the obstacle in force (every sample,
+// the world's own distance): collisions and the smallest separation are reported.
+// Usage: engine_replan_bench [--rounds N] [--verbose] [--debug] [--case embedded|n44|both] [--no-local] [--no-retime]
+//                            [--no-band] [--no-commit] [--no-hold]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -44,6 +50,9 @@ struct Outcome {
   std::vector<double> latency_ms;
   std::vector<int> cycles;
   int misses = 0;
+  int holds = 0;       // answered by a hold
+  int collisions = 0;  // flown samples inside the obstacle (grown by the vehicle radius)
+  double min_separation_m = std::numeric_limits<double>::infinity();
 };
 
 struct Switches {
@@ -51,6 +60,8 @@ struct Switches {
   bool local = true;
   bool retime = true;
   bool band = true;
+  bool commit = true;
+  bool hold = true;
 };
 
 Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData& mission, int rounds,
@@ -65,6 +76,8 @@ Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData
   options.pipeline.replan.local_repair = switches.local;
   options.pipeline.replan.local_retime = switches.retime;
   if (!switches.band) options.pipeline.replan.band_slow_factor = 0.0;
+  if (!switches.commit) options.pipeline.replan.max_commit_s = 0.0;
+  options.pipeline.replan.hold_fallback = switches.hold;
   auto engine = Engine::create(*model, options, sink, [&] { return clock.now_ns; });
   if (!engine.ok()) return out;
   (*engine)->submit(mission);
@@ -100,6 +113,8 @@ Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData
     previous_id = update.obstacle.id;
     const auto t0 = Clock::now();
     (*engine)->updateObstacle(update);
+    // The world with this obstacle, for the collision check after the answer (outside the timing).
+    Result<std::shared_ptr<const CollisionWorld>> collision_world = make_error(ErrorCode::kInternal, "world", "not made");
     int cycles = 0;
     double waited_ms = 0.0;
     while (sink.latest.revision == revision && cycles < 50) {
@@ -111,13 +126,30 @@ Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData
       ++cycles;
     }
     const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() + waited_ms;
+    collision_world = (*model)->worldFor(mission.limits.min_clearance_agl_m, mission.limits.ceiling_amsl_m);
+    const bool hold = sink.last_status.state == PlanState::kHolding;
     if (sink.latest.revision == revision) {
       ++out.misses;
       if (verbose) std::printf("update %d: no revision in %d cycles\n", u, cycles);
     } else {
       out.latency_ms.push_back(ms);
       out.cycles.push_back(cycles);
-      if (verbose) std::printf("update %d: %.1f ms, %d cycle(s)\n", u, ms, cycles);
+      out.holds += hold ? 1 : 0;
+      if (verbose) std::printf("update %d: %.1f ms, %d cycle(s)%s\n", u, ms, cycles, hold ? " (hold)" : "");
+    }
+    // The next 2 s are flown on the answer (or the revision kept): the vehicle sphere never touches the obstacle.
+    if (collision_world.ok()) {
+      const std::int64_t until_ns = clock.now_ns + 2'000'000'000LL;
+      for (const TrajectorySampleData& s : sink.latest.samples) {
+        if (s.utc_ns < clock.now_ns || s.utc_ns > until_ns) continue;
+        const double d = (*collision_world)->obstacleDistance(s.position_enu_m, static_cast<double>(s.utc_ns) * 1e-9);
+        out.min_separation_m = std::min(out.min_separation_m, d);
+        if (d <= 0.0) {  // the vehicle sphere touches it
+          ++out.collisions;
+          if (verbose) std::printf("update %d: collision at %.2f s\n", u, static_cast<double>(s.utc_ns - clock.now_ns) * 1e-9);
+          break;
+        }
+      }
     }
     clock.advance(2.0);
   }
@@ -126,15 +158,15 @@ Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData
 
 void row(const char* what, const Outcome& o) {
   if (o.latency_ms.empty()) {
-    std::printf("| %-44s | 0 | - | - | - | - | %d |\n", what, o.misses);
+    std::printf("| %-44s | 0 | - | - | - | - | - | %d | %d | - |\n", what, o.misses, o.collisions);
     return;
   }
   std::vector<double> v = o.latency_ms;
   std::sort(v.begin(), v.end());
   auto q = [&](double f) { return v[std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(f * v.size())) - 1)]; };
   const int multi = static_cast<int>(std::count_if(o.cycles.begin(), o.cycles.end(), [](int c) { return c > 1; }));
-  std::printf("| %-44s | %zu | %.1f | %.1f | %.1f | %d | %d |\n", what, v.size(), q(0.5), q(0.9), q(0.99), multi,
-              o.misses);
+  std::printf("| %-44s | %zu | %.1f | %.1f | %.1f | %d | %d | %d | %d | %.0f |\n", what, v.size(), q(0.5), q(0.9),
+              q(0.99), multi, o.holds, o.misses, o.collisions, o.min_separation_m);
 }
 
 }  // namespace
@@ -142,7 +174,7 @@ void row(const char* what, const Outcome& o) {
 int main(int argc, char** argv) {
   int rounds = 20;
   bool verbose = false;
-  bool retime = true, local = true, band = true;
+  bool retime = true, local = true, band = true, commit = true, hold = true;
   std::string only = "both";  // embedded | n44 | both
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) rounds = std::atoi(argv[++i]);
@@ -150,14 +182,17 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--no-retime") == 0) retime = false;
     if (std::strcmp(argv[i], "--no-local") == 0) local = false;
     if (std::strcmp(argv[i], "--no-band") == 0) band = false;
+    if (std::strcmp(argv[i], "--no-commit") == 0) commit = false;
+    if (std::strcmp(argv[i], "--no-hold") == 0) hold = false;
     if (std::strcmp(argv[i], "--case") == 0 && i + 1 < argc) only = argv[++i];
     if (std::strcmp(argv[i], "--debug") == 0) spdlog::set_level(spdlog::level::debug);
   }
-  const Switches switches{verbose, local, retime, band};
+  const Switches switches{verbose, local, retime, band, commit, hold};
   CollisionWorldOptions options;
   options.build_octree = false;
-  std::printf("| case | samples | p50 ms | p90 ms | p99 ms | updates needing > 1 cycle | no revision |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("| case | answered | p50 ms | p90 ms | p99 ms | updates needing > 1 cycle | answered by a hold | no revision "
+              "| collisions | min separation m |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
 
   const std::string dem = std::string(SKYROUTE_DATA_DIR) + "/default_terrain.tif";
   std::shared_ptr<const Heightfield> terrain = loadTerrainWorld(dem, options).value().heightfield;

@@ -14,7 +14,7 @@
 // the scenario's corridor is wider (the obstacles are kilometres across).
 //
 // Usage: replan_bench [--seeds N] [--first-seed S] [--config NAME] [--budget-ms MS]
-//                     [--replan-iterations N]
+//                     [--replan-iterations N] [--max-commit-s S] [--replan-accel-fraction F]
 // (NAME: deadline | no-deadline | both; MS: replan_budget_ms, default the pipeline's; N: RRT*
 // iterations per leg when replanning, default the pipeline's, 0 = the first plan's)
 // "deadline" is the pipeline's defaults (a wall-clock budget per replan); "no deadline" sets
@@ -75,7 +75,13 @@ struct Config {
   ReplanOptions options;
 };
 
-ReplanOptions scenarioOptions(bool deadline, double budget_ms, long replan_iterations) {
+// Overrides of the pipeline's replanning options from the command line (< 0: the pipeline's).
+struct ReplanOverrides {
+  double max_commit_s = -1.0;
+  double replan_accel_fraction = -1.0;
+};
+
+ReplanOptions scenarioOptions(bool deadline, double budget_ms, long replan_iterations, const ReplanOverrides& overrides) {
   // The daemon's options for a plan (the seed is set per run), with the scenario's corridor.
   const PipelineOptions pipeline;
   ReplanOptions options = pipelineReplanOptions(pipeline, pipeline.budget, pipeline.seed);
@@ -83,6 +89,8 @@ ReplanOptions scenarioOptions(bool deadline, double budget_ms, long replan_itera
   if (budget_ms > 0.0) options.replan_budget_ms = budget_ms;
   if (!deadline) options.replan_budget_ms = 0.0;
   if (replan_iterations >= 0) options.replan_leg_max_iterations = static_cast<std::uint64_t>(replan_iterations);
+  if (overrides.max_commit_s >= 0.0) options.max_commit_s = overrides.max_commit_s;
+  if (overrides.replan_accel_fraction > 0.0) options.replan_accel_fraction = overrides.replan_accel_fraction;
   return options;
 }
 
@@ -94,6 +102,7 @@ int main(int argc, char** argv) {
   std::string which = "both";
   double budget_ms = 0.0;         // 0: the pipeline's default
   long replan_iterations = -1;    // < 0: the pipeline's default
+  ReplanOverrides overrides;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--seeds") seeds = std::atoi(argv[i + 1]);
@@ -101,6 +110,8 @@ int main(int argc, char** argv) {
     else if (a == "--config") which = argv[i + 1];
     else if (a == "--budget-ms") budget_ms = std::atof(argv[i + 1]);
     else if (a == "--replan-iterations") replan_iterations = std::atol(argv[i + 1]);
+    else if (a == "--max-commit-s") overrides.max_commit_s = std::atof(argv[i + 1]);
+    else if (a == "--replan-accel-fraction") overrides.replan_accel_fraction = std::atof(argv[i + 1]);
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
@@ -123,8 +134,8 @@ int main(int argc, char** argv) {
   const LegPathPlanner first_legs = legPathPlanner(planner->kind, pipeline.grid_legs);
 
   std::vector<Config> configs;
-  if (which == "deadline" || which == "both") configs.push_back({"deadline", scenarioOptions(true, budget_ms, replan_iterations)});
-  if (which == "no-deadline" || which == "both") configs.push_back({"no deadline", scenarioOptions(false, budget_ms, replan_iterations)});
+  if (which == "deadline" || which == "both") configs.push_back({"deadline", scenarioOptions(true, budget_ms, replan_iterations, overrides)});
+  if (which == "no-deadline" || which == "both") configs.push_back({"no deadline", scenarioOptions(false, budget_ms, replan_iterations, overrides)});
   if (configs.empty()) {
     std::fprintf(stderr, "unknown config %s\n", which.c_str());
     return 2;

@@ -170,10 +170,14 @@ class Engine {
   void finish(const PlanStatusData& status);
   // The published form of a mission's current trajectory (the pipeline's sampling stage).
   TrajectoryData trajectoryOf(const Mission& mission) const;
-  // A replan that found nothing better, answered (once per change of the world) with a status
-  // that is not terminal: state replanned, the error, and the revision that stays in force.
+  // A replan that found nothing better and no hold either, answered (once per change of the
+  // world) with a status that is not terminal: state replanned (holding when a hold is in force),
+  // the error, and the revision that stays in force.
   void publishReplanFailure(const MissionRequestData& request, const Error& failure, std::uint32_t revision,
-                            double latency_ms, std::uint64_t coalesced);
+                            double latency_ms, std::uint64_t coalesced, bool holding);
+  // The hold just published as `revision` (ReplanStep::holding): a non-terminal holding status
+  // naming why no plan was found.
+  void publishHold(const MissionRequestData& request, const ReplanStep& step, std::uint32_t revision);
   void startWorkers(int count);  // under mutex_
   void workerLoop();
   void replanLoop();

@@ -1,8 +1,11 @@
 // The engine's threads: the planning workers that take queued requests, the replanning loop that
 // steps every active mission each cycle (t_ref, or at once after an obstacle update), and stop().
 // A cycle takes every world change since the last one together: one step, so at most one replan,
-// per vehicle however many updates arrived. A step that finds nothing better is answered with a
-// non-terminal replanned status (the error, the revision kept), once per change of the world.
+// per vehicle however many updates arrived. A step that finds nothing better puts the vehicle on
+// hold: a new revision that keeps the trajectory as far as it is clear, then stops, published with
+// a non-terminal holding status naming why. When not even a hold does better (or one is in force
+// already and still clear), the step is answered with a non-terminal status (the error, the
+// revision kept), once per change of the world.
 #include <algorithm>
 #include <chrono>
 #include <thread>
@@ -51,7 +54,18 @@ std::size_t Engine::replanCycle() {
     mission->changes_checked = changes;
     if (coalesced > 0) mission->failure_answered = false;
     const ReplanStep step = mission->plan.flight->step(now_s);
-    if (step.replanned) {
+    if (step.holding) {
+      mission->failure_answered = true;  // the hold is the answer to this change of the world
+      const TrajectoryData data = trajectoryOf(*mission);
+      sink_.publishTrajectory(data);
+      mission_lock.unlock();
+      ++published;
+      spdlog::info("event=replan_hold request={} vehicle={} plan={} revision={} latency_ms={:.1f} updates_coalesced={} "
+                   "reason=\"{}\"",
+                   mission->request.request_id, mission->request.vehicle_id, mission->plan_id, data.revision,
+                   step.latency_ms, coalesced, step.failure ? step.failure->describe() : std::string());
+      publishHold(mission->request, step, data.revision);
+    } else if (step.replanned) {
       mission->failure_answered = false;
       const TrajectoryData data = trajectoryOf(*mission);
       sink_.publishTrajectory(data);
@@ -65,9 +79,12 @@ std::size_t Engine::replanCycle() {
     } else if (step.failure) {
       const bool answer = !mission->failure_answered;
       mission->failure_answered = true;
-      const std::uint32_t revision = mission->plan.flight->revision();
+      const std::uint32_t revision = mission->revision_base + mission->plan.flight->revision();
+      const bool holding = mission->plan.flight->holding();
       mission_lock.unlock();
-      if (answer && !stopping_) publishReplanFailure(mission->request, *step.failure, revision, step.latency_ms, coalesced);
+      if (answer && !stopping_) {
+        publishReplanFailure(mission->request, *step.failure, revision, step.latency_ms, coalesced, holding);
+      }
       // A blocked vehicle fails every cycle (10 Hz) until the obstacle moves: one line per window.
       throttle_.warn("replan_failed:" + mission->request.vehicle_id + ":" + step.failure->field,
                      fmt::format("event=replan_failed request={} vehicle={} field={} message=\"{}\"",
@@ -81,15 +98,28 @@ std::size_t Engine::replanCycle() {
 }
 
 void Engine::publishReplanFailure(const MissionRequestData& request, const Error& failure, std::uint32_t revision,
-                                  double latency_ms, std::uint64_t coalesced) {
+                                  double latency_ms, std::uint64_t coalesced, bool holding) {
   // Not terminal: the mission goes on with the revision in force, and the next cycles try again.
   PlanError error = toPlanError(failure);
   error.stage = PlanStage::kReplan;
-  error.message = "no new revision: " + error.message + "; revision " + std::to_string(revision) + " stays in force";
+  error.message = "no new revision: " + error.message + "; revision " + std::to_string(revision) +
+                  (holding ? " (a hold) stays in force" : " stays in force");
   PlanStatusData s = PlanStatusData::failed(request, error, latency_ms * 1e-3);
-  s.state = PlanState::kReplanned;
+  s.state = holding ? PlanState::kHolding : PlanState::kReplanned;
   spdlog::info("event=replan_answered request={} vehicle={} revision={} code={} updates_coalesced={}", request.request_id,
                request.vehicle_id, revision, to_string(error.code), coalesced);
+  sink_.publishStatus(s);
+}
+
+void Engine::publishHold(const MissionRequestData& request, const ReplanStep& step, std::uint32_t revision) {
+  // Not terminal: the revision just published keeps the trajectory as far as it is clear, then
+  // stops and waits; the next cycles plan on from it. The error says why no plan was found.
+  PlanError error = step.failure ? toPlanError(*step.failure) : PlanError{PlanErrorCode::kUnreachable, "replan", ""};
+  error.stage = PlanStage::kReplan;
+  error.message = "holding: revision " + std::to_string(revision) +
+                  " keeps the trajectory as far as it is clear, then stops and waits; no new plan: " + error.message;
+  PlanStatusData s = PlanStatusData::failed(request, error, step.latency_ms * 1e-3);
+  s.state = PlanState::kHolding;
   sink_.publishStatus(s);
 }
 

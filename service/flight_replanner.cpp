@@ -8,19 +8,40 @@
 #include <Eigen/Geometry>
 #include <spdlog/spdlog.h>
 
+#include "trajectory/trajectory_splice.hpp"
+
 namespace skyroute {
 
-Result<std::unique_ptr<FlightReplanner>> FlightReplanner::start(std::shared_ptr<const CollisionWorld> world,
-                                                                std::vector<Eigen::Vector3d> points_m,
-                                                                const VehicleLimits& limits,
-                                                                const ReplanOptions& options, double start_world_s,
-                                                                const LegPathPlanner& first_legs) {
+namespace {
+
+Status validateReplanOptions(const ReplanOptions& options) {
   if (!(options.period_s > 0.0) || !(options.horizon_s > 0.0) || !(options.check_step_s > 0.0)) {
     return make_error(ErrorCode::kInvalidArgument, "replan", "period, horizon and check step must be positive");
   }
   if (!(options.replan_budget_ms >= 0.0)) {
     return make_error(ErrorCode::kInvalidArgument, "replan_budget_ms", "must be zero (none) or positive");
   }
+  if (!(options.max_commit_s >= 0.0) || !std::isfinite(options.max_commit_s)) {
+    return make_error(ErrorCode::kInvalidArgument, "max_commit_s", "must be zero (none) or positive and finite");
+  }
+  if (!(options.calm_accel_share >= 0.0) || !(options.calm_jerk_mps3 > 0.0)) {
+    return make_error(ErrorCode::kInvalidArgument, "calm_accel_share",
+                      "must be >= 0, and calm_jerk_mps3 positive");
+  }
+  if (!(options.replan_accel_fraction > 0.0 && options.replan_accel_fraction <= 1.0)) {
+    return make_error(ErrorCode::kInvalidArgument, "replan_accel_fraction", "must be in (0, 1]");
+  }
+  return Status::success();
+}
+
+}  // namespace
+
+Result<std::unique_ptr<FlightReplanner>> FlightReplanner::start(std::shared_ptr<const CollisionWorld> world,
+                                                                std::vector<Eigen::Vector3d> points_m,
+                                                                const VehicleLimits& limits,
+                                                                const ReplanOptions& options, double start_world_s,
+                                                                const LegPathPlanner& first_legs) {
+  if (Status s = validateReplanOptions(options); !s) return s.error();
   std::unique_ptr<FlightReplanner> r(new FlightReplanner());
   r->world_ = std::move(world);
   r->limits_ = limits;
@@ -39,9 +60,7 @@ Result<std::unique_ptr<FlightReplanner>> FlightReplanner::startWithRoute(std::sh
                                                                          const VehicleLimits& limits,
                                                                          const ReplanOptions& options,
                                                                          double start_world_s, PlannedRoute route) {
-  if (!(options.period_s > 0.0) || !(options.horizon_s > 0.0) || !(options.check_step_s > 0.0)) {
-    return make_error(ErrorCode::kInvalidArgument, "replan", "period, horizon and check step must be positive");
-  }
+  if (Status s = validateReplanOptions(options); !s) return s.error();
   if (route.legs.size() + 1 != points_m.size() || route.built.knots.empty()) {
     return make_error(ErrorCode::kInvalidArgument, "route", "must have one leg per pair of points and a trajectory");
   }
@@ -100,6 +119,8 @@ RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>&
   // The new curve continues the flown one up to the jerk, and a local stretch ends in the state
   // the current trajectory has where it joins it again.
   if (state) {
+    route.trajectory.time_allocation.accel_fraction =
+        std::min(route.trajectory.time_allocation.accel_fraction, options_.replan_accel_fraction);
     route.trajectory.boundary.start.velocity_mps = state->velocity_mps;
     route.trajectory.boundary.start.acceleration_mps2 = state->acceleration_mps2;
     route.trajectory.boundary.start.jerk_mps3 = state->jerk_mps3;
@@ -465,9 +486,11 @@ ReplanStep FlightReplanner::step(double now_s) {
   const auto started = std::chrono::steady_clock::now();
   if (finished(now_s)) return result;
   const double current_conflict = firstConflictS(route_.built.trajectory, start_world_s_, now_s, options_.horizon_s);
-  if (std::isinf(current_conflict)) return result;
-  result.conflict_ahead = true;
-  const double takeover_s = now_s + options_.reaction_delay_s;
+  // A hold is clear but does not reach the goal: plan on from it every cycle.
+  if (std::isinf(current_conflict) && !holding_) return result;
+  result.conflict_ahead = !std::isinf(current_conflict);
+  const double takeover_s = takeoverTime(now_s, current_conflict);
+  result.takeover_s = takeover_s;
   const TrajectoryState state = stateAt(takeover_s);
   std::vector<Eigen::Vector3d> points{state.position_m};
   for (const Eigen::Vector3d& p : remainingPoints(takeover_s)) {
@@ -483,7 +506,8 @@ ReplanStep FlightReplanner::step(double now_s) {
   if (options_.cancel) stop.withCancelFlag(options_.cancel);
   const std::vector<Eigen::Vector3d> ahead = waypointsAhead(state.position_m, takeover_s);
   Result<Candidate> best = make_error(ErrorCode::kInternal, "replan", "not run");
-  if (options_.local_repair) {
+  // A hold is no route to rejoin: plan the whole rest from it.
+  if (options_.local_repair && !holding_) {
     best = bestCandidate([&](int attempt) { return localPlan(points, takeover_s, current_conflict, attempt); },
                          takeover_s, &state, stop);
     result.local = best.ok() && best->conflict_s > current_conflict;
@@ -491,33 +515,199 @@ ReplanStep FlightReplanner::step(double now_s) {
   if (!result.local) {
     auto whole = [&](int attempt) {
       AttemptPlan plan = wholePlan(points, ahead, attempt);
-      plan.conflict_in_s = current_conflict - takeover_s;
+      plan.conflict_in_s = std::isinf(current_conflict) ? options_.window_s : current_conflict - takeover_s;
       return std::optional<AttemptPlan>(std::move(plan));
     };
     best = bestCandidate(whole, takeover_s, &state, stop);
-    if (!best.ok() && best.error().code == ErrorCode::kTimeout &&
+    // A hold is the answer within the cycle; once it is in force (or without holds), late beats
+    // never: plan on past the deadline until a first candidate, or the vehicle might wait at
+    // its hold for as long as the machine is too loaded to plan within the budget.
+    if ((!options_.hold_fallback || holding_) && !best.ok() && best.error().code == ErrorCode::kTimeout &&
         stop.reason() == TerminationCondition::Reason::kDeadline) {
       TerminationCondition cancel_only;
       if (options_.cancel) cancel_only.withCancelFlag(options_.cancel);
       best = bestCandidate(whole, takeover_s, &state, cancel_only, true);
     }
   }
-  result.latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  if (best.ok() && !(best->conflict_s > current_conflict || (holding_ && std::isinf(best->conflict_s)))) {
+    best = make_error(ErrorCode::kUnreachable, "replan",
+                      holding_ ? "no candidate is clear of the obstacles within the horizon"
+                               : "no candidate meets its first obstacle later than the current trajectory");
+  }
   if (!best.ok()) {
     result.failure = best.error();
     ++failed_cycles_;
+    if (options_.hold_fallback && !std::isinf(current_conflict) && best.error().code != ErrorCode::kCancelled &&
+        adoptHold(now_s, takeover_s, current_conflict)) {
+      ++revision_;
+      result.holding = true;
+    }
+    result.latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
     return result;
   }
-  if (!(best->conflict_s > current_conflict)) {
-    result.failure = make_error(ErrorCode::kUnreachable, "replan", "no candidate meets its first obstacle later than the current trajectory");
-    ++failed_cycles_;
-    return result;
-  }
-  adopt(std::move(best->route), std::move(best->points), takeover_s);
+  Candidate adopted = withKeptPart(std::move(best.value()), std::max(now_s, start_world_s_), takeover_s);
+  const double adopted_start_s = std::max(now_s, start_world_s_);
+  adopt(std::move(adopted.route), std::move(adopted.points), adopted_start_s);
+  holding_ = false;
   ++revision_;
   failed_cycles_ = 0;
   result.replanned = true;
+  result.latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   return result;
+}
+
+double FlightReplanner::takeoverTime(double now_s, double conflict_s) const {
+  const double earliest = now_s + options_.reaction_delay_s;
+  double latest = earliest + std::max(0.0, options_.max_commit_s);
+  // Never commit to much of the way to the obstacle: the new plan needs the room to turn away.
+  if (!std::isinf(conflict_s)) latest = std::min(latest, earliest + 0.25 * std::max(0.0, conflict_s - earliest));
+  latest = std::min(latest, arrivalWorldS());
+  constexpr double kStepS = 0.1;
+  double calmest_s = earliest;
+  double calmest = std::numeric_limits<double>::infinity();
+  for (double t = earliest; t <= latest + 1e-9; t += kStepS) {
+    const TrajectoryState s = stateAt(t);
+    // Turning is what a new curve cannot take over: speeding up or slowing down along the way
+    // is (the new path starts along the velocity as often as not).
+    const Eigen::Vector3d along = s.velocity_mps.norm() > 1e-6 ? s.velocity_mps.normalized() : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d lateral = s.acceleration_mps2 - s.acceleration_mps2.dot(along) * along;
+    const double accel_share = lateral.norm() / limits_.max_accel_mps2;
+    const double jerk_share = s.jerk_mps3.norm() / std::max(1e-9, options_.calm_jerk_mps3);
+    if (accel_share <= options_.calm_accel_share && jerk_share <= 1.0) return t;
+    const double score = accel_share / std::max(1e-9, options_.calm_accel_share) + jerk_share;
+    if (score < calmest) {
+      calmest = score;
+      calmest_s = t;
+    }
+  }
+  return calmest_s;
+}
+
+FlightReplanner::Candidate FlightReplanner::withKeptPart(Candidate c, double from_s, double takeover_s) const {
+  std::vector<Segment> kept = segmentsBetween(route_.built.trajectory, from_s - start_world_s_, takeover_s - start_world_s_);
+  if (kept.empty()) return c;
+  double kept_s = 0.0;
+  std::vector<Eigen::Vector3d> knots;
+  for (const Segment& s : kept) {
+    knots.push_back(s.evaluate(0.0, Derivative::kPosition));
+    kept_s += s.duration_s;
+  }
+  std::vector<Segment> segments = std::move(kept);
+  const std::vector<Segment>& planned = c.route.built.trajectory.segments();
+  segments.insert(segments.end(), planned.begin(), planned.end());
+  c.route.built.trajectory = Trajectory(std::move(segments));
+  c.route.built.knots.insert(c.route.built.knots.begin(), knots.begin(), knots.end());
+  c.route.waypoints_m.insert(c.route.waypoints_m.begin(), knots.front());
+  for (std::size_t i = 0; i < c.route.legs.size(); ++i) {
+    RouteLeg& leg = c.route.legs[i];
+    if (i > 0) leg.start_s += kept_s;
+    leg.end_s += kept_s;
+  }
+  if (!c.route.legs.empty()) c.route.legs.front().path_m.insert(c.route.legs.front().path_m.begin(), knots.front());
+  if (!c.points.empty()) c.points.front() = knots.front();
+  return c;
+}
+
+namespace {
+
+// Room a hold keeps from every obstacle where it comes to rest, when it can (m).
+constexpr double kHoldRoomM = 30.0;
+
+}  // namespace
+
+bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict_s) {
+  const auto hold_started = std::chrono::steady_clock::now();
+  const Trajectory& current = route_.built.trajectory;
+  const double from_s = std::max(now_s, start_world_s_);
+  // The latest stop that stays clear: try stopping later first (more of the current trajectory
+  // kept), then earlier, down to the takeover.
+  std::optional<Trajectory> best;
+  double best_conflict = conflict_s;
+  double best_stop_s = 0.0;
+  double best_room_m = -1.0;
+  std::vector<double> stop_times;
+  // At most 6 stop times (the hold is built within the cycle, after the plan's deadline).
+  const double step_s = std::max(1.0, (conflict_s - 2.0 - takeover_s) / 5.0);
+  for (double t = conflict_s - 2.0; t > takeover_s && stop_times.size() < 5; t -= step_s) stop_times.push_back(t);
+  stop_times.push_back(takeover_s);
+  int stops_infeasible = 0;
+  // Each stop time with a gentle stop first, then, when that meets an obstacle, with the hardest
+  // the limits allow.
+  std::vector<std::pair<double, double>> stops;  // (stop time, braking share of the limit)
+  for (double stop_s : stop_times) {
+    stops.emplace_back(stop_s, 0.5);
+    stops.emplace_back(stop_s, 0.9);
+  }
+  bool gentle_clear = false;
+  int tried = 0;
+  for (const auto& [stop_s, brake_share] : stops) {
+    if (brake_share > 0.5 && gentle_clear) continue;
+    ++tried;
+    StopOptions stop_options;
+    stop_options.brake_accel_share = brake_share;
+    const std::optional<Segment> stopping = stopSegment(stateAt(stop_s), limits_, stop_options);
+    if (!stopping) {
+      ++stops_infeasible;
+      continue;
+    }
+    std::vector<Segment> segments = segmentsBetween(current, from_s - start_world_s_, stop_s - start_world_s_);
+    segments.push_back(*stopping);
+    // At rest at the end, for the horizon: the conflict check sees who comes by.
+    Segment rest;
+    rest.duration_s = options_.horizon_s;
+    const Eigen::Vector3d end = stopping->evaluate(stopping->duration_s, Derivative::kPosition);
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      Polynomial7::Coefficients constant{};
+      constant[0] = end(static_cast<Eigen::Index>(axis));
+      rest.axes[axis] = Polynomial7(constant);
+    }
+    segments.push_back(rest);
+    Trajectory hold(std::move(segments));
+    // Up to the stop it is the current trajectory, clear until conflict_s: checked from there.
+    const double conflict = firstConflictS(hold, from_s, stop_s, now_s + options_.horizon_s - stop_s);
+    gentle_clear = brake_share <= 0.5 && std::isinf(conflict);
+    // Among clear stops, the latest with room to spare where it comes to rest, else the one with
+    // the most room (the latest clear stop tends to end as close as the check allows).
+    const double at_rest_s = from_s + hold.duration_s() - rest.duration_s;
+    const double room_m = std::isinf(conflict) ? world_->obstacleDistance(end, at_rest_s) : -1.0;
+    if (conflict > best_conflict || (std::isinf(conflict) && room_m > best_room_m)) {
+      best_conflict = conflict;
+      best = std::move(hold);
+      best_stop_s = stop_s;
+      best_room_m = room_m;
+      if (room_m >= kHoldRoomM) break;
+    }
+  }
+  if (!best) {
+    spdlog::debug("event=replan_no_hold stops_tried={} stops_infeasible={} conflict_in_s={:.1f}", stops.size(),
+                  stops_infeasible, conflict_s - now_s);
+    return false;
+  }
+  // The route points the kept part reaches keep their times; the others are not reached by the hold.
+  std::vector<Eigen::Vector3d> points{best->evaluate(0.0, Derivative::kPosition)};
+  std::vector<double> times{from_s};
+  for (std::size_t i = 1; i < points_.size(); ++i) {
+    if (point_times_world_s_[i] <= from_s && i + 1 < points_.size()) continue;  // passed already
+    points.push_back(points_[i]);
+    times.push_back(point_times_world_s_[i] <= best_stop_s ? point_times_world_s_[i]
+                                                           : std::numeric_limits<double>::infinity());
+  }
+  PlannedRoute route;
+  route.built.trajectory = std::move(*best);
+  for (const Segment& s : route.built.trajectory.segments()) route.built.knots.push_back(s.evaluate(0.0, Derivative::kPosition));
+  route.built.knots.push_back(route.built.trajectory.evaluate(route.built.trajectory.duration_s(), Derivative::kPosition));
+  route.built.report.status = TrajectoryStatus::kFeasible;
+  route.waypoints_m = {route.built.knots.front()};
+  route_ = std::move(route);
+  points_ = std::move(points);
+  point_times_world_s_ = std::move(times);
+  waypoint_times_world_s_ = {from_s};
+  start_world_s_ = from_s;
+  holding_ = true;
+  spdlog::debug("event=replan_hold stop_in_s={:.1f} conflict_in_s={:.1f} room_m={:.0f} stops_tried={} ms={:.1f}",
+                best_stop_s - now_s, best_conflict - now_s, best_room_m, tried,
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - hold_started).count());
+  return true;
 }
 
 }  // namespace skyroute

@@ -43,6 +43,7 @@ std::string_view to_string(PlanState state) {
     case PlanState::kFailed: return "failed";
     case PlanState::kCancelled: return "cancelled";
     case PlanState::kReplanned: return "replanned";
+    case PlanState::kHolding: return "holding";
   }
   return "unknown";
 }

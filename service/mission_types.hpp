@@ -93,7 +93,11 @@ struct TrajectoryData {
   std::vector<TrajectorySampleData> samples;
 };
 
-enum class PlanState { kAccepted, kPlanning, kSucceeded, kFailed, kCancelled, kReplanned };
+// kReplanned: a new revision of a flying mission's trajectory (or, with an error, a replan that
+// found nothing better; the revision named stays in force). kHolding: no new plan was found, so
+// the new revision keeps the trajectory as far as it is clear, then stops and waits at rest; the
+// mission goes on and replanning continues from the hold (docs/dds.md). Neither is terminal.
+enum class PlanState { kAccepted, kPlanning, kSucceeded, kFailed, kCancelled, kReplanned, kHolding };
 std::string_view to_string(PlanState state);
 bool isTerminal(PlanState state);  // succeeded, failed or cancelled
 

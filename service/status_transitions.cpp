@@ -3,7 +3,8 @@
 namespace skyroute {
 
 bool StatusTransitions::firstTime(const PlanStatusData& status) {
-  if (status.state == PlanState::kReplanned) return true;
+  // Replans and holds come again and again in one mission: each is news.
+  if (status.state == PlanState::kReplanned || status.state == PlanState::kHolding) return true;
   return seen_.emplace(status.vehicle_id, status.request_id, status.state).second;
 }
 

@@ -130,7 +130,7 @@ class Soak {
       if (isTerminal(s.state) && s.state != PlanState::kSucceeded) {
         waiting_[index(s.vehicle_id)] = false;  // refused or failed: asked again when due
       }
-      if (s.state == PlanState::kReplanned && s.error_code != PlanErrorCode::kNone) {
+      if ((s.state == PlanState::kReplanned || s.state == PlanState::kHolding) && s.error_code != PlanErrorCode::kNone) {
         answer(w, s.vehicle_id, Clock::now(), [](const Pending&) { return true; });
       }
     }

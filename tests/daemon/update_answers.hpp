@@ -56,7 +56,7 @@ inline UpdateAnswers writeAndAwaitAnswers(Station& station, const std::vector<st
     }
     for (std::size_t i = statuses_seen; i < station.status_log.size(); ++i) {
       const PlanStatusData& s = station.status_log[i];
-      if (revision.count(s.vehicle_id) && s.state == PlanState::kReplanned && s.error_code != PlanErrorCode::kNone &&
+      if (revision.count(s.vehicle_id) && (s.state == PlanState::kReplanned || s.state == PlanState::kHolding) && s.error_code != PlanErrorCode::kNone &&
           !out.answer_ms.count(s.vehicle_id)) {
         out.answer_ms[s.vehicle_id] = std::chrono::duration<double, std::milli>(now - t0).count();
         out.by_status[s.vehicle_id] = true;

@@ -122,6 +122,31 @@ TEST(DdsConversion, ObstacleErrorsNameTheField) {
   EXPECT_EQ(dds::fromWire(wire.msg(), 12345)->valid_from_utc_ns, 12345);
 }
 
+// The holding state (a hold published as a new revision) crosses the wire as itself; a state past
+// the last one is refused naming the field.
+TEST(DdsConversion, HoldingStatusCrossesTheWireAndUnknownStatesAreRefused) {
+  PlanStatusData hold;
+  hold.request_id = "r1";
+  hold.vehicle_id = "v1";
+  hold.state = PlanState::kHolding;
+  hold.error_code = PlanErrorCode::kUnreachable;
+  hold.stage = PlanStage::kReplan;
+  hold.message = "holding: revision 3 keeps the trajectory as far as it is clear, then stops and waits";
+  dds::WireSample<skyroute_msgs_PlanStatus> wire(&skyroute_msgs_PlanStatus_desc);
+  dds::toWire(hold, wire.msg());
+  EXPECT_EQ(wire.msg().state, skyroute_msgs_STATE_HOLDING);
+  auto back = dds::fromWire(wire.msg());
+  ASSERT_TRUE(back.ok()) << back.error().describe();
+  EXPECT_EQ(back->state, PlanState::kHolding);
+  EXPECT_EQ(back->message, hold.message);
+  EXPECT_EQ(to_string(PlanState::kHolding), "holding");
+  EXPECT_FALSE(isTerminal(PlanState::kHolding));
+  wire.msg().state = static_cast<skyroute_msgs_PlanState>(skyroute_msgs_STATE_HOLDING + 1);
+  auto bad = dds::fromWire(wire.msg());
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().field, "state");
+}
+
 TEST(MissionValidation, EachBadRequestGetsItsCodeAndField) {
   struct Case {
     PlanErrorCode code;

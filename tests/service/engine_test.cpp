@@ -81,6 +81,9 @@ class EngineTest : public testing::DefaultWorldTest {
     if (HasFatalFailure()) return;
     EngineOptions options;
     options.pipeline.sample_dt_s = 0.05;  // dense enough for the clearance check between samples
+    // Replans on iteration budgets: whether a cycle finds a plan or holds must not depend on how
+    // loaded the machine is (a wall-clock deadline missed makes a hold).
+    options.pipeline.replan.replan_budget_ms = 0.0;
     auto engine = Engine::create(world_, options, sink_, [this] { return clock_.now_ns; });
     ASSERT_TRUE(engine.ok()) << engine.error().describe();
     engine_ = std::move(*engine);
@@ -408,9 +411,15 @@ TEST_F(EngineLoadTest, UpdatesForOneVehicleWithinOneCycleAreOneReplanAndTheLogCo
   })) << (lines.empty() ? "" : lines.back());
 }
 
-TEST_F(EngineLoadTest, AReplanThatFindsNothingIsAnsweredOncePerChangeAndTheRevisionStays) {
+// No plan can help (the goal inside an obstacle): the vehicle holds. The hold is a new revision
+// with its own non-terminal status, published at once; it starts now on the flown curve, stops
+// short of the obstacle and waits at rest. The mission goes on (replanning from the hold), and
+// every later change is answered once with a holding status naming the revision in force.
+TEST_F(EngineLoadTest, AReplanThatFindsNothingHoldsAndIsAnsweredOncePerChange) {
   const TrajectoryData first = flyFor20S();
-  clock_.advance(first.samples.back().t_rel_s - 20.0 - 30.0);  // the goal 30 s ahead
+  // The goal about 45 s ahead (room to stop short of the obstacle round it), at a time on the
+  // first trajectory's sample grid.
+  clock_.advance(std::round((first.samples.back().t_rel_s - 20.0 - 45.0) / 0.05) * 0.05);
   // The goal inside an obstacle: no replan can help.
   ObstacleUpdateData over_goal = sphereAhead(first, 9, 0.0);
   over_goal.valid_from_utc_ns = clock_.now_ns;
@@ -418,23 +427,43 @@ TEST_F(EngineLoadTest, AReplanThatFindsNothingIsAnsweredOncePerChangeAndTheRevis
   over_goal.obstacle.size_m = Eigen::Vector3d::Constant(400.0);
   ASSERT_FALSE(engine_->updateObstacle(over_goal));
   const std::size_t statuses_before = sink_.statuses.size();
+  const std::int64_t seen_ns = clock_.now_ns;
+  EXPECT_EQ(engine_->replanCycle(), 1u);
   for (int cycle = 0; cycle < 3; ++cycle) {
-    EXPECT_EQ(engine_->replanCycle(), 0u);
     clock_.advance(0.1);
+    EXPECT_EQ(engine_->replanCycle(), 0u);
   }
   ASSERT_EQ(sink_.statuses.size(), statuses_before + 1) << "one answer for one change, not one per cycle";
   const PlanStatusData& answer = sink_.statuses.back();
-  EXPECT_EQ(answer.state, PlanState::kReplanned);
+  EXPECT_EQ(answer.state, PlanState::kHolding);
   EXPECT_FALSE(isTerminal(answer.state));
   EXPECT_NE(answer.error_code, PlanErrorCode::kNone);
   EXPECT_EQ(answer.stage, PlanStage::kReplan);
-  EXPECT_NE(answer.message.find("revision 0 stays in force"), std::string::npos) << answer.message;
-  EXPECT_EQ(sink_.trajectories.size(), 1u);
-  // A new change is answered again.
+  EXPECT_NE(answer.message.find("holding: revision 1"), std::string::npos) << answer.message;
+  ASSERT_EQ(sink_.trajectories.size(), 2u);
+  const TrajectoryData& hold = sink_.trajectories.back();
+  EXPECT_EQ(hold.revision, 1u);
+  EXPECT_EQ(hold.plan_id, first.plan_id);
+  // It starts at the cycle's time, where the first trajectory is then, at its velocity.
+  EXPECT_LT(std::abs(hold.samples.front().utc_ns - seen_ns), 1000);  // world seconds as a double: sub-us
+  const std::size_t k = static_cast<std::size_t>(std::llround(static_cast<double>(seen_ns - first.samples.front().utc_ns) * 1e-9 / 0.05));
+  ASSERT_LT(k, first.samples.size());
+  EXPECT_LT((hold.samples.front().position_enu_m - first.samples[k].position_enu_m).norm(), 1e-3);
+  EXPECT_LT((hold.samples.front().velocity_enu_mps - first.samples[k].velocity_enu_mps).norm(), 1e-3);
+  // It ends at rest, clear of the obstacle.
+  EXPECT_LT(hold.samples.back().velocity_enu_mps.norm(), 1e-6);
+  for (const auto& s : hold.samples)
+    ASSERT_GT((s.position_enu_m - over_goal.obstacle.center_m).norm(), 400.0 + WorldModelOptions{}.vehicle_radius_m);
+  EXPECT_EQ(engine_->activeMissions(), 1u);
+  // A new change is answered again, once, with the hold in force.
   over_goal.valid_from_utc_ns = clock_.now_ns;
   ASSERT_FALSE(engine_->updateObstacle(over_goal));
   engine_->replanCycle();
-  EXPECT_EQ(sink_.statuses.size(), statuses_before + 2);
+  ASSERT_EQ(sink_.statuses.size(), statuses_before + 2);
+  EXPECT_EQ(sink_.statuses.back().state, PlanState::kHolding);
+  EXPECT_NE(sink_.statuses.back().message.find("revision 1 (a hold) stays in force"), std::string::npos)
+      << sink_.statuses.back().message;
+  EXPECT_EQ(sink_.trajectories.size(), 2u);
 }
 
 TEST_F(EngineLoadTest, AnObstacleUpdateBackInTimeAndOneObstacleTooManyAreRefusedByField) {

@@ -12,6 +12,7 @@
 #include "terrain/terrain_world.hpp"
 #include "tests/test_data.hpp"
 #include "trajectory/derivative.hpp"
+#include "trajectory/feasibility.hpp"
 
 namespace skyroute {
 namespace {
@@ -100,9 +101,10 @@ TEST(FlightReplanner, Seed003ScenarioReachesGoalWithoutCollision) {
     if (step.replanned) {
       ++replans;
       latencies.push_back(step.latency_ms);
-      // Continuity at the takeover: the new trajectory starts where the old one is then, at the same
-      // velocity and acceleration.
-      const double takeover = r.trajectoryStartWorldS();
+      // The new trajectory starts by now (no gap), and at the takeover it is where the old one is
+      // then, at the same velocity, acceleration and jerk.
+      EXPECT_LE(r.trajectoryStartWorldS(), t + 1e-9);
+      const double takeover = step.takeover_s;
       const TrajectoryState old_state = before.stateAt(takeover - before_start);
       const TrajectoryState new_state = r.stateAt(takeover);
       EXPECT_LT((old_state.position_m - new_state.position_m).norm(), 1e-6);
@@ -191,7 +193,8 @@ TEST(FlightReplanner, LocalRepairKeepsTheRestOfTheTrajectory) {
   EXPECT_TRUE(r.clearAhead(now_s, options.horizon_s));
   const Trajectory& after = r.route().built.trajectory;
   expectContinuousToJerk(after, "new trajectory");
-  const double takeover_s = r.trajectoryStartWorldS();
+  EXPECT_LE(r.trajectoryStartWorldS(), now_s + 1e-9);
+  const double takeover_s = step.takeover_s;
   const TrajectoryState old_state = before.stateAt(takeover_s);
   const TrajectoryState new_state = r.stateAt(takeover_s);
   EXPECT_LT((old_state.position_m - new_state.position_m).norm(), 1e-6);
@@ -217,6 +220,170 @@ TEST(FlightReplanner, LocalRepairKeepsTheRestOfTheTrajectory) {
   // comes back later; later cycles see to that).
   for (double t = takeover_s; t < now_s + options.horizon_s; t += 0.01) {
     ASSERT_FALSE(crossing.contains(r.stateAt(t).position_m, t, world_options.vehicle_radius_m)) << t;
+  }
+}
+
+// The default terrain with a route that turns sharply at a mission point in its middle.
+struct TurningRoute {
+  std::shared_ptr<CollisionWorld> collision;
+  std::vector<Eigen::Vector3d> points;
+};
+
+TurningRoute turningRoute(const CollisionWorldOptions& world_options) {
+  auto world = loadTerrainWorld(testing::projectDataPath("default_terrain.tif"), world_options);
+  EXPECT_TRUE(world.ok()) << world.error().describe();
+  if (!world.ok()) return {};
+  const Heightfield& terrain = *world->heightfield;
+  const Eigen::AlignedBox2d box = terrain.boundsEn();
+  auto above = [&](double e, double n) { return Eigen::Vector3d(e, n, terrain.heightAt(e, n) + 300.0); };
+  const double w = box.sizes().x(), h = box.sizes().y();
+  return {world->collision,
+          {above(box.min().x() + 0.1 * w, box.min().y() + 0.2 * h), above(box.center().x(), box.min().y() + 0.2 * h),
+           above(box.center().x(), box.max().y() - 0.1 * h)}};
+}
+
+// A cylinder crossing `t` 1 km either side, meeting the vehicle at world time meet_s (it starts
+// moving at now_s).
+Obstacle crossingAt(const Trajectory& t, double meet_s, double now_s, std::uint64_t id) {
+  const Eigen::Vector3d p = t.evaluate(meet_s, Derivative::kPosition);
+  Eigen::Vector3d heading = t.evaluate(meet_s, Derivative::kVelocity);
+  heading.z() = 0.0;
+  heading.normalize();
+  const Eigen::Vector3d across(-heading.y(), heading.x(), 0.0);
+  Obstacle crossing;
+  crossing.id = id;
+  crossing.shape = ObstacleShape::kCylinder;
+  crossing.size_m = Eigen::Vector3d(150.0, 0.0, 250.0);
+  crossing.motion = BackAndForth{p - 1000.0 * across, p + 1000.0 * across, 1000.0 / (meet_s - now_s), now_s};
+  return crossing;
+}
+
+void expectSameState(const TrajectoryState& a, const TrajectoryState& b, const std::string& where) {
+  EXPECT_LT((a.position_m - b.position_m).norm(), 1e-6) << where;
+  EXPECT_LT((a.velocity_mps - b.velocity_mps).norm(), 1e-6) << where;
+  EXPECT_LT((a.acceleration_mps2 - b.acceleration_mps2).norm(), 1e-6) << where;
+  EXPECT_LT((a.jerk_mps3 - b.jerk_mps3).norm(), 1e-5) << where;
+}
+
+// An obstacle seen while the vehicle is in the middle of the turn (its acceleration near the
+// limit): the new revision starts now (no gap) on the flown curve, takes over in exactly the
+// predicted state (position to jerk), is continuous to the jerk throughout, and passes the
+// vehicle's limits check everywhere, its first new segment included.
+TEST(FlightReplanner, TakeoverInTheMiddleOfATurnStartsInThePredictedStateAndIsFeasible) {
+  CollisionWorldOptions world_options = scenarioWorldOptions();
+  world_options.ceiling_m = 12000.0;
+  const TurningRoute route = turningRoute(world_options);
+  ASSERT_TRUE(route.collision);
+  ReplanOptions options = scenarioReplanOptions();
+  options.replan_budget_ms = 0.0;  // iteration budgets: the same result on any machine
+  options.replan_leg_max_iterations = 400;
+  const VehicleLimits limits = scenarioLimits();
+  auto replanner = FlightReplanner::start(route.collision, route.points, limits, options, 0.0);
+  ASSERT_TRUE(replanner.ok()) << replanner.error().describe();
+  FlightReplanner& r = **replanner;
+  const Trajectory before = r.route().built.trajectory;
+  // The turn: where the acceleration is largest within 10 s of the mission point.
+  double at_point_s = 0.0;
+  for (double t = 0.0; t < before.duration_s(); t += 0.05) {
+    if ((before.evaluate(t, Derivative::kPosition) - route.points[1]).norm() <
+        (before.evaluate(at_point_s, Derivative::kPosition) - route.points[1]).norm()) {
+      at_point_s = t;
+    }
+  }
+  double turn_s = at_point_s;
+  for (double t = at_point_s - 10.0; t < at_point_s + 10.0; t += 0.05) {
+    if (before.stateAt(t).acceleration_mps2.norm() > before.stateAt(turn_s).acceleration_mps2.norm()) turn_s = t;
+  }
+  const double now_s = turn_s - options.reaction_delay_s;  // the plain takeover would be mid-turn
+  ASSERT_GT(before.stateAt(turn_s).acceleration_mps2.norm(), 0.6 * limits.max_accel_mps2);
+  ASSERT_GT(before.stateAt(turn_s).velocity_mps.norm(), 10.0);
+  const Obstacle crossing = crossingAt(before, now_s + 20.0, now_s, 1);
+  route.collision->upsertObstacle(crossing);
+  ASSERT_FALSE(r.clearAhead(now_s, options.horizon_s));
+
+  const ReplanStep step = r.step(now_s);
+  ASSERT_TRUE(step.replanned) << (step.failure ? step.failure->describe() : std::string("no failure"));
+  const Trajectory& after = r.route().built.trajectory;
+  EXPECT_LE(r.trajectoryStartWorldS(), now_s + 1e-9) << "the new revision must start by now: no gap";
+  expectSameState(before.stateAt(now_s), r.stateAt(now_s), "now");
+  ASSERT_GE(step.takeover_s, now_s + options.reaction_delay_s - 1e-9);
+  expectSameState(before.stateAt(step.takeover_s), r.stateAt(step.takeover_s), "takeover");
+  expectContinuousToJerk(after, "new trajectory");
+  const FeasibilityReport check = checkFeasibility(after, limits);
+  EXPECT_TRUE(check.ok()) << check.violations.size() << " violation(s), first in segment "
+                          << (check.violations.empty() ? 0 : check.violations.front().segment) << ": "
+                          << (check.violations.empty() ? "" : to_string(check.violations.front().kind));
+  EXPECT_TRUE(r.clearAhead(now_s, options.horizon_s));
+  EXPECT_LT((r.stateAt(r.arrivalWorldS()).position_m - route.points.back()).norm(), 1e-3);
+}
+
+// No plan at all (the goal closed by an obstacle): the vehicle holds. The new revision keeps the
+// current trajectory from now (the same curve), stops short of the obstacle, waits at rest, and
+// is clear within the horizon; the mission is not finished, and the next cycles plan on from it.
+TEST(FlightReplanner, NoPlanMakesAHoldThatKeepsTheTrajectoryThenStopsClear) {
+  CollisionWorldOptions world_options = scenarioWorldOptions();
+  world_options.ceiling_m = 12000.0;
+  const TurningRoute route = turningRoute(world_options);
+  ASSERT_TRUE(route.collision);
+  ReplanOptions options = scenarioReplanOptions();
+  options.replan_budget_ms = 0.0;
+  options.replan_leg_max_iterations = 200;
+  options.max_attempts = 2;
+  const VehicleLimits limits = scenarioLimits();
+  auto replanner = FlightReplanner::start(route.collision, route.points, limits, options, 0.0);
+  ASSERT_TRUE(replanner.ok()) << replanner.error().describe();
+  FlightReplanner& r = **replanner;
+  const Trajectory before = r.route().built.trajectory;
+  const double now_s = before.duration_s() - 35.0;
+  Obstacle over_goal;
+  over_goal.id = 9;
+  over_goal.shape = ObstacleShape::kSphere;
+  over_goal.size_m = Eigen::Vector3d::Constant(400.0);
+  over_goal.center_m = route.points.back();
+  route.collision->upsertObstacle(over_goal);
+
+  const ReplanStep step = r.step(now_s);
+  ASSERT_TRUE(step.holding) << (step.failure ? step.failure->describe() : std::string("no failure"));
+  EXPECT_FALSE(step.replanned);
+  ASSERT_TRUE(step.failure.has_value());
+  EXPECT_TRUE(r.holding());
+  EXPECT_EQ(r.revision(), 1u);
+  const Trajectory& hold = r.route().built.trajectory;
+  EXPECT_LE(r.trajectoryStartWorldS(), now_s + 1e-9);
+  expectSameState(before.stateAt(now_s), r.stateAt(now_s), "now");
+  expectContinuousToJerk(hold, "hold");
+  EXPECT_TRUE(checkFeasibility(hold, limits).ok());
+  const TrajectoryState end = r.stateAt(r.arrivalWorldS());
+  EXPECT_LT(end.velocity_mps.norm(), 1e-6);
+  EXPECT_GT((end.position_m - over_goal.center_m).norm(), 400.0);
+  EXPECT_TRUE(r.clearAhead(now_s, options.horizon_s));
+  EXPECT_FALSE(r.finished(r.arrivalWorldS() + 10.0)) << "a hold does not finish the mission";
+  ASSERT_FALSE(r.remainingPoints(now_s).empty());
+  EXPECT_LT((r.remainingPoints(now_s).back() - route.points.back()).norm(), 1e-9);
+  // The obstacle goes: the next cycle plans on from the hold to the goal.
+  route.collision->removeObstacle(9);
+  const ReplanStep next = r.step(now_s + 0.1);
+  ASSERT_TRUE(next.replanned) << (next.failure ? next.failure->describe() : std::string("no failure"));
+  EXPECT_FALSE(r.holding());
+  EXPECT_LT((r.stateAt(r.arrivalWorldS()).position_m - route.points.back()).norm(), 1e-3);
+}
+
+// Bad replanning options are refused by name before any planning.
+TEST(FlightReplanner, BadCommitAndHoldOptionsAreRefusedByName) {
+  const std::pair<const char*, void (*)(ReplanOptions&)> cases[] = {
+      {"max_commit_s", [](ReplanOptions& o) { o.max_commit_s = -1.0; }},
+      {"max_commit_s", [](ReplanOptions& o) { o.max_commit_s = std::numeric_limits<double>::infinity(); }},
+      {"calm_accel_share", [](ReplanOptions& o) { o.calm_jerk_mps3 = 0.0; }},
+      {"replan_accel_fraction", [](ReplanOptions& o) { o.replan_accel_fraction = 1.5; }},
+  };
+  for (const auto& [field, spoil] : cases) {
+    ReplanOptions options = scenarioReplanOptions();
+    spoil(options);
+    auto r = FlightReplanner::start(nullptr, {Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX()}, scenarioLimits(),
+                                    options, 0.0);
+    ASSERT_FALSE(r.ok()) << field;
+    EXPECT_EQ(r.error().code, ErrorCode::kInvalidArgument) << field;
+    EXPECT_EQ(r.error().field, field);
   }
 }
 
