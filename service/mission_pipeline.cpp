@@ -31,7 +31,7 @@ PlanError stageError(PlanErrorCode code, std::string field, std::string message,
 
 // Which stage a route error comes from: the trajectory stage names "trajectory" or a limit.
 PlanStage routeStage(const Error& e) {
-  if (e.field == "trajectory" || e.field.rfind("limits", 0) == 0) return PlanStage::kTrajectory;
+  if (isTrajectoryStageError(e) || e.field.rfind("limits", 0) == 0) return PlanStage::kTrajectory;
   return PlanStage::kLegs;
 }
 
@@ -207,6 +207,12 @@ Result<MissionPlan, PlanError> MissionPipeline::plan(const PipelineRequest& requ
     return *too_large;
   }
   plan.flight = std::move(*flight);
+  // Where the vehicle comes to rest instead of passing, and why (the status and the log say so).
+  for (const RoutePointStop& stop : plan.flight->route().point_stops) {
+    if (stop.point >= plan.mission.order.size()) continue;
+    plan.notes.push_back(requestPointName(plan.mission.order[stop.point], static_cast<int>(plan.mission.order.size())) +
+                         ": stops there (zero speed): " + stop.reason);
+  }
   for (std::size_t i = 0; i < plan.flight->route().legs.size(); ++i) {
     const RouteLeg& leg = plan.flight->route().legs[i];
     if (!leg.time_capped) continue;

@@ -1,7 +1,9 @@
 #include "service/route_planner.hpp"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include <spdlog/spdlog.h>
 
@@ -10,6 +12,31 @@
 #include "service/trajectory_world_check.hpp"
 
 namespace skyroute {
+namespace {
+
+// Every trajectory-stage failure starts its message with this.
+constexpr std::string_view kNoTrajectory = "the trajectory cannot be flown: ";
+
+// "acceleration 14.2 m/s^2 over the limit 8 m/s^2 at t=31.0 s", from the checked values.
+std::string violationText(const Violation& v) {
+  const char* unit = "m/s";
+  switch (v.kind) {
+    case ViolationKind::kAcceleration: unit = "m/s^2"; break;
+    case ViolationKind::kTurnRadius: unit = "m"; break;
+    default: break;
+  }
+  const std::string at = " at t=" + numberText(v.time_s, 4) + " s";
+  if (v.kind == ViolationKind::kCollision) return "the curve collides (terrain or obstacle)" + at;
+  const char* relation = v.kind == ViolationKind::kTurnRadius ? " under the limit " : " over the limit ";
+  return std::string(to_string(v.kind)) + " " + numberText(v.value, 4) + " " + unit + relation +
+         numberText(v.limit, 4) + " " + unit + at;
+}
+
+}  // namespace
+
+bool isTrajectoryStageError(const Error& error) {
+  return error.field == "trajectory" || error.message.rfind(kNoTrajectory, 0) == 0;
+}
 
 Status checkRoutePoint(const CollisionWorld& world, const Eigen::Vector3d& p_m, const std::string& name,
                        std::optional<ObstacleSnapshot> snapshot) {
@@ -136,10 +163,27 @@ Status buildRouteTrajectory(std::shared_ptr<const CollisionWorld> world, const s
   spdlog::debug("event=trajectory_build waypoints={} legs={}", route.waypoints_m.size(), route.legs.size());
   auto built = buildTrajectory(route.waypoints_m, limits, trajectory_options, &check);
   if (!built.ok()) return built.error();
-  if (built->report.status == TrajectoryStatus::kInfeasible) {
-    return make_error(ErrorCode::kUnreachable, "trajectory",
-                      "no feasible trajectory along the path: " + built->report.failure_reason);
+  // fixed_waypoints[k] is route point k.
+  auto route_point = [&](std::size_t waypoint) {
+    const auto& fixed = trajectory_options.fixed_waypoints;
+    return static_cast<std::size_t>(std::find(fixed.begin(), fixed.end(), waypoint) - fixed.begin());
+  };
+  const TrajectoryBuildReport& report = built->report;
+  if (report.status == TrajectoryStatus::kInfeasible) {
+    std::string field = "trajectory";
+    std::string limit;
+    if (report.failure_violation) limit = violationText(*report.failure_violation) + "; ";
+    if (report.failure_waypoint) field = "points[" + std::to_string(route_point(*report.failure_waypoint)) + "]";
+    std::string stopped;
+    for (const WaypointStop& stop : report.stops)
+      stopped += (stopped.empty() ? "" : ", ") + std::string("points[") + std::to_string(route_point(stop.waypoint)) + "]";
+    return make_error(ErrorCode::kUnreachable, field,
+                      std::string(kNoTrajectory) + limit + "no feasible trajectory along the path" +
+                          (stopped.empty() ? std::string() : " even with stops at " + stopped) + ": " +
+                          report.failure_reason);
   }
+  route.point_stops.clear();
+  for (const WaypointStop& stop : report.stops) route.point_stops.push_back({route_point(stop.waypoint), stop.reason});
   route.built = std::move(built.value());
   // Times at the route points: each is a knot of the spline, in order.
   const auto& knots = route.built.knots;

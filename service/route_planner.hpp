@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -51,8 +52,15 @@ struct RouteLeg {
   double end_s = 0.0;                   // trajectory time at to_point
 };
 
+// A route point where the trajectory comes to rest (TrajectoryOptions::fixed_waypoint_mode).
+struct RoutePointStop {
+  std::size_t point = 0;  // index into the route's points
+  std::string reason;     // the stop mode, or why passing through could not be made to fly
+};
+
 struct PlannedRoute {
   std::vector<RouteLeg> legs;
+  std::vector<RoutePointStop> point_stops;  // by point
   std::vector<Eigen::Vector3d> waypoints_m;  // the legs' LOSPO paths joined
   BuiltTrajectory built;
   double planning_ms = 0.0;
@@ -61,7 +69,9 @@ struct PlannedRoute {
 // points_m: the route's points in visiting order (at least two), ENU metres.
 // Errors name the offending point ("points[i]") or leg ("legs[i]"): kOutsideMap, kOccupied,
 // kUnreachable (no path within the budget), kTimeout / kCancelled from `stop`, kInvalidArgument.
-// An infeasible trajectory after repair is kUnreachable naming "trajectory" with the reason.
+// An infeasible trajectory after repair (every repair, and in the pass mode a stop at the points
+// near the violation, tried) is kUnreachable naming the route point nearest the violation
+// ("points[i]"), the limit and the value; isTrajectoryStageError tells it from a leg's error.
 Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, const std::vector<Eigen::Vector3d>& points_m,
                                const VehicleLimits& limits, const RouteOptions& options,
                                const TerminationCondition& stop = {});
@@ -75,6 +85,10 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
                                     const TerminationCondition& stop = {});
 Status buildRouteTrajectory(std::shared_ptr<const CollisionWorld> world, const std::vector<Eigen::Vector3d>& points_m,
                             const VehicleLimits& limits, const RouteOptions& options, PlannedRoute& route);
+
+// Whether an error of planRoute / buildRouteTrajectory comes from the trajectory stage (it may
+// name a route point, as the legs' stage does).
+bool isTrajectoryStageError(const Error& error);
 
 // How a global planner finds the legs' paths through the route's points (in visiting order):
 // planRoutePaths (RRT* + LOSPO) or a grid planner (grid_leg_planner.hpp); planner_registry.hpp
