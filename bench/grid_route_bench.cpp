@@ -5,11 +5,13 @@
 // each route built into a trajectory for a vehicle with a 30 m turn radius by the pipeline's
 // trajectory stage (buildRouteTrajectory with the pipeline's trajectory options, in the given
 // mission point mode). One row per planner: how many missions have a route, how many fly, how
-// many of those stop at a mission point (pass mode: where passing could not be made to fly), the
-// mean 3D route length; then each failure with its typed status (field and message).
+// many of those stop at a mission point (pass mode: where passing could not be made to fly) and
+// at corners inside the legs (the trajectory stage's last resort), the mean 3D route length of
+// those flown; then each failure with its typed status (field and message). --only K flies
+// mission K alone.
 // docs/benchmarks.md records the output.
 //
-//   grid_route_bench [--missions N] [--turn-radius M] [--mode pass|stop] [--planner NAME]
+//   grid_route_bench [--missions N] [--turn-radius M] [--mode pass|stop] [--planner NAME] [--only K]
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -32,6 +34,7 @@ struct Outcome {
   bool path = false;
   bool trajectory = false;
   std::size_t stops = 0;
+  std::size_t corner_stops = 0;  // the last resort: rests at corners inside the legs
   double length_m = 0.0;
   std::string failure;  // the typed status: "field: message"
 };
@@ -59,6 +62,7 @@ Outcome fly(const std::shared_ptr<const CollisionWorld>& world, const std::vecto
   if (built.ok()) {
     // Stops the mode asks for are not fallbacks.
     if (mode == FixedWaypointMode::kPass) out.stops = route->point_stops.size();
+    for (std::size_t n : route->leg_corner_stops) out.corner_stops += n;
   } else {
     out.failure = built.error().describe();
   }
@@ -66,7 +70,7 @@ Outcome fly(const std::shared_ptr<const CollisionWorld>& world, const std::vecto
 }
 
 struct Row {
-  int paths = 0, flown = 0, stopped = 0;
+  int paths = 0, flown = 0, stopped = 0, corner_stopped = 0;
   double length_m = 0.0;
   std::vector<std::string> failures;
 };
@@ -78,6 +82,7 @@ int main(int argc, char** argv) {
   double turn_radius_m = 30.0;
   FixedWaypointMode mode = FixedWaypointMode::kPass;
   std::vector<const RoutePlannerInfo*> planners;
+  int only = -1;  // one mission alone
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--missions" && i + 1 < argc) {
@@ -86,6 +91,8 @@ int main(int argc, char** argv) {
       turn_radius_m = std::atof(argv[++i]);
     } else if (a == "--mode" && i + 1 < argc && parseFixedWaypointMode(argv[i + 1])) {
       mode = *parseFixedWaypointMode(argv[++i]);
+    } else if (a == "--only" && i + 1 < argc) {
+      only = std::atoi(argv[++i]);
     } else if (a == "--planner" && i + 1 < argc) {
       const RoutePlannerInfo* found = nullptr;
       if (auto unknown = findRoutePlanner(argv[++i], &found)) {
@@ -94,7 +101,7 @@ int main(int argc, char** argv) {
       }
       planners.push_back(found);
     } else {
-      std::fprintf(stderr, "usage: grid_route_bench [--missions N] [--turn-radius M] [--mode pass|stop] [--planner NAME]\n");
+      std::fprintf(stderr, "usage: grid_route_bench [--missions N] [--turn-radius M] [--mode pass|stop] [--planner NAME] [--only K]\n");
       return 2;
     }
   }
@@ -132,6 +139,7 @@ int main(int argc, char** argv) {
   skyroute::bench::BenchProgress progress("grid_route_bench", mission_points.size() * planners.size());
   for (std::size_t p = 0; p < planners.size(); ++p) {
     for (int k = 0; k < missions; ++k) {
+      if (only >= 0 && k != only) continue;
       const Outcome o = fly(world, mission_points[static_cast<std::size_t>(k)], planners[p]->kind, mode, turn_radius_m,
                             1 + static_cast<std::uint64_t>(k));
       progress.done(std::string(planners[p]->name) + " mission " + std::to_string(k));
@@ -139,18 +147,19 @@ int main(int argc, char** argv) {
       row.paths += o.path ? 1 : 0;
       row.flown += o.trajectory ? 1 : 0;
       row.stopped += o.stops > 0 ? 1 : 0;
+      row.corner_stopped += o.corner_stops > 0 ? 1 : 0;
       row.length_m += o.trajectory ? o.length_m : 0.0;
       if (!o.trajectory) row.failures.push_back("mission " + std::to_string(k) + ": " + o.failure);
     }
   }
   std::printf("%d random missions (%d with a blocked straight leg); vehicle turn radius %.0f m; mission_point_mode %s\n\n",
               missions, blocked, turn_radius_m, std::string(to_string(mode)).c_str());
-  std::printf("| planner | routes | trajectories | stop at a point | mean route length of those flown, m |\n"
-              "|---|---|---|---|---|\n");
+  std::printf("| planner | routes | trajectories | stop at a point | stop at leg corners | mean route length of those flown, m |\n"
+              "|---|---|---|---|---|---|\n");
   for (std::size_t p = 0; p < planners.size(); ++p) {
     const Row& r = rows[p];
-    std::printf("| %s | %d/%d | %d/%d | %d | %.1f |\n", std::string(planners[p]->name).c_str(), r.paths, missions,
-                r.flown, missions, r.stopped, r.flown > 0 ? r.length_m / r.flown : 0.0);
+    std::printf("| %s | %d/%d | %d/%d | %d | %d | %.1f |\n", std::string(planners[p]->name).c_str(), r.paths, missions,
+                r.flown, missions, r.stopped, r.corner_stopped, r.flown > 0 ? r.length_m / r.flown : 0.0);
   }
   for (std::size_t p = 0; p < planners.size(); ++p) {
     if (rows[p].failures.empty()) continue;

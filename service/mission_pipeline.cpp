@@ -213,6 +213,14 @@ Result<MissionPlan, PlanError> MissionPipeline::plan(const PipelineRequest& requ
     plan.notes.push_back(requestPointName(plan.mission.order[stop.point], static_cast<int>(plan.mission.order.size())) +
                          ": stops there (zero speed): " + stop.reason);
   }
+  const std::vector<std::size_t>& corner_stops = plan.flight->route().leg_corner_stops;
+  for (std::size_t leg = 0; leg < corner_stops.size(); ++leg) {
+    if (corner_stops[leg] == 0 || leg + 1 >= plan.mission.order.size()) continue;
+    const int count = static_cast<int>(plan.mission.order.size());
+    plan.notes.push_back("legs[" + std::to_string(leg) + "] (from " + requestPointName(plan.mission.order[leg], count) +
+                         " to " + requestPointName(plan.mission.order[leg + 1], count) + "): stops at " +
+                         std::to_string(corner_stops[leg]) + " of its corners: " + plan.flight->route().corner_stop_reason);
+  }
   for (std::size_t i = 0; i < plan.flight->route().legs.size(); ++i) {
     const RouteLeg& leg = plan.flight->route().legs[i];
     if (!leg.time_capped) continue;

@@ -61,6 +61,10 @@ struct RoutePointStop {
 struct PlannedRoute {
   std::vector<RouteLeg> legs;
   std::vector<RoutePointStop> point_stops;  // by point
+  // Per leg (when any): how many of its corners, not route points, the trajectory rests at (the
+  // trajectory stage's last resort, knot_stops.hpp), and why.
+  std::vector<std::size_t> leg_corner_stops;
+  std::string corner_stop_reason;
   std::vector<Eigen::Vector3d> waypoints_m;  // the legs' LOSPO paths joined
   BuiltTrajectory built;
   double planning_ms = 0.0;

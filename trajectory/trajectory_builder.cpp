@@ -533,7 +533,12 @@ std::string RepairLoop::stretchInTime(const std::map<std::size_t, double>& stret
   // (a replan once spent 0.5 s stretching its first segment to 500 s).
   growing_rounds_ = worst > previous_local_worst_ ? growing_rounds_ + 1 : 0;
   previous_local_worst_ = worst;
-  if (growing_rounds_ >= 2) {
+  if (growing_rounds_ >= 2 && round - timing_from_round_ < local_rounds_) {
+    // Local stretches (and the splits between them) fight each other: stretch everything
+    // uniformly from here, which slows rest-to-rest pieces exactly (and has its own guard).
+    timing_from_round_ = round - local_rounds_;
+    growing_rounds_ = 0;
+  } else if (growing_rounds_ >= 2) {
     return "stretching in time makes the violation worse (" + format("%.2f", worst) + " x the limit; " +
            describe(violations.front()) + "); the end conditions or the path must change";
   }
@@ -587,9 +592,10 @@ void RepairLoop::splitSegments(const std::set<std::size_t>& to_split, Trajectory
                            std::to_string(*to_split.begin()) + ")");
 }
 
-// Pass-mode rebuilds with more stops: one at the passed point nearest the violation, then (the
-// last) one at every point still passed; each rebuild costs a full repair loop.
-constexpr int kMaxStopAttempts = 2;
+// Rebuilds with more stops after a failure: with the stops the loop made, at the passed point
+// nearest the violation, at every point still passed, at every corner of the path (the last);
+// each rebuild costs a full repair loop.
+constexpr int kMaxStopAttempts = 5;
 
 // The stops the mode asks for from the start: every interior fixed waypoint in the stop mode.
 std::vector<WaypointStop> modeStops(const TrajectoryOptions& options, std::size_t waypoint_count) {
@@ -648,7 +654,9 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
 
   std::vector<WaypointStop> stops = modeStops(options, waypoints.size());
   BuiltTrajectory built;
+  bool tried_nearest = false;
   for (int attempt = 0;; ++attempt) {
+    const std::size_t given = stops.size();
     RepairLoop loop(waypoints, limits, options, collision, stops);
     if (Status s = loop.layOut(); !s) return s.error();
     built = BuiltTrajectory{};
@@ -656,18 +664,34 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
     if (Status s = loop.run(built); !s) return s.error();
     stops = loop.stops();
     if (built.report.status != TrajectoryStatus::kInfeasible) break;
-    const std::vector<std::size_t> passed = passedFixedWaypoints(options, waypoints.size(), stops);
     built.report.failure_violation = loop.failingViolation(built.report.final_check);
-    if (passed.empty() || !built.report.failure_violation || attempt >= kMaxStopAttempts) break;
-    // Passing did not fly: the vehicle comes to rest at the passed point nearest the violation, or,
-    // on the last attempt, at every point it still passes; then everything is built again.
+    if (!built.report.failure_violation || attempt >= kMaxStopAttempts) break;
+    // The loop made stops of fixed corners it could not round: build again with them from the
+    // start (their rounds were spent on the pass-throughs).
+    if (stops.size() > given) continue;
     const std::string why = "passing through could not be made to fly (" + built.report.failure_reason + ")";
-    const double violation_s = built.report.failure_violation->time_s;
-    if (attempt + 1 < kMaxStopAttempts) {
-      if (auto nearest = nearestWaypointInTime(built, waypoints, passed, violation_s)) stops.push_back({*nearest, why});
-    } else {
-      for (std::size_t index : passed) stops.push_back({index, why});
+    const std::vector<std::size_t> passed = passedFixedWaypoints(options, waypoints.size(), stops);
+    if (!passed.empty() && !tried_nearest) {
+      // The passed point nearest the violation first, then every point still passed.
+      tried_nearest = true;
+      if (auto nearest = nearestWaypointInTime(built, waypoints, passed, built.report.failure_violation->time_s)) {
+        stops.push_back({*nearest, why});
+        continue;
+      }
     }
+    if (!passed.empty()) {
+      for (std::size_t index : passed) stops.push_back({index, why});
+      continue;
+    }
+    // Last resort: rest at every corner of the path too. Each piece between two waypoints is then
+    // a straight rest-to-rest line on the checked path: clear wherever the path is, and slowed
+    // into every limit by the uniform stretch.
+    const std::size_t before = stops.size();
+    std::set<std::size_t> stopped;
+    for (const WaypointStop& stop : stops) stopped.insert(stop.waypoint);
+    for (std::size_t i = 1; i + 1 < waypoints.size(); ++i)
+      if (!stopped.count(i)) stops.push_back({i, "a corner of the path; " + why});
+    if (stops.size() == before) break;
   }
   std::sort(stops.begin(), stops.end(), [](const WaypointStop& a, const WaypointStop& b) { return a.waypoint < b.waypoint; });
   built.report.stops = std::move(stops);

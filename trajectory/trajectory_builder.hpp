@@ -11,7 +11,9 @@
 // At the interior fixed waypoints (mission points) the vehicle passes, or comes to rest
 // (knot_stops.hpp): in the pass mode a fixed corner whose pass-through does not fit or collides
 // becomes a stop, and when the repairs end with a violation the fixed waypoint nearest it becomes
-// a stop and the trajectory is built again (the report lists the stops and why).
+// a stop and the trajectory is built again, then every fixed waypoint, and as the last resort
+// every corner of the path (straight rest-to-rest pieces on the checked path, which always fly).
+// The report lists the stops and why.
 #pragma once
 
 #include <cstddef>
@@ -57,8 +59,8 @@ struct TrajectoryOptions {
   FixedWaypointMode fixed_waypoint_mode = FixedWaypointMode::kPass;
 };
 
-// An interior fixed waypoint where the trajectory comes to rest (zero velocity, acceleration and
-// jerk), and why.
+// An interior waypoint where the trajectory comes to rest (zero velocity, acceleration and jerk),
+// and why: a fixed one, or (the last resort) a corner of the path.
 struct WaypointStop {
   std::size_t waypoint = 0;  // index into the input waypoints
   std::string reason;        // the stop mode, or why passing through could not be made to fly
