@@ -140,6 +140,10 @@ int main(int argc, char** argv) {
   for (std::size_t p = 0; p < planners.size(); ++p) {
     for (int k = 0; k < missions; ++k) {
       if (only >= 0 && k != only) continue;
+      if (only >= 0 && p == 0) {
+        for (const Eigen::Vector3d& q : mission_points[static_cast<std::size_t>(k)])
+          std::printf("mission %d point ENU %.1f %.1f %.1f\n", k, q.x(), q.y(), q.z());
+      }
       const Outcome o = fly(world, mission_points[static_cast<std::size_t>(k)], planners[p]->kind, mode, turn_radius_m,
                             1 + static_cast<std::uint64_t>(k));
       progress.done(std::string(planners[p]->name) + " mission " + std::to_string(k));
