@@ -21,6 +21,14 @@
 
 namespace skyroute {
 
+// The trajectory stage's options for a route: a route whose legs are clear always gets a
+// trajectory (as the last resort it rests at the legs' corners).
+inline TrajectoryOptions routeTrajectoryOptions() {
+  TrajectoryOptions options;
+  options.stop_at_corners_as_last_resort = true;
+  return options;
+}
+
 struct RouteOptions {
   std::uint64_t seed = 1;                // leg i plans with seed + i
   double leg_budget_ms = 200.0;          // RRT* time per leg; 0 = no deadline (then set iterations)
@@ -29,7 +37,7 @@ struct RouteOptions {
   double corridor_margin_m = 3000.0;     // RRT* samples within this distance of the leg's box
   RrtStarOptions rrt;                    // seed and budget fields are set per leg
   LospoOptions lospo;
-  TrajectoryOptions trajectory;
+  TrajectoryOptions trajectory = routeTrajectoryOptions();
   // Replanning: moving obstacles frozen at this world time with a margin for planning, and the
   // trajectory re-checked against their motion with the trajectory starting at this world time.
   std::optional<ObstacleSnapshot> snapshot;

@@ -683,9 +683,8 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
       for (std::size_t index : passed) stops.push_back({index, why});
       continue;
     }
-    // Last resort: rest at every corner of the path too. Each piece between two waypoints is then
-    // a straight rest-to-rest line on the checked path: clear wherever the path is, and slowed
-    // into every limit by the uniform stretch.
+    // Last resort: rest at every corner of the path too (TrajectoryOptions says why it flies).
+    if (!options.stop_at_corners_as_last_resort) break;
     const std::size_t before = stops.size();
     std::set<std::size_t> stopped;
     for (const WaypointStop& stop : stops) stopped.insert(stop.waypoint);

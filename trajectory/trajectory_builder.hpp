@@ -11,9 +11,9 @@
 // At the interior fixed waypoints (mission points) the vehicle passes, or comes to rest
 // (knot_stops.hpp): in the pass mode a fixed corner whose pass-through does not fit or collides
 // becomes a stop, and when the repairs end with a violation the fixed waypoint nearest it becomes
-// a stop and the trajectory is built again, then every fixed waypoint, and as the last resort
-// every corner of the path (straight rest-to-rest pieces on the checked path, which always fly).
-// The report lists the stops and why.
+// a stop and the trajectory is built again, then every fixed waypoint, and (when asked) as the
+// last resort every corner of the path (straight rest-to-rest pieces on the checked path, which
+// always fly). The report lists the stops and why.
 #pragma once
 
 #include <cstddef>
@@ -57,6 +57,11 @@ struct TrajectoryOptions {
   // What the trajectory does at the interior fixed waypoints: pass (and stop only where passing
   // cannot be made to fly) or stop at every one.
   FixedWaypointMode fixed_waypoint_mode = FixedWaypointMode::kPass;
+  // When nothing else flies, rest at every corner of the path too: each piece between two
+  // waypoints is then a straight rest-to-rest line on the checked path, clear wherever the path
+  // is and slowed into every limit by the uniform stretch (the route stage asks for it: a route
+  // whose legs are clear always gets a trajectory). Off, the failure is reported.
+  bool stop_at_corners_as_last_resort = false;
 };
 
 // An interior waypoint where the trajectory comes to rest (zero velocity, acceleration and jerk),

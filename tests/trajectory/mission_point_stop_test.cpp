@@ -3,7 +3,9 @@
 // every interior fixed waypoint is one. Checked independently: the point is flown exactly, the
 // vehicle is at rest there (velocity, acceleration and jerk), speeds, accelerations and turn radii
 // measured from positions alone stay within the limits, and the curve keeps clear of the obstacle.
-// A trajectory that cannot fly even with stops names the fixed waypoint nearest its violation.
+// A trajectory that cannot fly even with stops names the fixed waypoint nearest its violation; the
+// last resort, asked for, rests at every corner and flies the checked polyline itself.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -188,6 +190,39 @@ TEST(MissionPointStop, AFailureNamesTheFixedWaypointNearestItsViolation) {
   EXPECT_NE(built->report.failure_reason.find("blocked"), std::string::npos) << built->report.failure_reason;
   EXPECT_EQ(*built->report.failure_waypoint, 3u);
   ASSERT_FALSE(built->report.stops.empty());
+}
+
+double distanceToPolyline(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& w) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < w.size(); ++k) {
+    const Eigen::Vector3d d = w[k] - w[k - 1];
+    const double u = std::clamp((p - w[k - 1]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    best = std::min(best, (w[k - 1] + u * d - p).norm());
+  }
+  return best;
+}
+
+TEST(MissionPointStop, LastResortRestsAtEveryCornerOnTheCheckedPath) {
+  // Corners too sharp for the turn radius and no rounding allowed: nothing flies through them.
+  // Asked for, the last resort rests at every corner and flies the polyline itself, straight.
+  const auto w = zigZag();
+  const VehicleLimits limits = fixedWing();
+  TrajectoryOptions options;
+  options.round_corners = false;
+  options.fixed_waypoints = {2};
+  auto failed = buildTrajectory(w, limits, options);
+  ASSERT_TRUE(failed.ok());
+  EXPECT_EQ(failed->report.status, TrajectoryStatus::kInfeasible);
+  options.stop_at_corners_as_last_resort = true;
+  auto built = buildTrajectory(w, limits, options);
+  ASSERT_TRUE(built.ok());
+  ASSERT_NE(built->report.status, TrajectoryStatus::kInfeasible) << built->report.failure_reason;
+  ASSERT_EQ(built->report.stops.size(), w.size() - 2);
+  for (std::size_t i = 1; i + 1 < w.size(); ++i) expectAtRest(*built, w[i]);
+  for (double t = 0.0; t <= built->trajectory.duration_s(); t += 0.05) {
+    ASSERT_LT(distanceToPolyline(built->trajectory.evaluate(t, Derivative::kPosition), w), 1e-6) << t;
+  }
+  expectWithinLimits(built->trajectory, limits);
 }
 
 TEST(MissionPointStop, PiecewiseSolveRestsAtTheStopsAndIsSmoothElsewhere) {
