@@ -63,7 +63,7 @@ struct RouteLeg {
 // A route point where the trajectory comes to rest (TrajectoryOptions::fixed_waypoint_mode).
 struct RoutePointStop {
   std::size_t point = 0;  // index into the route's points
-  std::string reason;     // the stop mode, or why passing through could not be made to fly
+  std::string reason;     // the stop mode, or why the trajectory could not be made to fly without it
 };
 
 struct PlannedRoute {

@@ -669,7 +669,7 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
     // The loop made stops of fixed corners it could not round: build again with them from the
     // start (their rounds were spent on the pass-throughs).
     if (stops.size() > given) continue;
-    const std::string why = "passing through could not be made to fly (" + built.report.failure_reason + ")";
+    const std::string why = "the trajectory could not be made to fly without it (" + built.report.failure_reason + ")";
     const std::vector<std::size_t> passed = passedFixedWaypoints(options, waypoints.size(), stops);
     if (!passed.empty() && !tried_nearest) {
       // The passed point nearest the violation first, then every point still passed.

@@ -68,7 +68,7 @@ struct TrajectoryOptions {
 // and why: a fixed one, or (the last resort) a corner of the path.
 struct WaypointStop {
   std::size_t waypoint = 0;  // index into the input waypoints
-  std::string reason;        // the stop mode, or why passing through could not be made to fly
+  std::string reason;        // the stop mode, or why the trajectory could not be made to fly without it
 };
 
 enum class TrajectoryStatus {
