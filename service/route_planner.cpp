@@ -176,16 +176,12 @@ Status buildRouteTrajectory(std::shared_ptr<const CollisionWorld> world, const s
                                     point_waypoints.begin()) - 1;
   };
   const TrajectoryBuildReport& report = built->report;
-  std::string stopped;  // "points[1], points[2] and 14 corners of the legs"
+  // "2 of the points and 14 corners of the legs" (counts: the caller names points its own way).
+  std::size_t point_stops = 0;
   std::size_t corner_stops = 0;
-  for (const WaypointStop& stop : report.stops) {
-    const std::size_t point = route_point(stop.waypoint);
-    if (point < point_waypoints.size()) {
-      stopped += (stopped.empty() ? "" : ", ") + std::string("points[") + std::to_string(point) + "]";
-    } else {
-      ++corner_stops;
-    }
-  }
+  for (const WaypointStop& stop : report.stops) (route_point(stop.waypoint) < point_waypoints.size() ? point_stops : corner_stops)++;
+  std::string stopped;
+  if (point_stops > 0) stopped = std::to_string(point_stops) + " of the points";
   if (corner_stops > 0) {
     stopped += (stopped.empty() ? "" : " and ") + std::to_string(corner_stops) + " corners of the legs";
   }

@@ -2,8 +2,9 @@
 // terrain: a point whose corner no pass-through rounds (the flight-band lift dives into a valley
 // point and climbs straight out, 30 m turn radius) is flown with a stop there, and the engine's
 // PlanStatus says so; planning.mission_point_mode = stop rests at every point; a trajectory that
-// cannot be flown even so is refused in the trajectory stage naming the point and the limit; and
-// the configuration key parses, is described and refuses other values naming the key.
+// cannot be flown even so is refused in the trajectory stage naming the point and the limit; RRT*
+// routes whose time repairs once fought each other fly; and the configuration key parses, is
+// described and refuses other values naming the key.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +15,8 @@
 #include "service/daemon_config.hpp"
 #include "service/engine.hpp"
 #include "service/mission_pipeline.hpp"
+#include "service/planner_registry.hpp"
+#include "service/route_planner.hpp"
 #include "tests/service/default_world_fixture.hpp"
 
 namespace skyroute {
@@ -147,6 +150,40 @@ TEST_F(MissionPointModeTest, ATrajectoryThatCannotFlyNamesThePointAndTheLimit) {
   EXPECT_TRUE(e.message.find("over the limit") != std::string::npos ||
               e.message.find("under the limit") != std::string::npos)
       << e.message;
+}
+
+TEST_F(MissionPointModeTest, RrtStarRoutesWhoseLocalStretchesGrewFly) {
+  // Three random missions of bench/grid_route_bench (12, 54, 71; seed 1 + index) whose RRT*
+  // routes' repairs once ended with "stretching in time makes the violation worse": local
+  // stretches and collision splits fought each other. They now go on with the uniform stretch.
+  auto world = world_->worldFor(30.0, 5000.0);
+  ASSERT_TRUE(world.ok());
+  struct Mission {
+    int index;
+    Eigen::Vector2d points[3];
+  };
+  const Mission missions[] = {{12, {{4450.0, 2379.3}, {2261.8, -4943.0}, {-3889.1, -5140.7}}},
+                              {54, {{-2322.9, -3723.9}, {2734.5, 4282.5}, {4131.4, -685.7}}},
+                              {71, {{-2945.2, 2842.7}, {665.9, 624.8}, {378.8, -1100.3}}}};
+  const PipelineOptions pipeline;
+  VehicleLimits limits;
+  limits.min_turn_radius_m = 30.0;
+  for (const Mission& m : missions) {
+    SCOPED_TRACE(m.index);
+    std::vector<Eigen::Vector3d> points;
+    for (const Eigen::Vector2d& p : m.points) points.push_back(enu(p.x(), p.y(), 60).enu_m);
+    const RouteOptions options = pipelineReplanOptions(pipeline, pipeline.budget, 1 + m.index).route;
+    auto route = legPathPlanner(RoutePlannerKind::kRrtStarLospo, pipeline.grid_legs)(*world, points, options, {});
+    ASSERT_TRUE(route.ok()) << route.error().describe();
+    const Status built = buildRouteTrajectory(*world, points, limits, options, *route);
+    ASSERT_TRUE(built.ok()) << built.error().describe();
+    const Trajectory& t = route->built.trajectory;
+    for (double time = 0.0; time <= t.duration_s(); time += 0.5) {
+      const Eigen::Vector3d p = t.evaluate(time, Derivative::kPosition);
+      ASSERT_GE(p.z() - heightfield_->heightAt(p.x(), p.y()), 30.0 - 0.5) << "at t=" << time;
+    }
+    EXPECT_LT((t.evaluate(route->legs[0].end_s, Derivative::kPosition) - points[1]).norm(), 1e-6);
+  }
 }
 
 TEST(MissionPointModeConfig, ParsesDescribesAndRefusesOtherValues) {
