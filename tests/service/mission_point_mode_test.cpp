@@ -155,7 +155,8 @@ TEST_F(MissionPointModeTest, ATrajectoryThatCannotFlyNamesThePointAndTheLimit) {
 TEST_F(MissionPointModeTest, RrtStarRoutesWhoseLocalStretchesGrewFly) {
   // Three random missions of bench/grid_route_bench (12, 54, 71; seed 1 + index) whose RRT*
   // routes' repairs once ended with "stretching in time makes the violation worse": local
-  // stretches and collision splits fought each other. They now go on with the uniform stretch.
+  // stretches and collision splits fought each other. They now go on with the uniform stretch
+  // and fly through the point (the stop fallbacks alone would fly them only with stops).
   auto world = world_->worldFor(30.0, 5000.0);
   ASSERT_TRUE(world.ok());
   struct Mission {
@@ -177,6 +178,9 @@ TEST_F(MissionPointModeTest, RrtStarRoutesWhoseLocalStretchesGrewFly) {
     ASSERT_TRUE(route.ok()) << route.error().describe();
     const Status built = buildRouteTrajectory(*world, points, limits, options, *route);
     ASSERT_TRUE(built.ok()) << built.error().describe();
+    // Flown through: no stop at the point, none at the legs' corners.
+    EXPECT_TRUE(route->point_stops.empty()) << route->point_stops.front().reason;
+    EXPECT_TRUE(route->leg_corner_stops.empty()) << route->corner_stop_reason;
     const Trajectory& t = route->built.trajectory;
     for (double time = 0.0; time <= t.duration_s(); time += 0.5) {
       const Eigen::Vector3d p = t.evaluate(time, Derivative::kPosition);
