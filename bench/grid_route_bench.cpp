@@ -1,14 +1,17 @@
-// HAB-PP routes through the trajectory stage on the embedded terrain: seeded random missions
-// (begin, one point, end, each 60 m above the ground, anywhere within 5.5 km of the centre) whose
-// straight legs are not all clear are planned as the mission pipeline plans them: the registry's
-// hab-pp leg planner (legPathPlanner) with the pipeline's default options and budget, the output
-// stage's windowed re-planning off (0) and on (3 segments), and each route is built into a
-// trajectory for a vehicle with a 30 m turn radius by the pipeline's trajectory stage
-// (buildRouteTrajectory with the pipeline's trajectory options). Prints how many routes
-// and trajectories come out, the mean 3D route length over the missions both settings fly, and
-// the trajectory stage's failure reasons. docs/benchmarks/habpp.md records the output.
+// Every registered route planner through the trajectory stage on the embedded terrain: seeded
+// random missions (begin, one point, end, each 60 m above the ground, anywhere within 5.5 km of
+// the centre; the same missions for every planner) planned as the mission pipeline plans them:
+// the registry's leg planner (legPathPlanner) with the pipeline's default options and budget, and
+// each route built into a trajectory for a vehicle with a 30 m turn radius by the pipeline's
+// trajectory stage (buildRouteTrajectory with the pipeline's trajectory options, in the given
+// mission point mode). One row per planner: how many missions have a route, how many fly, how
+// many of those stop at a mission point (pass mode: where passing could not be made to fly) and
+// at corners inside the legs (the trajectory stage's last resort), the mean 3D route length of
+// those flown; then each failure with its typed status (field and message). --only K flies
+// mission K alone.
+// docs/benchmarks.md records the output.
 //
-//   grid_route_bench [--missions N] [--turn-radius M]
+//   grid_route_bench [--missions N] [--turn-radius M] [--mode pass|stop] [--planner NAME] [--only K]
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -30,19 +33,24 @@ using namespace skyroute;
 struct Outcome {
   bool path = false;
   bool trajectory = false;
+  std::size_t stops = 0;
+  std::size_t corner_stops = 0;  // the last resort: rests at corners inside the legs
   double length_m = 0.0;
-  std::string failure;  // the trajectory stage's reason, cut to its kind
+  std::string failure;  // the typed status: "field: message"
 };
 
 Outcome fly(const std::shared_ptr<const CollisionWorld>& world, const std::vector<Eigen::Vector3d>& points,
-            int window_segments, double turn_radius_m, std::uint64_t seed) {
+            RoutePlannerKind planner, FixedWaypointMode mode, double turn_radius_m, std::uint64_t seed) {
   Outcome out;
   PipelineOptions pipeline;
-  pipeline.grid_legs.output_window_segments = window_segments;
-  const RouteOptions route_options = pipelineReplanOptions(pipeline, pipeline.budget, seed).route;
-  const LegPathPlanner legs = legPathPlanner(RoutePlannerKind::kHabPp, pipeline.grid_legs);
+  RouteOptions route_options = pipelineReplanOptions(pipeline, pipeline.budget, seed).route;
+  route_options.trajectory.fixed_waypoint_mode = mode;
+  const LegPathPlanner legs = legPathPlanner(planner, pipeline.grid_legs);
   auto route = legs(world, points, route_options, TerminationCondition());
-  if (!route.ok()) return out;
+  if (!route.ok()) {
+    out.failure = "legs: " + route.error().describe();
+    return out;
+  }
   out.path = true;
   for (const RouteLeg& leg : route->legs) {
     for (std::size_t k = 1; k < leg.path_m.size(); ++k) out.length_m += (leg.path_m[k] - leg.path_m[k - 1]).norm();
@@ -51,35 +59,54 @@ Outcome fly(const std::shared_ptr<const CollisionWorld>& world, const std::vecto
   limits.min_turn_radius_m = turn_radius_m;
   const Status built = buildRouteTrajectory(world, points, limits, route_options, *route);
   out.trajectory = built.ok();
-  if (!built.ok()) {
-    const std::string why = built.error().describe();
-    // The kind of failure, from the trajectory stage's message.
-    for (const char* kind : {"(fixed)", "cannot be rounded", "still turns too tightly", "stretching", "descent_rate",
-                             "climb_rate"}) {
-      if (why.find(kind) != std::string::npos) {
-        out.failure = kind;
-        break;
-      }
-    }
-    if (out.failure == "(fixed)") out.failure = "a corner at a mission point (pass-through) cannot be rounded";
-    if (out.failure.empty()) out.failure = why.substr(0, 100);
+  if (built.ok()) {
+    // Stops the mode asks for are not fallbacks.
+    if (mode == FixedWaypointMode::kPass) out.stops = route->point_stops.size();
+    for (std::size_t n : route->leg_corner_stops) out.corner_stops += n;
+  } else {
+    out.failure = built.error().describe();
   }
   return out;
 }
+
+struct Row {
+  int paths = 0, flown = 0, stopped = 0, corner_stopped = 0;
+  double length_m = 0.0;
+  std::vector<std::string> failures;
+};
 
 }  // namespace
 
 int main(int argc, char** argv) {
   int missions = 120;
   double turn_radius_m = 30.0;
+  FixedWaypointMode mode = FixedWaypointMode::kPass;
+  std::vector<const RoutePlannerInfo*> planners;
+  int only = -1;  // one mission alone
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--missions" && i + 1 < argc) missions = std::atoi(argv[++i]);
-    else if (a == "--turn-radius" && i + 1 < argc) turn_radius_m = std::atof(argv[++i]);
-    else {
-      std::fprintf(stderr, "usage: grid_route_bench [--missions N] [--turn-radius M]\n");
+    if (a == "--missions" && i + 1 < argc) {
+      missions = std::atoi(argv[++i]);
+    } else if (a == "--turn-radius" && i + 1 < argc) {
+      turn_radius_m = std::atof(argv[++i]);
+    } else if (a == "--mode" && i + 1 < argc && parseFixedWaypointMode(argv[i + 1])) {
+      mode = *parseFixedWaypointMode(argv[++i]);
+    } else if (a == "--only" && i + 1 < argc) {
+      only = std::atoi(argv[++i]);
+    } else if (a == "--planner" && i + 1 < argc) {
+      const RoutePlannerInfo* found = nullptr;
+      if (auto unknown = findRoutePlanner(argv[++i], &found)) {
+        std::fprintf(stderr, "%s\n", unknown->describe().c_str());
+        return 2;
+      }
+      planners.push_back(found);
+    } else {
+      std::fprintf(stderr, "usage: grid_route_bench [--missions N] [--turn-radius M] [--mode pass|stop] [--planner NAME] [--only K]\n");
       return 2;
     }
+  }
+  if (planners.empty()) {
+    for (const RoutePlannerInfo& p : routePlanners()) planners.push_back(&p);
   }
   // As the engine sees it: the world model's collision world for a 30 m clearance.
   CollisionWorldOptions options;
@@ -97,43 +124,51 @@ int main(int argc, char** argv) {
   const Heightfield& terrain = *loaded->heightfield;
   std::mt19937 rng(99);
   std::uniform_real_distribution<double> coordinate_m(-5500.0, 5500.0);
-  const int windows[2] = {0, 3};
-  int tried = 0, paths[2] = {0, 0}, trajectories[2] = {0, 0}, both = 0;
-  double length_m[2] = {0.0, 0.0};
-  std::map<std::string, int> failures[2];
-  skyroute::bench::BenchProgress progress("grid_route_bench", static_cast<std::size_t>(missions));
+  std::vector<std::vector<Eigen::Vector3d>> mission_points;
+  int blocked = 0;
   for (int k = 0; k < missions; ++k) {
-    if (k > 0) progress.done("mission " + std::to_string(k - 1));
     std::vector<Eigen::Vector3d> points;
     for (int j = 0; j < 3; ++j) {
       const double e = coordinate_m(rng), n = coordinate_m(rng);
       points.emplace_back(e, n, terrain.heightAt(e, n) + 60.0);
     }
-    if (world->isSegmentValid(points[0], points[1]) && world->isSegmentValid(points[1], points[2])) continue;
-    ++tried;
-    Outcome o[2];
-    for (int w = 0; w < 2; ++w) {
-      o[w] = fly(world, points, windows[w], turn_radius_m, 1 + static_cast<std::uint64_t>(k));
-      paths[w] += o[w].path ? 1 : 0;
-      trajectories[w] += o[w].trajectory ? 1 : 0;
-      if (o[w].path && !o[w].trajectory) ++failures[w][o[w].failure];
-    }
-    if (o[0].trajectory && o[1].trajectory) {
-      ++both;
-      for (int w = 0; w < 2; ++w) length_m[w] += o[w].length_m;
+    if (!world->isSegmentValid(points[0], points[1]) || !world->isSegmentValid(points[1], points[2])) ++blocked;
+    mission_points.push_back(std::move(points));
+  }
+  std::vector<Row> rows(planners.size());
+  skyroute::bench::BenchProgress progress("grid_route_bench", mission_points.size() * planners.size());
+  for (std::size_t p = 0; p < planners.size(); ++p) {
+    for (int k = 0; k < missions; ++k) {
+      if (only >= 0 && k != only) continue;
+      if (only >= 0 && p == 0) {
+        for (const Eigen::Vector3d& q : mission_points[static_cast<std::size_t>(k)])
+          std::printf("mission %d point ENU %.1f %.1f %.1f\n", k, q.x(), q.y(), q.z());
+      }
+      const Outcome o = fly(world, mission_points[static_cast<std::size_t>(k)], planners[p]->kind, mode, turn_radius_m,
+                            1 + static_cast<std::uint64_t>(k));
+      progress.done(std::string(planners[p]->name) + " mission " + std::to_string(k));
+      Row& row = rows[p];
+      row.paths += o.path ? 1 : 0;
+      row.flown += o.trajectory ? 1 : 0;
+      row.stopped += o.stops > 0 ? 1 : 0;
+      row.corner_stopped += o.corner_stops > 0 ? 1 : 0;
+      row.length_m += o.trajectory ? o.length_m : 0.0;
+      if (!o.trajectory) row.failures.push_back("mission " + std::to_string(k) + ": " + o.failure);
     }
   }
-  std::printf("%d random missions, %d with a blocked straight leg; vehicle turn radius %.0f m\n\n", missions, tried,
-              turn_radius_m);
-  std::printf("| output windows | routes | trajectories | mean route length over the %d both fly, m |\n|---|---|---|---|\n",
-              both);
-  for (int w = 0; w < 2; ++w) {
-    std::printf("| %d segments | %d/%d | %d/%d | %.1f |\n", windows[w], paths[w], tried, trajectories[w], paths[w],
-                both > 0 ? length_m[w] / both : 0.0);
+  std::printf("%d random missions (%d with a blocked straight leg); vehicle turn radius %.0f m; mission_point_mode %s\n\n",
+              missions, blocked, turn_radius_m, std::string(to_string(mode)).c_str());
+  std::printf("| planner | routes | trajectories | stop at a point | stop at leg corners | mean route length of those flown, m |\n"
+              "|---|---|---|---|---|---|\n");
+  for (std::size_t p = 0; p < planners.size(); ++p) {
+    const Row& r = rows[p];
+    std::printf("| %s | %d/%d | %d/%d | %d | %d | %.1f |\n", std::string(planners[p]->name).c_str(), r.paths, missions,
+                r.flown, missions, r.stopped, r.corner_stopped, r.flown > 0 ? r.length_m / r.flown : 0.0);
   }
-  for (int w = 0; w < 2; ++w) {
-    std::printf("\ntrajectory failures with %d-segment windows:\n", windows[w]);
-    for (const auto& [why, count] : failures[w]) std::printf("  %2d x %s\n", count, why.c_str());
+  for (std::size_t p = 0; p < planners.size(); ++p) {
+    if (rows[p].failures.empty()) continue;
+    std::printf("\nfailures of %s:\n", std::string(planners[p]->name).c_str());
+    for (const std::string& why : rows[p].failures) std::printf("  %s\n", why.substr(0, 400).c_str());
   }
   return 0;
 }

@@ -32,11 +32,12 @@ struct Key {
   double scale = 1.0;  // the field holds value * scale (a key in seconds for a field in milliseconds)
 };
 
-// Integer fields are kept in these while parsing, then copied to their typed homes.
+// Integer and enum fields are kept in these while parsing, then copied to their typed homes.
 struct IntegerShadow {
   std::int64_t domain, seed, threads, max_queue, max_points, leg_max_iterations, order_cells, grid_cells,
       grid_window_segments, max_attempts, replan_leg_iterations, max_stored_results, max_samples, fleet_vehicles,
       fleet_tasks, max_obstacles;
+  std::string mission_point_mode;
 };
 
 IntegerShadow shadowOf(const DaemonConfig& c) {
@@ -56,7 +57,8 @@ IntegerShadow shadowOf(const DaemonConfig& c) {
                        static_cast<std::int64_t>(p.bounds.trajectory.max_samples),
                        static_cast<std::int64_t>(p.fleet.max_vehicles),
                        static_cast<std::int64_t>(p.fleet.max_tasks),
-                       static_cast<std::int64_t>(c.engine.obstacles.max_obstacles)};
+                       static_cast<std::int64_t>(c.engine.obstacles.max_obstacles),
+                       std::string(to_string(p.replan.route.trajectory.fixed_waypoint_mode))};
 }
 
 void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
@@ -77,6 +79,9 @@ void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
   p.fleet.max_vehicles = static_cast<std::size_t>(s.fleet_vehicles);
   p.fleet.max_tasks = static_cast<std::size_t>(s.fleet_tasks);
   c.engine.obstacles.max_obstacles = static_cast<std::size_t>(s.max_obstacles);
+  // The key's choices are the parser's names.
+  p.replan.route.trajectory.fixed_waypoint_mode =
+      parseFixedWaypointMode(s.mission_point_mode).value_or(p.replan.route.trajectory.fixed_waypoint_mode);
 }
 
 std::vector<std::string> plannerChoices() {
@@ -151,6 +156,11 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"planning", "grid_band_margin_m",
        "the grid planners' band reaches this far above a leg's higher end, metres (hab-pp, hab-pp-rrt)",
        &p.grid_legs.band_margin_m, 0, 10000},
+      {"planning", "mission_point_mode",
+       "at a mission point the trajectory must pass exactly: pass = fly through, slowed to the speed the corner "
+       "allows, and come to rest there only where passing cannot be made to fly (a turn no rounding fits, or a "
+       "limit no repair meets; the plan's status names the point); stop = come to rest at every point",
+       &s.mission_point_mode, -kInf, kInf, {"pass", "stop"}},
       {"planning", "grid_window_segments",
        "the grid planners' output re-planned in windows of this many segments (0 = off; hab-pp, hab-pp-rrt)",
        &s.grid_window_segments, 0, 1000},

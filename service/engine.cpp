@@ -49,7 +49,7 @@ std::optional<PlanError> checkRequestSize(const MissionRequestData& r, const Wor
                         footprint);
 }
 
-// What the order stage chose and what the budget did, in the log.
+// What the order stage chose and the plan's notes (a fired wall-clock cap, a stop at a point), in the log.
 void logPlanned(const MissionRequestData& r, const MissionPlan& plan) {
   const MissionOrder& ordering = plan.mission.ordering;
   if (!ordering.fallback_reason.empty()) {
@@ -58,7 +58,7 @@ void logPlanned(const MissionRequestData& r, const MissionPlan& plan) {
   spdlog::info("event=order request={} method={} cost_m={:.0f} expansions={} time_ms={:.1f} planner={}", r.request_id,
                ordering.method, ordering.cost_m, ordering.expansions, ordering.time_ms, plan.mission.planner->name);
   for (const std::string& note : plan.notes) {
-    spdlog::warn("event=budget_capped request={} vehicle={} note=\"{}\"", r.request_id, r.vehicle_id, note);
+    spdlog::warn("event=plan_note request={} vehicle={} note=\"{}\"", r.request_id, r.vehicle_id, note);
   }
 }
 

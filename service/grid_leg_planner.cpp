@@ -14,6 +14,10 @@ namespace {
 
 std::string legName(std::size_t i) { return "legs[" + std::to_string(i) + "]"; }
 
+// How many times a leg's band may rise by its margin before the leg is given up (each costs a
+// grid of at most max_cells_per_axis^2 cells and a connectivity check).
+constexpr int kMaxBandRaises = 20;
+
 }  // namespace
 
 Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> world,
@@ -42,26 +46,37 @@ Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> wo
     if (valid(a, b)) {
       leg.path_m = {a, b};  // the straight leg is clear: nothing for a global planner to do
     } else {
-      // The band: from the ground clearance up to above the higher end, under the ceiling.
-      const double band_top_m = std::min(wo.ceiling_m - 1.0, std::max(a.z(), b.z()) + options.band_margin_m);
-      TerrainGridOptions grid_options;
-      grid_options.cell_size_m = cell_m;
-      grid_options.flight_ceiling_m = band_top_m;
-      grid_options.min_clearance_m = wo.min_clearance_m + wo.vehicle_radius_m;
-      grid_options.cancel = stop.cancelFlag();
-      grid_options.no_fly_zones = world->noFlyZones();
-      grid_options.zone_margin_m = wo.vehicle_radius_m;
-      grid_options.keep_free_m = {a.head<2>(), b.head<2>()};
-      auto grid = buildTerrainGrid(terrain, grid_options);
-      if (!grid.ok()) return grid.error();
-      const auto start = grid->cellAt(a.head<2>());
-      const auto goal = grid->cellAt(b.head<2>());
-      if (!start || !goal) return make_error(ErrorCode::kOutsideMap, legName(i), "an end of the leg is off the flight-band grid");
+      // The band: from the ground clearance up to above the higher end, under the ceiling. When
+      // terrain above it parts the ends (the connectivity check says so at once), the band
+      // rises by its margin again, up to the ceiling: a ridge between the ends is flown over.
+      const double lowest_top_m = std::min(wo.ceiling_m - 1.0, std::max(a.z(), b.z()) + options.band_margin_m);
+      double band_top_m = lowest_top_m;
+      std::optional<GridLayer> grid;
+      std::optional<GridCell> start, goal;
+      HabPpResult found;
       TerminationCondition leg_stop = stop;
       if (options.leg_time_cap_s > 0.0) {
         leg_stop.withDeadlineAfter(std::chrono::nanoseconds(static_cast<std::int64_t>(options.leg_time_cap_s * 1e9)));
       }
-      const HabPpResult found = planHabPp(*grid, *start, *goal, params, seed + i, leg_stop);
+      for (int raise = 0;; ++raise) {
+        band_top_m = std::min(wo.ceiling_m - 1.0, lowest_top_m + raise * std::max(options.band_margin_m, 50.0));
+        TerrainGridOptions grid_options;
+        grid_options.cell_size_m = cell_m;
+        grid_options.flight_ceiling_m = band_top_m;
+        grid_options.min_clearance_m = wo.min_clearance_m + wo.vehicle_radius_m;
+        grid_options.cancel = stop.cancelFlag();
+        grid_options.no_fly_zones = world->noFlyZones();
+        grid_options.zone_margin_m = wo.vehicle_radius_m;
+        grid_options.keep_free_m = {a.head<2>(), b.head<2>()};
+        auto built_grid = buildTerrainGrid(terrain, grid_options);
+        if (!built_grid.ok()) return built_grid.error();
+        grid.emplace(std::move(*built_grid));
+        start = grid->cellAt(a.head<2>());
+        goal = grid->cellAt(b.head<2>());
+        if (!start || !goal) return make_error(ErrorCode::kOutsideMap, legName(i), "an end of the leg is off the flight-band grid");
+        found = planHabPp(*grid, *start, *goal, params, seed + i, leg_stop);
+        if (found.status != PlannerStatus::kNoPath || band_top_m >= wo.ceiling_m - 1.0 || raise >= kMaxBandRaises) break;
+      }
       // The caller's own deadline is not this leg's cap.
       leg.time_capped = found.stop_reason == TerminationCondition::Reason::kDeadline && !stop.shouldStop();
       if (found.stop_reason == TerminationCondition::Reason::kCancelled)

@@ -31,7 +31,7 @@ PlanError stageError(PlanErrorCode code, std::string field, std::string message,
 
 // Which stage a route error comes from: the trajectory stage names "trajectory" or a limit.
 PlanStage routeStage(const Error& e) {
-  if (e.field == "trajectory" || e.field.rfind("limits", 0) == 0) return PlanStage::kTrajectory;
+  if (isTrajectoryStageError(e) || e.field.rfind("limits", 0) == 0) return PlanStage::kTrajectory;
   return PlanStage::kLegs;
 }
 
@@ -207,6 +207,20 @@ Result<MissionPlan, PlanError> MissionPipeline::plan(const PipelineRequest& requ
     return *too_large;
   }
   plan.flight = std::move(*flight);
+  // Where the vehicle comes to rest instead of passing, and why (the status and the log say so).
+  for (const RoutePointStop& stop : plan.flight->route().point_stops) {
+    if (stop.point >= plan.mission.order.size()) continue;
+    plan.notes.push_back(requestPointName(plan.mission.order[stop.point], static_cast<int>(plan.mission.order.size())) +
+                         ": stops there (zero speed): " + stop.reason);
+  }
+  const std::vector<std::size_t>& corner_stops = plan.flight->route().leg_corner_stops;
+  for (std::size_t leg = 0; leg < corner_stops.size(); ++leg) {
+    if (corner_stops[leg] == 0 || leg + 1 >= plan.mission.order.size()) continue;
+    const int count = static_cast<int>(plan.mission.order.size());
+    plan.notes.push_back("legs[" + std::to_string(leg) + "] (from " + requestPointName(plan.mission.order[leg], count) +
+                         " to " + requestPointName(plan.mission.order[leg + 1], count) + "): stops at " +
+                         std::to_string(corner_stops[leg]) + " of its corners: " + plan.flight->route().corner_stop_reason);
+  }
   for (std::size_t i = 0; i < plan.flight->route().legs.size(); ++i) {
     const RouteLeg& leg = plan.flight->route().legs[i];
     if (!leg.time_capped) continue;

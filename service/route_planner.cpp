@@ -1,7 +1,9 @@
 #include "service/route_planner.hpp"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include <spdlog/spdlog.h>
 
@@ -10,6 +12,31 @@
 #include "service/trajectory_world_check.hpp"
 
 namespace skyroute {
+namespace {
+
+// Every trajectory-stage failure starts its message with this.
+constexpr std::string_view kNoTrajectory = "the trajectory cannot be flown: ";
+
+// "acceleration 14.2 m/s^2 over the limit 8 m/s^2 at t=31.0 s", from the checked values.
+std::string violationText(const Violation& v) {
+  const char* unit = "m/s";
+  switch (v.kind) {
+    case ViolationKind::kAcceleration: unit = "m/s^2"; break;
+    case ViolationKind::kTurnRadius: unit = "m"; break;
+    default: break;
+  }
+  const std::string at = " at t=" + numberText(v.time_s, 4) + " s";
+  if (v.kind == ViolationKind::kCollision) return "the curve collides (terrain or obstacle)" + at;
+  const char* relation = v.kind == ViolationKind::kTurnRadius ? " under the limit " : " over the limit ";
+  return std::string(to_string(v.kind)) + " " + numberText(v.value, 4) + " " + unit + relation +
+         numberText(v.limit, 4) + " " + unit + at;
+}
+
+}  // namespace
+
+bool isTrajectoryStageError(const Error& error) {
+  return error.field == "trajectory" || error.message.rfind(kNoTrajectory, 0) == 0;
+}
 
 Status checkRoutePoint(const CollisionWorld& world, const Eigen::Vector3d& p_m, const std::string& name,
                        std::optional<ObstacleSnapshot> snapshot) {
@@ -127,18 +154,61 @@ Status buildRouteTrajectory(std::shared_ptr<const CollisionWorld> world, const s
   TrajectoryOptions trajectory_options = options.trajectory;
   // The route points (leg ends) stay knots of the spline, so corner rounding for the turn radius
   // never cuts a mission point, and the leg times below are read at them.
+  std::vector<std::size_t> point_waypoints{0};  // route point k is waypoint point_waypoints[k]
   std::size_t leg_end = 0;
-  trajectory_options.fixed_waypoints.push_back(0);
   for (const RouteLeg& leg : route.legs) {
     leg_end += leg.path_m.size() - 1;  // leg 0 adds all its points, later legs all but their first
-    trajectory_options.fixed_waypoints.push_back(leg_end);
+    point_waypoints.push_back(leg_end);
   }
+  trajectory_options.fixed_waypoints.insert(trajectory_options.fixed_waypoints.end(), point_waypoints.begin(),
+                                            point_waypoints.end());
   spdlog::debug("event=trajectory_build waypoints={} legs={}", route.waypoints_m.size(), route.legs.size());
   auto built = buildTrajectory(route.waypoints_m, limits, trajectory_options, &check);
   if (!built.ok()) return built.error();
-  if (built->report.status == TrajectoryStatus::kInfeasible) {
-    return make_error(ErrorCode::kUnreachable, "trajectory",
-                      "no feasible trajectory along the path: " + built->report.failure_reason);
+  // The route point a waypoint is (point_waypoints.size() when none), and the leg a waypoint
+  // inside a leg belongs to.
+  auto route_point = [&](std::size_t waypoint) {
+    return static_cast<std::size_t>(std::find(point_waypoints.begin(), point_waypoints.end(), waypoint) -
+                                    point_waypoints.begin());
+  };
+  auto leg_of = [&](std::size_t waypoint) {
+    return static_cast<std::size_t>(std::upper_bound(point_waypoints.begin(), point_waypoints.end(), waypoint) -
+                                    point_waypoints.begin()) - 1;
+  };
+  const TrajectoryBuildReport& report = built->report;
+  // "2 of the points and 14 corners of the legs" (counts: the caller names points its own way).
+  std::size_t point_stops = 0;
+  std::size_t corner_stops = 0;
+  for (const WaypointStop& stop : report.stops) (route_point(stop.waypoint) < point_waypoints.size() ? point_stops : corner_stops)++;
+  std::string stopped;
+  if (point_stops > 0) stopped = std::to_string(point_stops) + " of the points";
+  if (corner_stops > 0) {
+    stopped += (stopped.empty() ? "" : " and ") + std::to_string(corner_stops) + " corners of the legs";
+  }
+  if (report.status == TrajectoryStatus::kInfeasible) {
+    std::string field = "trajectory";
+    std::string limit;
+    if (report.failure_violation) limit = violationText(*report.failure_violation) + "; ";
+    if (report.failure_waypoint && route_point(*report.failure_waypoint) < point_waypoints.size()) {
+      field = "points[" + std::to_string(route_point(*report.failure_waypoint)) + "]";
+    }
+    return make_error(ErrorCode::kUnreachable, field,
+                      std::string(kNoTrajectory) + limit + "no feasible trajectory along the path" +
+                          (stopped.empty() ? std::string() : " even with stops at " + stopped) + ": " +
+                          report.failure_reason);
+  }
+  route.point_stops.clear();
+  route.leg_corner_stops.clear();
+  route.corner_stop_reason.clear();
+  for (const WaypointStop& stop : report.stops) {
+    const std::size_t point = route_point(stop.waypoint);
+    if (point < point_waypoints.size()) {
+      route.point_stops.push_back({point, stop.reason});
+      continue;
+    }
+    if (route.leg_corner_stops.empty()) route.leg_corner_stops.assign(route.legs.size(), 0);
+    if (leg_of(stop.waypoint) < route.leg_corner_stops.size()) ++route.leg_corner_stops[leg_of(stop.waypoint)];
+    route.corner_stop_reason = stop.reason;
   }
   route.built = std::move(built.value());
   // Times at the route points: each is a knot of the spline, in order.

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -20,6 +21,14 @@
 
 namespace skyroute {
 
+// The trajectory stage's options for a route: a route whose legs are clear always gets a
+// trajectory (as the last resort it rests at the legs' corners).
+inline TrajectoryOptions routeTrajectoryOptions() {
+  TrajectoryOptions options;
+  options.stop_at_corners_as_last_resort = true;
+  return options;
+}
+
 struct RouteOptions {
   std::uint64_t seed = 1;                // leg i plans with seed + i
   double leg_budget_ms = 200.0;          // RRT* time per leg; 0 = no deadline (then set iterations)
@@ -28,7 +37,7 @@ struct RouteOptions {
   double corridor_margin_m = 3000.0;     // RRT* samples within this distance of the leg's box
   RrtStarOptions rrt;                    // seed and budget fields are set per leg
   LospoOptions lospo;
-  TrajectoryOptions trajectory;
+  TrajectoryOptions trajectory = routeTrajectoryOptions();
   // Replanning: moving obstacles frozen at this world time with a margin for planning, and the
   // trajectory re-checked against their motion with the trajectory starting at this world time.
   std::optional<ObstacleSnapshot> snapshot;
@@ -51,8 +60,19 @@ struct RouteLeg {
   double end_s = 0.0;                   // trajectory time at to_point
 };
 
+// A route point where the trajectory comes to rest (TrajectoryOptions::fixed_waypoint_mode).
+struct RoutePointStop {
+  std::size_t point = 0;  // index into the route's points
+  std::string reason;     // the stop mode, or why the trajectory could not be made to fly without it
+};
+
 struct PlannedRoute {
   std::vector<RouteLeg> legs;
+  std::vector<RoutePointStop> point_stops;  // by point
+  // Per leg (when any): how many of its corners, not route points, the trajectory rests at (the
+  // trajectory stage's last resort, knot_stops.hpp), and why.
+  std::vector<std::size_t> leg_corner_stops;
+  std::string corner_stop_reason;
   std::vector<Eigen::Vector3d> waypoints_m;  // the legs' LOSPO paths joined
   BuiltTrajectory built;
   double planning_ms = 0.0;
@@ -61,7 +81,9 @@ struct PlannedRoute {
 // points_m: the route's points in visiting order (at least two), ENU metres.
 // Errors name the offending point ("points[i]") or leg ("legs[i]"): kOutsideMap, kOccupied,
 // kUnreachable (no path within the budget), kTimeout / kCancelled from `stop`, kInvalidArgument.
-// An infeasible trajectory after repair is kUnreachable naming "trajectory" with the reason.
+// An infeasible trajectory after repair (every repair, and in the pass mode a stop at the points
+// near the violation, tried) is kUnreachable naming the route point nearest the violation
+// ("points[i]"), the limit and the value; isTrajectoryStageError tells it from a leg's error.
 Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, const std::vector<Eigen::Vector3d>& points_m,
                                const VehicleLimits& limits, const RouteOptions& options,
                                const TerminationCondition& stop = {});
@@ -75,6 +97,10 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
                                     const TerminationCondition& stop = {});
 Status buildRouteTrajectory(std::shared_ptr<const CollisionWorld> world, const std::vector<Eigen::Vector3d>& points_m,
                             const VehicleLimits& limits, const RouteOptions& options, PlannedRoute& route);
+
+// Whether an error of planRoute / buildRouteTrajectory comes from the trajectory stage (it may
+// name a route point, as the legs' stage does).
+bool isTrajectoryStageError(const Error& error);
 
 // How a global planner finds the legs' paths through the route's points (in visiting order):
 // planRoutePaths (RRT* + LOSPO) or a grid planner (grid_leg_planner.hpp); planner_registry.hpp

@@ -95,6 +95,7 @@ struct PathVertex {
   bool fixed = false;           // must stay a knot (input fixed waypoint, or the point of a pass-through)
   std::size_t input_index = 0;  // the input waypoint it is, or whose corner it rounds
   int corner = -1;              // the rounded corner it belongs to (index into CornerRecord), or -1
+  bool stop = false;            // the vehicle comes to rest here (a fixed waypoint)
 };
 
 // A rounded corner, so it can be put back and rounded wider when the curve through it still
@@ -134,7 +135,7 @@ CornerRepair roundPathCorner(std::vector<PathVertex>& path, std::size_t i, int c
   const CornerMethod method = path[i].fixed ? CornerMethod::kPassThrough : CornerMethod::kFillet;
   // A neighbour that may itself need rounding keeps half of the shared leg.
   auto share = [&](std::size_t j) {
-    return path[j].corner >= 0 || turnAt(path, j) < kTurningRad ? kFullShare : 0.5;
+    return path[j].corner >= 0 || path[j].stop || turnAt(path, j) < kTurningRad ? kFullShare : 0.5;
   };
   const double share_in = share(i - 1);
   const double share_out = share(i + 1);
@@ -204,6 +205,8 @@ CornerRepair roundPathCorner(std::vector<PathVertex>& path, std::size_t i, int c
 struct CornerJob {
   double radius_m = 0.0;
   std::string cause;
+  bool stop = false;  // a fixed corner that cannot be flown through: come to rest there instead
+  Violation violation;
 };
 
 // The time and chord repairs one round asks for.
@@ -218,13 +221,14 @@ struct SegmentRepairs {
 class RepairLoop {
  public:
   RepairLoop(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits, const TrajectoryOptions& options,
-             const MotionCheck* collision)
+             const MotionCheck* collision, const std::vector<WaypointStop>& stops)
       : limits_(limits), options_(options), collision_(collision), allocation_(options.time_allocation),
-        local_rounds_(options.max_repair_rounds / 2) {
+        local_rounds_(options.max_repair_rounds / 2), stops_(stops) {
     path_.reserve(waypoints.size());
     for (std::size_t i = 0; i < waypoints.size(); ++i)
       path_.push_back(PathVertex{waypoints[i], i == 0 || i + 1 == waypoints.size(), i, -1});
     for (std::size_t index : options.fixed_waypoints) path_[index].fixed = true;
+    for (const WaypointStop& stop : stops) path_[stop.waypoint].stop = true;
     allocation_.start_speed_mps = options.boundary.start.velocity_mps.norm();
     allocation_.end_speed_mps = options.boundary.end.velocity_mps.norm();
   }
@@ -237,7 +241,7 @@ class RepairLoop {
     DensifiedPath densified = densifyWaypoints(points, options_.waypoint_spacing_m);
     knots_ = std::move(densified.points);
     vertex_knot_ = std::move(densified.original_indices);
-    Result<std::vector<double>> allocated = allocateTimes(knots_, limits_, allocation_);
+    Result<std::vector<double>> allocated = allocateTimesWithStops(knots_, limits_, allocation_, stopKnots());
     if (!allocated) return allocated.error();
     durations_ = std::move(allocated.value());
     return Status::success();
@@ -247,7 +251,29 @@ class RepairLoop {
   // cannot be repaired (the report says which); an error only for a failed solve or layout.
   Status run(BuiltTrajectory& built);
 
+  // The stops it was given and those it made (fixed corners that could not be flown through).
+  const std::vector<WaypointStop>& stops() const { return stops_; }
+  // The violation that ended the repairs unrepaired: the one the failure reason is about.
+  std::optional<Violation> failingViolation(const FeasibilityReport& check) const {
+    if (failing_) return failing_;
+    if (!check.violations.empty()) return check.violations.front();
+    return std::nullopt;
+  }
+
  private:
+  std::vector<std::size_t> stopKnots() const {
+    std::vector<std::size_t> knots;
+    for (std::size_t i = 0; i < path_.size() && i < vertex_knot_.size(); ++i)
+      if (path_[i].stop) knots.push_back(vertex_knot_[i]);
+    return knots;
+  }
+  // Makes the unrounded fixed vertex path_[at] a stop.
+  void stopAt(std::size_t at, const std::string& why, TrajectoryBuildReport& report) {
+    path_[at].stop = true;
+    stops_.push_back(WaypointStop{path_[at].input_index, why});
+    report.repairs.push_back("stops at waypoint " + std::to_string(path_[at].input_index) + ": " + why);
+  }
+
   // Turns tighter than the vehicle can fly: rounds (or widens) the corners they fly. Returns why
   // it cannot, or "".
   std::string repairTurns(const std::vector<Violation>& violations, const std::vector<double>& t,
@@ -258,7 +284,7 @@ class RepairLoop {
                            TrajectoryBuildReport& report);
   // Collisions to split and limits to stretch; why a collision cannot be repaired, or "".
   std::string sortSegmentRepairs(const std::vector<Violation>& violations, const std::vector<double>& t,
-                                 SegmentRepairs& repairs) const;
+                                 SegmentRepairs& repairs);
   // Stretches the segments over a limit, locally for the first rounds after a layout, then the
   // whole trajectory; why stretching does not help, or "".
   std::string stretchInTime(const std::map<std::size_t, double>& stretch, const std::vector<Violation>& violations,
@@ -281,12 +307,16 @@ class RepairLoop {
   double previous_uniform_worst_ = std::numeric_limits<double>::infinity();
   double previous_local_worst_ = std::numeric_limits<double>::infinity();
   int growing_rounds_ = 0;  // stretch rounds in a row whose worst violation grew
+  std::vector<WaypointStop> stops_;
+  std::optional<Violation> failing_;  // the violation an unrepairable verdict is about
 };
 
 Status RepairLoop::run(BuiltTrajectory& built) {
   TrajectoryBuildReport& report = built.report;
   for (int round = 0;; ++round) {
-    Result<std::vector<Segment>> segments = solveMinimumSnapSpline(knots_, durations_, options_.boundary);
+    failing_.reset();
+    Result<std::vector<Segment>> segments =
+        solveMinimumSnapSplineWithStops(knots_, durations_, options_.boundary, stopKnots());
     if (!segments) return segments.error();
     built.trajectory = Trajectory(std::move(segments.value()));
     report.final_check = checkFeasibility(built.trajectory, limits_, options_.feasibility, collision_);
@@ -356,6 +386,7 @@ std::string RepairLoop::findCornerJobs(const std::vector<Violation>& violations,
                                        std::map<std::size_t, CornerJob>& jobs) {
   for (const Violation& v : violations) {
     if (v.kind != ViolationKind::kTurnRadius) continue;
+    failing_ = v;  // until it is explained
     if (!options_.round_corners) {
       return describe(v) +
              ": the path's corner is too sharp for this vehicle (stretching time does not widen a turn) "
@@ -365,7 +396,7 @@ std::string RepairLoop::findCornerJobs(const std::vector<Violation>& violations,
     std::size_t nearest = path_.size();
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 1; i + 1 < path_.size(); ++i) {
-      if (turnAt(path_, i) < kTurningRad) continue;
+      if (path_[i].stop || turnAt(path_, i) < kTurningRad) continue;
       const double gap = std::abs(t[vertex_knot_[i]] - v.time_s);
       if (gap < best) {
         best = gap;
@@ -377,21 +408,28 @@ std::string RepairLoop::findCornerJobs(const std::vector<Violation>& violations,
     }
     const int id = path_[nearest].corner;
     if (id < 0) {
-      jobs.emplace(nearest, CornerJob{0.0, describe(v)});
+      jobs.emplace(nearest, CornerJob{0.0, describe(v), false, v});
       continue;
     }
     // Already rounded, yet the curve through it turns too tightly: widen it by the shortfall.
     CornerRecord& record = corners_[static_cast<std::size_t>(id)];
+    std::size_t first = nearest;
+    while (first > 0 && path_[first - 1].corner == id) --first;
+    if (record.widenings >= kMaxWidenings && record.original.fixed) {
+      jobs[first] = CornerJob{0.0,
+                              describe(v) + ": the curve through its rounded corner still turns too tightly after " +
+                                  std::to_string(record.widenings) + " widenings",
+                              true, v};
+      continue;
+    }
     if (record.widenings >= kMaxWidenings) {
       return describe(v) + ": the curve through the rounded corner at waypoint " +
              std::to_string(record.original.input_index) + " still turns too tightly after " +
              std::to_string(record.widenings) + " widenings; the path needs replanning";
     }
-    std::size_t first = nearest;
-    while (first > 0 && path_[first - 1].corner == id) --first;
     const double wider = record.radius_m * std::max(1.05, 1.05 * v.limit / std::max(v.value, 1e-9));
     CornerJob& job = jobs[first];
-    if (wider > job.radius_m) job = CornerJob{wider, describe(v)};
+    if (!job.stop && wider > job.radius_m) job = CornerJob{wider, describe(v), false, v};
   }
   return std::string();
 }
@@ -420,9 +458,19 @@ std::string RepairLoop::roundCorners(const std::map<std::size_t, CornerJob>& job
       id = existing;
     }
     const PathVertex original = path_[at];
+    if (it->second.stop) {
+      stopAt(at, it->second.cause, report);
+      continue;
+    }
     CornerRepair repair =
         roundPathCorner(path_, at, id, preferred, lowest, vertex_time, options_.corner_rounding, collision_);
+    if (!repair.ok && original.fixed) {
+      // No pass-through fits or is clear: come to rest at the point, which turns any corner.
+      stopAt(at, it->second.cause + ": " + repair.line, report);
+      continue;
+    }
     if (!repair.ok) {
+      failing_ = it->second.violation;
       return it->second.cause + ": " +
              (existing >= 0 ? format("the curve through the %.1f m rounded corner still turns too "
                                      "tightly and a wider one fails: ",
@@ -447,7 +495,7 @@ std::string RepairLoop::roundCorners(const std::map<std::size_t, CornerJob>& job
 }
 
 std::string RepairLoop::sortSegmentRepairs(const std::vector<Violation>& violations, const std::vector<double>& t,
-                                           SegmentRepairs& repairs) const {
+                                           SegmentRepairs& repairs) {
   // Collisions: split the segment at the middle of its chord. Knots lie on the path (the input
   // polyline, or a rounded corner's points, each checked clear when adopted) and no path vertex
   // lies between two consecutive knots, so the chord is part of the checked path; if the chord
@@ -455,6 +503,7 @@ std::string RepairLoop::sortSegmentRepairs(const std::vector<Violation>& violati
   for (const Violation& v : violations) {
     if (v.kind == ViolationKind::kCollision) {
       const std::size_t s = v.segment;
+      failing_ = v;
       if (collision_ && !(*collision_)(knots_[s], t[s], knots_[s + 1], t[s + 1])) {
         return "the straight path between knots " + std::to_string(s) + " and " + std::to_string(s + 1) +
                format(" (t=%.2f..%.2f s) is itself blocked (terrain or obstacle): the path needs replanning", t[s],
@@ -464,6 +513,7 @@ std::string RepairLoop::sortSegmentRepairs(const std::vector<Violation>& violati
         return "the curve in segment " + std::to_string(s) + " still leaves the clear corridor after splitting it down to " +
                format("%.2f m", (knots_[s + 1] - knots_[s]).norm());
       }
+      failing_.reset();
       repairs.to_split.insert(s);
     } else {
       repairs.stretch[v.segment] = std::max(repairs.stretch[v.segment], stretchFactor(v));
@@ -483,7 +533,12 @@ std::string RepairLoop::stretchInTime(const std::map<std::size_t, double>& stret
   // (a replan once spent 0.5 s stretching its first segment to 500 s).
   growing_rounds_ = worst > previous_local_worst_ ? growing_rounds_ + 1 : 0;
   previous_local_worst_ = worst;
-  if (growing_rounds_ >= 2) {
+  if (growing_rounds_ >= 2 && round - timing_from_round_ < local_rounds_) {
+    // Local stretches (and the splits between them) fight each other: stretch everything
+    // uniformly from here, which slows rest-to-rest pieces exactly (and has its own guard).
+    timing_from_round_ = round - local_rounds_;
+    growing_rounds_ = 0;
+  } else if (growing_rounds_ >= 2) {
     return "stretching in time makes the violation worse (" + format("%.2f", worst) + " x the limit; " +
            describe(violations.front()) + "); the end conditions or the path must change";
   }
@@ -537,6 +592,57 @@ void RepairLoop::splitSegments(const std::set<std::size_t>& to_split, Trajectory
                            std::to_string(*to_split.begin()) + ")");
 }
 
+// Rebuilds with more stops after a failure: with the stops the loop made, at the passed point
+// nearest the violation, at every point still passed, at every corner of the path (the last);
+// each rebuild costs a full repair loop.
+constexpr int kMaxStopAttempts = 5;
+
+// The stops the mode asks for from the start: every interior fixed waypoint in the stop mode.
+std::vector<WaypointStop> modeStops(const TrajectoryOptions& options, std::size_t waypoint_count) {
+  std::vector<WaypointStop> stops;
+  if (options.fixed_waypoint_mode != FixedWaypointMode::kStop) return stops;
+  std::set<std::size_t> interior;
+  for (std::size_t index : options.fixed_waypoints)
+    if (index > 0 && index + 1 < waypoint_count) interior.insert(index);
+  for (std::size_t index : interior) stops.push_back(WaypointStop{index, "mission_point_mode is stop"});
+  return stops;
+}
+
+// Interior fixed waypoints the trajectory still passes (does not stop at), in order.
+std::vector<std::size_t> passedFixedWaypoints(const TrajectoryOptions& options, std::size_t waypoint_count,
+                                              const std::vector<WaypointStop>& stops) {
+  std::set<std::size_t> passed;
+  for (std::size_t index : options.fixed_waypoints)
+    if (index > 0 && index + 1 < waypoint_count) passed.insert(index);
+  for (const WaypointStop& stop : stops) passed.erase(stop.waypoint);
+  return {passed.begin(), passed.end()};
+}
+
+// The candidate (input index) whose knot time is nearest time_s. A fixed waypoint always stays a
+// knot, found by position, in order along the knots.
+std::optional<std::size_t> nearestWaypointInTime(const BuiltTrajectory& built,
+                                                 const std::vector<Eigen::Vector3d>& waypoints,
+                                                 std::vector<std::size_t> candidates, double time_s) {
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  const std::vector<double>& times = built.trajectory.knotTimes();
+  std::optional<std::size_t> best;
+  double best_gap = std::numeric_limits<double>::infinity();
+  std::size_t k = 0;
+  for (std::size_t index : candidates) {
+    std::size_t at = k;
+    while (at < built.knots.size() && (built.knots[at] - waypoints[index]).norm() > 1e-6) ++at;
+    if (at >= built.knots.size() || at >= times.size()) continue;
+    k = at;
+    const double gap = std::abs(times[at] - time_s);
+    if (gap < best_gap) {
+      best_gap = gap;
+      best = index;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits,
@@ -546,11 +652,55 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
   if (Status s = limits.validate(); !s) return s.error();
   if (Status s = validateOptions(options, waypoints.size()); !s) return s.error();
 
-  RepairLoop loop(waypoints, limits, options, collision);
-  if (Status s = loop.layOut(); !s) return s.error();
+  std::vector<WaypointStop> stops = modeStops(options, waypoints.size());
   BuiltTrajectory built;
-  built.report.input_waypoints = waypoints.size();
-  if (Status s = loop.run(built); !s) return s.error();
+  bool tried_nearest = false;
+  for (int attempt = 0;; ++attempt) {
+    const std::size_t given = stops.size();
+    RepairLoop loop(waypoints, limits, options, collision, stops);
+    if (Status s = loop.layOut(); !s) return s.error();
+    built = BuiltTrajectory{};
+    built.report.input_waypoints = waypoints.size();
+    if (Status s = loop.run(built); !s) return s.error();
+    stops = loop.stops();
+    if (built.report.status != TrajectoryStatus::kInfeasible) break;
+    built.report.failure_violation = loop.failingViolation(built.report.final_check);
+    if (!built.report.failure_violation || attempt >= kMaxStopAttempts) break;
+    // The loop made stops of fixed corners it could not round: build again with them from the
+    // start (their rounds were spent on the pass-throughs).
+    if (stops.size() > given) continue;
+    const std::string why = "the trajectory could not be made to fly without it (" + built.report.failure_reason + ")";
+    const std::vector<std::size_t> passed = passedFixedWaypoints(options, waypoints.size(), stops);
+    if (!passed.empty() && !tried_nearest) {
+      // The passed point nearest the violation first, then every point still passed.
+      tried_nearest = true;
+      if (auto nearest = nearestWaypointInTime(built, waypoints, passed, built.report.failure_violation->time_s)) {
+        stops.push_back({*nearest, why});
+        continue;
+      }
+    }
+    if (!passed.empty()) {
+      for (std::size_t index : passed) stops.push_back({index, why});
+      continue;
+    }
+    // Last resort: rest at every corner of the path too (TrajectoryOptions says why it flies).
+    if (!options.stop_at_corners_as_last_resort) break;
+    const std::size_t before = stops.size();
+    std::set<std::size_t> stopped;
+    for (const WaypointStop& stop : stops) stopped.insert(stop.waypoint);
+    for (std::size_t i = 1; i + 1 < waypoints.size(); ++i)
+      if (!stopped.count(i)) stops.push_back({i, "a corner of the path; " + why});
+    if (stops.size() == before) break;
+  }
+  std::sort(stops.begin(), stops.end(), [](const WaypointStop& a, const WaypointStop& b) { return a.waypoint < b.waypoint; });
+  built.report.stops = std::move(stops);
+  if (built.report.status == TrajectoryStatus::kInfeasible && built.report.failure_violation) {
+    std::vector<std::size_t> fixed = options.fixed_waypoints;
+    fixed.push_back(0);
+    fixed.push_back(waypoints.size() - 1);
+    built.report.failure_waypoint =
+        nearestWaypointInTime(built, waypoints, fixed, built.report.failure_violation->time_s);
+  }
   built.report.knots = built.knots.size();
   built.report.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   return built;

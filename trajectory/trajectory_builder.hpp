@@ -8,9 +8,16 @@
 // curve onto the checked path); segments over a limit are stretched in time, first locally, then
 // the whole trajectory uniformly (which scales speeds by 1/k and accelerations by 1/k^2 exactly
 // for a rest-to-rest spline). Then it checks again; the report says what was repaired or why not.
+// At the interior fixed waypoints (mission points) the vehicle passes, or comes to rest
+// (knot_stops.hpp): in the pass mode a fixed corner whose pass-through does not fit or collides
+// becomes a stop, and when the repairs end with a violation the fixed waypoint nearest it becomes
+// a stop and the trajectory is built again, then every fixed waypoint, and (when asked) as the
+// last resort every corner of the path (straight rest-to-rest pieces on the checked path, which
+// always fly). The report lists the stops and why.
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +27,7 @@
 #include "planning/core/result.hpp"
 #include "trajectory/corner_rounding.hpp"
 #include "trajectory/feasibility.hpp"
+#include "trajectory/knot_stops.hpp"
 #include "trajectory/spline7.hpp"
 #include "trajectory/time_allocation.hpp"
 #include "trajectory/trajectory.hpp"
@@ -46,6 +54,21 @@ struct TrajectoryOptions {
   // violation is reported as unrepairable.
   bool round_corners = true;
   CornerRoundingOptions corner_rounding;
+  // What the trajectory does at the interior fixed waypoints: pass (and stop only where passing
+  // cannot be made to fly) or stop at every one.
+  FixedWaypointMode fixed_waypoint_mode = FixedWaypointMode::kPass;
+  // When nothing else flies, rest at every corner of the path too: each piece between two
+  // waypoints is then a straight rest-to-rest line on the checked path, clear wherever the path
+  // is and slowed into every limit by the uniform stretch (the route stage asks for it: a route
+  // whose legs are clear always gets a trajectory). Off, the failure is reported.
+  bool stop_at_corners_as_last_resort = false;
+};
+
+// An interior waypoint where the trajectory comes to rest (zero velocity, acceleration and jerk),
+// and why: a fixed one, or (the last resort) a corner of the path.
+struct WaypointStop {
+  std::size_t waypoint = 0;  // index into the input waypoints
+  std::string reason;        // the stop mode, or why the trajectory could not be made to fly without it
 };
 
 enum class TrajectoryStatus {
@@ -65,6 +88,12 @@ struct TrajectoryBuildReport {
   std::size_t corners_rounded = 0;   // input corners replaced by a fillet or a pass-through
   int repair_rounds = 0;
   double build_ms = 0.0;
+  std::vector<WaypointStop> stops;   // by input index
+  // kInfeasible: the violation the repairs could not fix (the one failure_reason is about), and
+  // the fixed waypoint (input index, the ends included) nearest it in time, so a caller can name
+  // the mission point where the trajectory cannot be flown and the limit.
+  std::optional<Violation> failure_violation;
+  std::optional<std::size_t> failure_waypoint;
 };
 
 struct BuiltTrajectory {

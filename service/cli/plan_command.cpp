@@ -41,6 +41,7 @@ struct PlanArgs {
   std::optional<std::uint64_t> iterations;
   std::optional<double> budget_s;
   std::optional<double> dt_s;
+  std::optional<std::string> mission_point_mode;
   std::string out;
   std::string png;
   HeightRefArgs height_ref;
@@ -140,6 +141,9 @@ void runPlan(const PlanArgs& a) {
   if (a.iterations) p.budget.leg_max_iterations = *a.iterations;
   if (a.budget_s) p.budget.leg_time_cap_s = *a.budget_s;
   if (a.dt_s) p.sample_dt_s = *a.dt_s;
+  if (a.mission_point_mode) {
+    p.replan.route.trajectory.fixed_waypoint_mode = parseFixedWaypointMode(*a.mission_point_mode).value();
+  }
   if (auto bad = validatePipelineOptions(p)) fail(kTool, kExitUsage, bad->describe());
   if (printConfigIfAsked(a.config, config)) return;
   checkOutputPath(kTool, "--out", a.out, {"csv", "geojson", "json", "plan", "waypoints"});
@@ -219,6 +223,12 @@ void addPlanCommand(CLI::App& app) {
   plan->add_option("--dt", a->dt_s, "Sample spacing of the output, seconds (config planning.sample_dt_s)")
       ->check(CLI::Range(0.001, 10.0))
       ->default_str(numberText(PipelineOptions{}.sample_dt_s));
+  plan->add_option("--mission-point-mode", a->mission_point_mode,
+                   "At each mission point: pass = fly through, slowed for the corner, stopping only where that "
+                   "cannot fly (the summary notes each such point); stop = come to rest at every point "
+                   "(config planning.mission_point_mode)")
+      ->check(CLI::IsMember({"pass", "stop"}))
+      ->default_str("pass");
   addFlightBandOptions(*plan, a->mission.limits);
   addVehicleDynamicsOptions(*plan, a->mission.limits);
   plan->add_option("--out", a->out,
