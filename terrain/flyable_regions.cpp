@@ -10,6 +10,7 @@ namespace skyroute {
 namespace {
 
 constexpr float kNever = std::numeric_limits<float>::infinity();  // a block with no flyable square
+constexpr double kDoubtfulBlockCost = 4.0;  // per metre through a block flyable only in part
 
 constexpr int kNeighbourDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
 constexpr int kNeighbourDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
@@ -41,29 +42,38 @@ FlyableRegions FlyableRegions::build(const Heightfield& terrain, double threshol
   // Each square's lowest corner (a square with an unknown corner is unknown everywhere: the
   // bilinear height propagates NaN), folded into its block's minimum.
   r.floor_.assign(static_cast<std::size_t>(r.width_) * r.height_, kNever);
+  r.top_.assign(r.floor_.size(), -kNever);
   if (cells_wide >= 2 && cells_high >= 2) {
-    std::vector<float> pair_min(static_cast<std::size_t>(r.squares_wide_));  // of a row's neighbours
-    std::vector<float> next_pair_min(pair_min.size());
-    auto row_pairs = [&](int row, std::vector<float>& out) {
+    // Lowest and highest of each cell and its east neighbour, for this row and the next.
+    std::vector<float> pair_min(static_cast<std::size_t>(r.squares_wide_)), pair_max(pair_min.size());
+    std::vector<float> next_pair_min(pair_min.size()), next_pair_max(pair_min.size());
+    auto row_pairs = [&](int row, std::vector<float>& lo, std::vector<float>& hi) {
       for (int i = 0; i < r.squares_wide_; ++i) {
         const float a = terrain.heightCell(i, row);
         const float b = terrain.heightCell(i + 1, row);
-        out[static_cast<std::size_t>(i)] = (std::isnan(a) || std::isnan(b)) ? std::numeric_limits<float>::quiet_NaN()
-                                                                            : std::min(a, b);
+        const bool unknown = std::isnan(a) || std::isnan(b);
+        lo[static_cast<std::size_t>(i)] = unknown ? std::numeric_limits<float>::quiet_NaN() : std::min(a, b);
+        hi[static_cast<std::size_t>(i)] = unknown ? std::numeric_limits<float>::quiet_NaN() : std::max(a, b);
       }
     };
-    row_pairs(0, pair_min);
+    row_pairs(0, pair_min, pair_max);
     for (int j = 0; j < r.squares_high_; ++j) {
-      row_pairs(j + 1, next_pair_min);
+      row_pairs(j + 1, next_pair_min, next_pair_max);
       float* block_row = &r.floor_[static_cast<std::size_t>(j / pool) * r.width_];
+      float* top_row = &r.top_[static_cast<std::size_t>(j / pool) * r.width_];
       for (int i = 0; i < r.squares_wide_; ++i) {
-        const float top = pair_min[static_cast<std::size_t>(i)];
-        const float bottom = next_pair_min[static_cast<std::size_t>(i)];
-        if (std::isnan(top) || std::isnan(bottom)) continue;
+        const std::size_t k = static_cast<std::size_t>(i);
+        float& top = top_row[i / pool];
+        if (std::isnan(pair_min[k]) || std::isnan(next_pair_min[k])) {
+          top = kNever;
+          continue;
+        }
         float& f = block_row[i / pool];
-        f = std::min(f, std::min(top, bottom));
+        f = std::min(f, std::min(pair_min[k], next_pair_min[k]));
+        top = std::max(top, std::max(pair_max[k], next_pair_max[k]));
       }
       std::swap(pair_min, next_pair_min);
+      std::swap(pair_max, next_pair_max);
     }
   } else if (cells_wide == 1 && cells_high == 1) {
     const float h = terrain.heightCell(0, 0);
@@ -191,9 +201,8 @@ std::optional<double> FlyableRegions::lowestConnectingGroundM(const Eigen::Vecto
   return std::nullopt;
 }
 
-std::optional<Eigen::AlignedBox2d> FlyableRegions::shortestWayBox(const Eigen::Vector2d& a_en_m,
-                                                                  const Eigen::Vector2d& b_en_m) const {
-  if (!connected(a_en_m, b_en_m)) return std::nullopt;
+std::vector<std::size_t> FlyableRegions::wayBlocks(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m) const {
+  if (!connected(a_en_m, b_en_m)) return {};
   const Eigen::Vector2i a = *blockAt(a_en_m);
   const Eigen::Vector2i b = *blockAt(b_en_m);
   const std::size_t start = index(a), goal = index(b);
@@ -226,23 +235,51 @@ std::optional<Eigen::AlignedBox2d> FlyableRegions::shortestWayBox(const Eigen::V
       if (nx < 0 || ny < 0 || nx >= width_ || ny >= height_) continue;
       const std::size_t n = static_cast<std::size_t>(ny) * width_ + nx;
       if (!flyable(n)) continue;
-      const double g = cost[at] + std::hypot(kNeighbourDx[k] * ex, kNeighbourDy[k] * ny_m);
+      // Blocks flyable throughout are preferred: a block flyable only in part may hold no way
+      // through (its low squares need not touch the next block's), so it costs more to cross.
+      const double doubt = top_[n] <= threshold_m_ ? 1.0 : kDoubtfulBlockCost;
+      const double g = cost[at] + doubt * std::hypot(kNeighbourDx[k] * ex, kNeighbourDy[k] * ny_m);
       if (!(g < cost[n])) continue;
       cost[n] = g;
       parent[n] = static_cast<std::int32_t>(at);
       open.emplace(g + heuristic(n), n);
     }
   }
-  if (!reached) return std::nullopt;
+  std::vector<std::size_t> way;
+  if (!reached) return way;
+  for (std::int64_t at = static_cast<std::int64_t>(goal); at >= 0; at = parent[static_cast<std::size_t>(at)]) {
+    way.push_back(static_cast<std::size_t>(at));
+    if (static_cast<std::size_t>(at) == start) break;
+  }
+  return way;
+}
+
+std::vector<Eigen::Vector3d> FlyableRegions::shortestWay(const Eigen::Vector2d& a_en_m,
+                                                         const Eigen::Vector2d& b_en_m) const {
+  const std::vector<std::size_t> blocks = wayBlocks(a_en_m, b_en_m);
+  std::vector<Eigen::Vector3d> way;
+  way.reserve(blocks.size());
+  for (auto it = blocks.rbegin(); it != blocks.rend(); ++it) {
+    const double x = std::min<double>(static_cast<double>(*it % width_) * pool_ + 0.5 * pool_, squares_wide_);
+    const double y = std::min<double>(static_cast<double>(*it / width_) * pool_ + 0.5 * pool_, squares_high_);
+    const Eigen::Vector2d en = terrain_->pixelToEn(x, y);
+    if (en.allFinite()) way.emplace_back(en.x(), en.y(), static_cast<double>(floor_[*it]));
+  }
+  return way;
+}
+
+std::optional<Eigen::AlignedBox2d> FlyableRegions::shortestWayBox(const Eigen::Vector2d& a_en_m,
+                                                                  const Eigen::Vector2d& b_en_m) const {
+  const std::vector<std::size_t> way = wayBlocks(a_en_m, b_en_m);
+  if (way.empty()) return std::nullopt;
   // The way's extent in pixels (a block spans pool squares from its first), then in ENU through
   // the box's corners, with the two points themselves.
   Eigen::AlignedBox2d px_box;
-  for (std::int64_t at = static_cast<std::int64_t>(goal); at >= 0; at = parent[static_cast<std::size_t>(at)]) {
+  for (const std::size_t at : way) {
     const double x = static_cast<double>(at % width_) * pool_;
     const double y = static_cast<double>(at / width_) * pool_;
     px_box.extend(Eigen::Vector2d(x, y));
     px_box.extend(Eigen::Vector2d(std::min<double>(x + pool_, squares_wide_), std::min<double>(y + pool_, squares_high_)));
-    if (static_cast<std::size_t>(at) == start) break;
   }
   Eigen::AlignedBox2d en_box;
   en_box.extend(a_en_m);

@@ -54,9 +54,12 @@ class FlyableRegions {
   // them must pass over. Nothing when unknown terrain separates them at every height.
   std::optional<double> lowestConnectingGroundM(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m) const;
   // The shortest 8-connected way through flyable blocks from a's block to b's (A*, lengths in
-  // metres at the DEM's cell size), as the ENU box round it and the two points: where a search
+  // metres at the DEM's cell size, a block flyable only in part counted four times as long), as the ENU box round it and the two points: where a search
   // that must find the way round a ridge should look. Nothing when they are not connected.
   std::optional<Eigen::AlignedBox2d> shortestWayBox(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m) const;
+  // The same way as points: each block's centre (east, north) and its floor (up), from a's block
+  // to b's. Empty when they are not connected.
+  std::vector<Eigen::Vector3d> shortestWay(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m) const;
 
  private:
   FlyableRegions() = default;
@@ -64,6 +67,8 @@ class FlyableRegions {
     return static_cast<std::size_t>(b.y()) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(b.x());
   }
   bool flyable(std::size_t i) const { return label_[i] != 0; }
+  // A* over the flyable blocks: the blocks of the way from a's to b's, b's first; empty if none.
+  std::vector<std::size_t> wayBlocks(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m) const;
 
   const Heightfield* terrain_ = nullptr;  // for pixel <-> ENU; the owner keeps it alive
   double threshold_m_ = 0.0;
@@ -75,6 +80,7 @@ class FlyableRegions {
   double block_east_m_ = 1.0;  // a block's mean ground size (for path lengths)
   double block_north_m_ = 1.0;
   std::vector<float> floor_;
+  std::vector<float> top_;  // highest ground of the block (+inf with an unknown square)
   std::vector<std::int32_t> label_;
   int regions_ = 0;
 };

@@ -1,5 +1,6 @@
 #include "planning/sampling/leg_sampling_regions.hpp"
 
+#include <algorithm>
 #include <limits>
 
 #include "planning/sampling/world_motion_validator.hpp"
@@ -45,9 +46,19 @@ std::optional<Eigen::AlignedBox3d> LegSamplingRegions::next() {
       // solved there is planned exactly as with the corridor alone.
       if (!regions.connectedWithin(a_m_.head<2>(), b_m_.head<2>(), box)) continue;
     } else if (step == 1) {
-      const auto way = regions.shortestWayBox(a_m_.head<2>(), b_m_.head<2>());
-      if (!way) continue;
-      box = Eigen::AlignedBox2d(way->min().array() - margin_m_, way->max().array() + margin_m_);
+      const std::vector<Eigen::Vector3d> way = regions.shortestWay(a_m_.head<2>(), b_m_.head<2>());
+      if (way.empty()) continue;
+      Eigen::AlignedBox2d way_box;
+      way_box.extend(a_m_.head<2>());
+      way_box.extend(b_m_.head<2>());
+      const double clearance_m = world_.options().min_clearance_m;
+      for (std::size_t k = 0; k < way.size(); ++k) {
+        way_box.extend(way[k].head<2>());
+        guide_.emplace_back(way[k].x(), way[k].y(), way[k].z() + clearance_m);
+        if (k > 0) guide_spacing_m_ = std::max(guide_spacing_m_, (way[k] - way[k - 1]).head<2>().norm());
+      }
+      // The margin also covers the half block round each point of the way.
+      box = Eigen::AlignedBox2d(way_box.min().array() - margin_m_, way_box.max().array() + margin_m_);
     } else {
       box = terrain;
     }

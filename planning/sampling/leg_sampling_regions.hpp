@@ -33,6 +33,11 @@ class LegSamplingRegions {
   // The next sampling region to try (a box spanning every height, bigger than every one before),
   // nothing after the whole terrain. The first step is the corridor whenever a path may lie in it.
   std::optional<Eigen::AlignedBox3d> next();
+  // From the second step on: the shortest way through the flyable regions, its points at the
+  // lowest flyable height of their block (empty for the corridor), and how far apart they lie, for
+  // RRT*'s guided samples (RrtStarOptions::guide_m).
+  const std::vector<Eigen::Vector3d>& guide() const { return guide_; }
+  double guideSpacingM() const { return guide_spacing_m_; }
   // Regions handed out so far, and whether the last was the whole terrain.
   int tried() const { return tried_; }
   bool wholeTerrainTried() const { return whole_tried_; }
@@ -46,6 +51,8 @@ class LegSamplingRegions {
   int tried_ = 0;
   bool whole_tried_ = false;
   std::vector<Eigen::AlignedBox2d> given_;  // clipped to the terrain
+  std::vector<Eigen::Vector3d> guide_;
+  double guide_spacing_m_ = 0.0;
 };
 
 }  // namespace skyroute
