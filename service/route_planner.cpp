@@ -17,6 +17,7 @@ namespace {
 // automatic range).
 constexpr double kGuideBias = 0.5;
 constexpr double kGuidedStepsPerBlock = 10.0;
+constexpr int kBeyondCorridorLospoVertices = 300;
 }  // namespace
 
 Status checkRoutePoint(const CollisionWorld& world, const Eigen::Vector3d& p_m, const std::string& name,
@@ -140,7 +141,13 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
       return plannerError(status, leg_name,
                           "no path found: RRT* drew " + std::to_string(samples) + " samples before " + why + where);
     }
-    auto shortened = lospo(*validator, rrt->path_m, options.lospo, stop);
+    // A path found beyond the corridor can be tens of kilometres of RRT* zigzag: LOSPO's O(n^2)
+    // pass over vertices every spacing_m would take seconds, so it gets at most a few hundred.
+    LospoOptions lospo_options = options.lospo;
+    if (!regions.guide().empty() && lospo_options.max_vertices == 0) {
+      lospo_options.max_vertices = kBeyondCorridorLospoVertices;
+    }
+    auto shortened = lospo(*validator, rrt->path_m, lospo_options, stop);
     if (!shortened.ok()) return shortened.error();
     RouteLeg leg;
     leg.from_point = i;

@@ -54,8 +54,9 @@ class FlyableRegions {
   // them must pass over. Nothing when unknown terrain separates them at every height.
   std::optional<double> lowestConnectingGroundM(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m) const;
   // The shortest 8-connected way through flyable blocks from a's block to b's (A*, lengths in
-  // metres at the DEM's cell size, a block flyable only in part counted four times as long), as the ENU box round it and the two points: where a search
-  // that must find the way round a ridge should look. Nothing when they are not connected.
+  // metres at the DEM's cell size, a block flyable only in part counted four times as long), as
+  // the ENU box round it and the two points: where a search that must find the way round a
+  // ridge should look. Nothing when they are not connected.
   std::optional<Eigen::AlignedBox2d> shortestWayBox(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m) const;
   // The same way as points: each block's centre (east, north) and its floor (up), from a's block
   // to b's. Empty when they are not connected.

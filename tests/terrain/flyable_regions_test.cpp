@@ -205,7 +205,8 @@ TEST(FlyableRegions, NotConnectedIsNeverSaidOfAValidFlightEvenWithPooledBlocks) 
       if (w.world->isSegmentValid(*a, *b)) {
         ++valid_flights;
         ASSERT_TRUE(regions.connected(a->head<2>(), b->head<2>())) << "max_blocks " << max_blocks;
-        ASSERT_TRUE(regions.connectedWithin(a->head<2>(), b->head<2>(), Eigen::AlignedBox2d(a->head<2>().cwiseMin(b->head<2>()), a->head<2>().cwiseMax(b->head<2>()))));
+        const Eigen::AlignedBox2d own_box(a->head<2>().cwiseMin(b->head<2>()), a->head<2>().cwiseMax(b->head<2>()));
+        ASSERT_TRUE(regions.connectedWithin(a->head<2>(), b->head<2>(), own_box));
       } else if (!regions.connected(a->head<2>(), b->head<2>())) {
         ++separated;
         // Not connected below this ceiling, so the bottleneck lies above the threshold.
