@@ -8,7 +8,7 @@
 // is blocked by ground above the ceiling and whose every way round leaves the pipeline's corridor;
 // planner rows over the whole terrain), see makeHardPairs.
 //
-// Usage: rrt_star_bench [--pairs N] [--sets easy,hard] [--hard-pairs N] [--max-detour F] [--long-ms MS] [--csv FILE] [--dem hgt|tif|both] [--spacing M]
+// Usage: rrt_star_bench [--pairs N] [--sets easy,hard] [--hard-pairs N] [--max-detour F] [--product-seeds N] [--long-ms MS] [--csv FILE] [--dem hgt|tif|both] [--spacing M]
 //                       [--max-vertices N] [--passes N] [--plan-share F] [--ompl-plan-share F]
 //                       [--refine 0|1] [--refine-min-step M] [--refine-shortcuts N] [--budgets MS,MS,...]
 //                       [--ompl 0|1] [--ompl-planners NAME,...] [--protocols inside,after]
@@ -427,6 +427,7 @@ int main(int argc, char** argv) {
   std::string sets = "easy,hard";
   int hard_pairs = 20;
   double max_detour = 1.5;
+  int product_seeds = 1;  // product rows per pair, each with its own seed
   OurOptions ours;
   std::vector<OurOptions> variants;  // extra configurations of ours, run next to it
   bool with_ompl = true;
@@ -444,6 +445,7 @@ int main(int argc, char** argv) {
     else if (a == "--sets") sets = argv[i + 1];
     else if (a == "--hard-pairs") hard_pairs = std::atoi(argv[i + 1]);
     else if (a == "--max-detour") max_detour = std::atof(argv[i + 1]);
+    else if (a == "--product-seeds") product_seeds = std::max(1, std::atoi(argv[i + 1]));
     else if (a == "--spacing") ours.spacing_m = std::atof(argv[i + 1]);
     else if (a == "--passes") ours.passes = std::atoi(argv[i + 1]);
     else if (a == "--max-vertices") ours.max_vertices = std::atoi(argv[i + 1]);
@@ -531,6 +533,7 @@ int main(int argc, char** argv) {
   std::map<std::tuple<std::string, double, bool>, std::vector<double>> ratios;
   std::map<std::tuple<std::string, double>, std::vector<double>> simplify_times;
   std::map<std::tuple<std::string, double>, int> solved_count;
+  std::map<std::tuple<std::string, double>, int> run_count;  // runs per row (product rows: pairs x seeds)
   std::map<std::string, std::vector<double>> plan_times;  // CPU ms of the whole leg, product default budget
   std::map<std::tuple<std::string, double>, std::vector<double>> leg_times;  // CPU ms of the planner (product: the leg)
   int total_pairs = 0;
@@ -582,8 +585,11 @@ int main(int argc, char** argv) {
       }
       if (with_product) {  // after `best`: the product rows are measured against the others' best
         const std::size_t first_product = runs.size();
-        for (double b : budgets) runs.push_back(runProduct(world->collision, pairs[k], b, 1000 + k));
-        runs.push_back(runProduct(world->collision, pairs[k], 0.0, 1000 + k));
+        for (int seed = 0; seed < product_seeds; ++seed) {
+          const std::uint64_t product_seed = 1000 + k + 7919 * static_cast<std::uint64_t>(seed);
+          for (double b : budgets) runs.push_back(runProduct(world->collision, pairs[k], b, product_seed));
+          runs.push_back(runProduct(world->collision, pairs[k], 0.0, product_seed));
+        }
         // On the hard legs the product's guided search can beat every planner row over the whole
         // terrain: there the best known length counts every row.
         for (std::size_t r = first_product; dc.hard && r < runs.size(); ++r) {
@@ -605,6 +611,7 @@ int main(int argc, char** argv) {
         ratios[{key, r.budget_ms, true}].push_back(r.solved ? r.simplified_m / best : INFINITY);
         simplify_times[{key, r.budget_ms}].push_back(r.simplify_s * 1000);
         solved_count[{key, r.budget_ms}] += r.solved ? 1 : 0;
+        ++run_count[{key, r.budget_ms}];
         leg_times[{key, r.budget_ms}].push_back(r.plan_s * 1000);
         if (r.budget_ms == 0.0) plan_times[key].push_back(r.plan_s * 1000);
         if (r.planner == "skyroute RRT*") {  // the same run before the refinement
@@ -613,6 +620,7 @@ int main(int argc, char** argv) {
           ratios[{before, r.budget_ms, true}].push_back(r.solved ? r.lospo_m / best : INFINITY);
           simplify_times[{before, r.budget_ms}].push_back((r.simplify_s - r.refine_s) * 1000);
           solved_count[{before, r.budget_ms}] += r.solved ? 1 : 0;
+          ++run_count[{before, r.budget_ms}];
         }
       }
       ++total_pairs;
@@ -645,7 +653,7 @@ int main(int argc, char** argv) {
       for (const auto& n : names) {
         const std::string key = set + "|" + n;
         std::printf("| %s | %s | %.0f | %d/%d | %.3f | %.3f | %.3f | %.3f | %.1f | %.1f |\n", set.c_str(), n.c_str(), b,
-                    solved_count[{key, b}], count, quantile(ratios[{key, b, false}], 0.5),
+                    solved_count[{key, b}], run_count[{key, b}], quantile(ratios[{key, b, false}], 0.5),
                     quantile(ratios[{key, b, false}], 0.9), quantile(ratios[{key, b, true}], 0.5),
                     quantile(ratios[{key, b, true}], 0.9), quantile(simplify_times[{key, b}], 0.5),
                     quantile(leg_times[{key, b}], 0.5));
@@ -655,7 +663,7 @@ int main(int argc, char** argv) {
       const std::string n = productRowName(true), key = set + "|" + n;
       std::printf("| %s | %s | %llu it, cap %.0f s | %d/%d | %.3f | %.3f | %.3f | %.3f | - | %.1f |\n", set.c_str(),
                   n.c_str(), static_cast<unsigned long long>(skyroute::PlanBudget{}.leg_max_iterations),
-                  skyroute::PlanBudget{}.leg_time_cap_s, solved_count[{key, 0.0}], count,
+                  skyroute::PlanBudget{}.leg_time_cap_s, solved_count[{key, 0.0}], run_count[{key, 0.0}],
                   quantile(ratios[{key, 0.0, false}], 0.5), quantile(ratios[{key, 0.0, false}], 0.9),
                   quantile(ratios[{key, 0.0, true}], 0.5), quantile(ratios[{key, 0.0, true}], 0.9),
                   quantile(plan_times[key], 0.5));
