@@ -3,8 +3,12 @@
 // the same WorldMotionValidator. Per DEM, seeded start/goal pairs low over the terrain under a
 // ceiling, with the straight line blocked; budgets 10, 50, 100 ms plus a long reference budget.
 // Each planner's length is divided by the best length any planner found for that pair.
+// Two sets of legs, each in its own rows: "easy" (those pairs, per DEM, with the planner rows in a
+// corridor of half the leg's length round it) and "hard" (N44W072 only: legs whose straight line
+// is blocked by ground above the ceiling and whose every way round leaves the pipeline's corridor;
+// planner rows over the whole terrain), see makeHardPairs.
 //
-// Usage: rrt_star_bench [--pairs N] [--long-ms MS] [--csv FILE] [--dem hgt|tif|both] [--spacing M]
+// Usage: rrt_star_bench [--pairs N] [--sets easy,hard] [--hard-pairs N] [--max-detour F] [--product-seeds N] [--long-ms MS] [--csv FILE] [--dem hgt|tif|both] [--spacing M]
 //                       [--max-vertices N] [--passes N] [--plan-share F] [--ompl-plan-share F]
 //                       [--refine 0|1] [--refine-min-step M] [--refine-shortcuts N] [--budgets MS,MS,...]
 //                       [--ompl 0|1] [--ompl-planners NAME,...] [--protocols inside,after]
@@ -28,8 +32,9 @@
 // route options (its own corridor round the leg, RRT* and LOSPO settings, no refinePath), capped
 // at the budget in wall-clock time as the product caps it, with no iteration budget; the row
 // "product rrtstar-lospo [default budget]" uses the pipeline's default budget (an iteration count
-// with a wall-clock cap). The product rows are not counted in a pair's best length, so the other
-// rows' ratios stay comparable with earlier runs; `--product 0` leaves them out.
+// with a wall-clock cap). On the easy legs the product rows are not counted in a pair's best
+// length, so the other rows' ratios stay comparable with earlier runs; on the hard legs they are
+// (its guided search often finds a shorter way than any planner row); `--product 0` leaves them out.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -38,6 +43,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -309,6 +315,9 @@ struct DemCase {
   std::string path;
   double ceiling_m;
   double min_dist_m, max_dist_m;
+  // Hard legs: the way round the terrain above the ceiling leaves the leg's corridor (the box the
+  // pipeline samples first); every planner row samples the whole terrain.
+  bool hard = false;
 };
 
 std::vector<Pair> makePairs(const skyroute::TerrainWorld& world, const DemCase& dc, int count, std::uint64_t seed,
@@ -352,6 +361,52 @@ std::vector<Pair> makePairs(const skyroute::TerrainWorld& world, const DemCase& 
   return pairs;
 }
 
+// Seeded legs low over the terrain whose straight line is blocked by ground above the ceiling and
+// whose every way round leaves the pipeline's corridor (corridor_margin_m round the leg's box):
+// the flyable regions prove no path stays inside it, and prove one may exist beyond it; each kept
+// leg is solved by our RRT* over the whole terrain within 2 s (so its best length is known) with a
+// path at most max_detour times the straight line (a way round a range, not through a maze).
+std::vector<Pair> makeHardPairs(const skyroute::TerrainWorld& world, const DemCase& dc, int count, std::uint64_t seed,
+                                double corridor_margin_m, double max_detour,
+                                std::vector<std::unique_ptr<skyroute::WorldMotionValidator>>& validators) {
+  std::mt19937_64 rng(seed);
+  auto u = [&rng](double a, double b) { return a + (b - a) * (static_cast<double>(rng() >> 11) * 0x1.0p-53); };
+  const auto& hf = *world.heightfield;
+  const Eigen::AlignedBox2d en = hf.boundsEn();
+  const double clearance = world.collision->options().min_clearance_m;
+  const skyroute::FlyableRegions& regions = world.collision->flyableRegions();
+  auto lowPoint = [&](double e, double n) -> std::optional<Eigen::Vector3d> {
+    const double ground = hf.heightAt(e, n);
+    if (!std::isfinite(ground)) return std::nullopt;
+    const Eigen::Vector3d p(e, n, ground + clearance + u(40.0, 150.0));
+    if (p.z() > dc.ceiling_m - 30.0 || !world.collision->isPointValid(p)) return std::nullopt;
+    return p;
+  };
+  std::vector<Pair> pairs;
+  int attempts = 0;
+  while (static_cast<int>(pairs.size()) < count && attempts < 200000) {
+    ++attempts;
+    const auto s = lowPoint(u(en.min().x(), en.max().x()), u(en.min().y(), en.max().y()));
+    if (!s) continue;
+    const double d = u(dc.min_dist_m, dc.max_dist_m), a = u(0, 2 * M_PI);
+    const Eigen::Vector2d g2 = s->head<2>() + d * Eigen::Vector2d(std::cos(a), std::sin(a));
+    if (!en.contains(g2)) continue;
+    const auto g = lowPoint(g2.x(), g2.y());
+    if (!g || !regions.connected(s->head<2>(), g->head<2>())) continue;
+    const Eigen::AlignedBox3d corridor = skyroute::WorldMotionValidator::corridor(*s, *g, corridor_margin_m);
+    const Eigen::AlignedBox2d corridor_en(corridor.min().head<2>(), corridor.max().head<2>());
+    if (regions.connectedWithin(s->head<2>(), g->head<2>(), corridor_en)) continue;
+    auto v = std::make_unique<skyroute::WorldMotionValidator>(world.collision);
+    auto probe = skyroute::RrtStar(*v).plan(*s, *g, TerminationCondition::afterThreadCpuMilliseconds(2000));
+    if (!probe.ok() || !probe->solved()) continue;
+    // A detour round a range, not a maze: at most max_detour times the straight line.
+    if (probe->length_m > max_detour * (*g - *s).norm()) continue;
+    pairs.push_back({*s, *g});
+    validators.push_back(std::move(v));
+  }
+  return pairs;
+}
+
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return NAN;
   std::sort(v.begin(), v.end());
@@ -369,6 +424,10 @@ int main(int argc, char** argv) {
   double long_ms = 1000.0;
   std::string csv_path = "rrt_star_bench.csv";
   std::string which = "both";
+  std::string sets = "easy,hard";
+  int hard_pairs = 20;
+  double max_detour = 1.5;
+  int product_seeds = 1;  // product rows per pair, each with its own seed
   OurOptions ours;
   std::vector<OurOptions> variants;  // extra configurations of ours, run next to it
   bool with_ompl = true;
@@ -383,6 +442,10 @@ int main(int argc, char** argv) {
     else if (a == "--long-ms") long_ms = std::atof(argv[i + 1]);
     else if (a == "--csv") csv_path = argv[i + 1];
     else if (a == "--dem") which = argv[i + 1];
+    else if (a == "--sets") sets = argv[i + 1];
+    else if (a == "--hard-pairs") hard_pairs = std::atoi(argv[i + 1]);
+    else if (a == "--max-detour") max_detour = std::atof(argv[i + 1]);
+    else if (a == "--product-seeds") product_seeds = std::max(1, std::atoi(argv[i + 1]));
     else if (a == "--spacing") ours.spacing_m = std::atof(argv[i + 1]);
     else if (a == "--passes") ours.passes = std::atoi(argv[i + 1]);
     else if (a == "--max-vertices") ours.max_vertices = std::atoi(argv[i + 1]);
@@ -452,8 +515,12 @@ int main(int argc, char** argv) {
   ompl::RNG::setSeed(12345);
   const std::string dir = SKYROUTE_SHARED_DATA_DIR;
   std::vector<DemCase> cases;
-  if (which != "tif") cases.push_back({"N44W072", dir + "/dem/N44W072.hgt", 900.0, 8000.0, 15000.0});
-  if (which != "hgt") cases.push_back({"davosdorf", dir + "/dem/davosdorf.tif", 2500.0, 4000.0, 8000.0});
+  const bool easy_set = sets.find("easy") != std::string::npos, hard_set = sets.find("hard") != std::string::npos;
+  if (easy_set && which != "tif") cases.push_back({"N44W072", dir + "/dem/N44W072.hgt", 900.0, 8000.0, 15000.0});
+  if (easy_set && which != "hgt") cases.push_back({"davosdorf", dir + "/dem/davosdorf.tif", 2500.0, 4000.0, 8000.0});
+  if (hard_set && which != "tif") {
+    cases.push_back({"N44W072 hard", dir + "/dem/N44W072.hgt", 900.0, 15000.0, 30000.0, true});
+  }
   if (long_ms > 0) budgets.push_back(long_ms);
   if (!with_ompl) ompl_planners.clear();
   OurOptions ours_after = ours;
@@ -466,9 +533,14 @@ int main(int argc, char** argv) {
   std::map<std::tuple<std::string, double, bool>, std::vector<double>> ratios;
   std::map<std::tuple<std::string, double>, std::vector<double>> simplify_times;
   std::map<std::tuple<std::string, double>, int> solved_count;
+  std::map<std::tuple<std::string, double>, int> run_count;  // runs per row (product rows: pairs x seeds)
   std::map<std::string, std::vector<double>> plan_times;  // CPU ms of the whole leg, product default budget
+  std::map<std::tuple<std::string, double>, std::vector<double>> leg_times;  // CPU ms of the planner (product: the leg)
   int total_pairs = 0;
-  skyroute::bench::BenchProgress progress("rrt_star_bench", cases.size() * static_cast<std::size_t>(pairs_per_dem));
+  std::size_t planned_pairs = 0;
+  for (const DemCase& dc : cases) planned_pairs += static_cast<std::size_t>(dc.hard ? hard_pairs : pairs_per_dem);
+  skyroute::bench::BenchProgress progress("rrt_star_bench", planned_pairs);
+  std::map<std::string, int> set_pairs;  // "easy" / "hard" -> pairs run
   for (const DemCase& dc : cases) {
     skyroute::CollisionWorldOptions wo;
     wo.ceiling_m = dc.ceiling_m;
@@ -479,9 +551,18 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::vector<std::unique_ptr<skyroute::WorldMotionValidator>> validators;
-    const std::vector<Pair> pairs = makePairs(*world, dc, pairs_per_dem, 2026, 0.5, validators);
-    std::printf("%s: %zu pairs, ceiling %.0f m, %.0f-%.0f km apart\n", dc.name.c_str(), pairs.size(), dc.ceiling_m,
-                dc.min_dist_m / 1000, dc.max_dist_m / 1000);
+    const auto labelling_started = std::chrono::steady_clock::now();
+    const skyroute::FlyableRegions& regions = world->collision->flyableRegions();
+    const double labelling_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - labelling_started).count();
+    const double corridor_margin_m = skyroute::pipelineReplanOptions(skyroute::PipelineOptions{}, skyroute::PlanBudget{}, 1)
+                                         .route.corridor_margin_m;
+    const std::vector<Pair> pairs = dc.hard ? makeHardPairs(*world, dc, hard_pairs, 2027, corridor_margin_m, max_detour, validators)
+                                            : makePairs(*world, dc, pairs_per_dem, 2026, 0.5, validators);
+    std::printf("%s: %zu pairs, ceiling %.0f m, %.0f-%.0f km apart; flyable regions labelled in %.1f ms (%d x %d "
+                "blocks of %d cells, %d regions)\n",
+                dc.name.c_str(), pairs.size(), dc.ceiling_m, dc.min_dist_m / 1000, dc.max_dist_m / 1000, labelling_ms,
+                regions.blocksWide(), regions.blocksHigh(), regions.pool(), regions.regionCount());
     std::fflush(stdout);
     for (std::size_t k = 0; k < pairs.size(); ++k) {
       const MotionValidator& v = *validators[k];
@@ -503,28 +584,43 @@ int main(int argc, char** argv) {
         if (r.solved) best = std::min({best, r.length_m, r.simplified_m});
       }
       if (with_product) {  // after `best`: the product rows are measured against the others' best
-        for (double b : budgets) runs.push_back(runProduct(world->collision, pairs[k], b, 1000 + k));
-        runs.push_back(runProduct(world->collision, pairs[k], 0.0, 1000 + k));
+        const std::size_t first_product = runs.size();
+        for (int seed = 0; seed < product_seeds; ++seed) {
+          const std::uint64_t product_seed = 1000 + k + 7919 * static_cast<std::uint64_t>(seed);
+          for (double b : budgets) runs.push_back(runProduct(world->collision, pairs[k], b, product_seed));
+          runs.push_back(runProduct(world->collision, pairs[k], 0.0, product_seed));
+        }
+        // On the hard legs the product's guided search can beat every planner row over the whole
+        // terrain: there the best known length counts every row.
+        for (std::size_t r = first_product; dc.hard && r < runs.size(); ++r) {
+          if (runs[r].solved) best = std::min({best, runs[r].length_m, runs[r].simplified_m});
+        }
       }
       progress.done(dc.name + " pair " + std::to_string(k));
+      const std::string set = dc.hard ? "hard" : "easy";
+      ++set_pairs[set];
       for (Run& r : runs) {
+        const std::string key = set + "|" + r.planner;
         r.dem = dc.name;
         r.pair = static_cast<int>(k);
         csv << r.dem << ',' << r.pair << ',' << r.planner << ',' << r.budget_ms << ',' << r.solved << ',' << r.plan_s
             << ',' << r.length_m << ',' << r.simplified_m << ',' << r.simplify_s << ',' << r.tree_size << ','
             << best << ',' << r.lospo_m << ',' << r.refine_s << '\n';
         // Unsolved runs count as infinitely long (they push medians up, as they should).
-        ratios[{r.planner, r.budget_ms, false}].push_back(r.solved ? r.length_m / best : INFINITY);
-        ratios[{r.planner, r.budget_ms, true}].push_back(r.solved ? r.simplified_m / best : INFINITY);
-        simplify_times[{r.planner, r.budget_ms}].push_back(r.simplify_s * 1000);
-        solved_count[{r.planner, r.budget_ms}] += r.solved ? 1 : 0;
-        if (r.budget_ms == 0.0) plan_times[r.planner].push_back(r.plan_s * 1000);
+        ratios[{key, r.budget_ms, false}].push_back(r.solved ? r.length_m / best : INFINITY);
+        ratios[{key, r.budget_ms, true}].push_back(r.solved ? r.simplified_m / best : INFINITY);
+        simplify_times[{key, r.budget_ms}].push_back(r.simplify_s * 1000);
+        solved_count[{key, r.budget_ms}] += r.solved ? 1 : 0;
+        ++run_count[{key, r.budget_ms}];
+        leg_times[{key, r.budget_ms}].push_back(r.plan_s * 1000);
+        if (r.budget_ms == 0.0) plan_times[key].push_back(r.plan_s * 1000);
         if (r.planner == "skyroute RRT*") {  // the same run before the refinement
-          const std::string before = "skyroute RRT* LOSPO only";
+          const std::string before = set + "|skyroute RRT* LOSPO only";
           ratios[{before, r.budget_ms, false}].push_back(r.solved ? r.length_m / best : INFINITY);
           ratios[{before, r.budget_ms, true}].push_back(r.solved ? r.lospo_m / best : INFINITY);
           simplify_times[{before, r.budget_ms}].push_back((r.simplify_s - r.refine_s) * 1000);
           solved_count[{before, r.budget_ms}] += r.solved ? 1 : 0;
+          ++run_count[{before, r.budget_ms}];
         }
       }
       ++total_pairs;
@@ -539,8 +635,8 @@ int main(int argc, char** argv) {
               "whole budget, then LOSPO + refinePath / simplifyMax untimed. post ms = CPU ms of the post-processing.\n\n",
               ours.refine ? "on" : "off", ours.spacing_m, ours.max_vertices, ours.passes, 100 * ours.plan_share,
               100 * ompl_plan_share);
-  std::printf("| planner | budget ms | solved | median raw | p90 raw | median post | p90 post | median post ms |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  std::printf("| legs | planner | budget ms | solved | median raw | p90 raw | median post | p90 post | median post ms | median plan ms |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   std::vector<std::string> names;
   if (protocol_inside) {
     names = {"skyroute RRT*", "skyroute RRT* LOSPO only"};
@@ -552,22 +648,26 @@ int main(int argc, char** argv) {
     for (const auto& n : ompl_planners) names.push_back("OMPL " + n);
   }
   if (with_product) names.push_back(productRowName(false));
-  for (double b : budgets) {
-    for (const auto& n : names) {
-      std::printf("| %s | %.0f | %d/%d | %.3f | %.3f | %.3f | %.3f | %.1f |\n", n.c_str(), b, solved_count[{n, b}],
-                  total_pairs, quantile(ratios[{n, b, false}], 0.5), quantile(ratios[{n, b, false}], 0.9),
-                  quantile(ratios[{n, b, true}], 0.5), quantile(ratios[{n, b, true}], 0.9),
-                  quantile(simplify_times[{n, b}], 0.5));
+  for (const auto& [set, count] : set_pairs) {
+    for (double b : budgets) {
+      for (const auto& n : names) {
+        const std::string key = set + "|" + n;
+        std::printf("| %s | %s | %.0f | %d/%d | %.3f | %.3f | %.3f | %.3f | %.1f | %.1f |\n", set.c_str(), n.c_str(), b,
+                    solved_count[{key, b}], run_count[{key, b}], quantile(ratios[{key, b, false}], 0.5),
+                    quantile(ratios[{key, b, false}], 0.9), quantile(ratios[{key, b, true}], 0.5),
+                    quantile(ratios[{key, b, true}], 0.9), quantile(simplify_times[{key, b}], 0.5),
+                    quantile(leg_times[{key, b}], 0.5));
+      }
     }
-  }
-  if (with_product) {
-    const std::string n = productRowName(true);
-    std::printf("| %s | %llu it, cap %.0f s | %d/%d | %.3f | %.3f | %.3f | %.3f | %.1f |\n", n.c_str(),
-                static_cast<unsigned long long>(skyroute::PlanBudget{}.leg_max_iterations),
-                skyroute::PlanBudget{}.leg_time_cap_s, solved_count[{n, 0.0}], total_pairs,
-                quantile(ratios[{n, 0.0, false}], 0.5), quantile(ratios[{n, 0.0, false}], 0.9),
-                quantile(ratios[{n, 0.0, true}], 0.5), quantile(ratios[{n, 0.0, true}], 0.9),
-                quantile(plan_times[n], 0.5));
+    if (with_product) {
+      const std::string n = productRowName(true), key = set + "|" + n;
+      std::printf("| %s | %s | %llu it, cap %.0f s | %d/%d | %.3f | %.3f | %.3f | %.3f | - | %.1f |\n", set.c_str(),
+                  n.c_str(), static_cast<unsigned long long>(skyroute::PlanBudget{}.leg_max_iterations),
+                  skyroute::PlanBudget{}.leg_time_cap_s, solved_count[{key, 0.0}], run_count[{key, 0.0}],
+                  quantile(ratios[{key, 0.0, false}], 0.5), quantile(ratios[{key, 0.0, false}], 0.9),
+                  quantile(ratios[{key, 0.0, true}], 0.5), quantile(ratios[{key, 0.0, true}], 0.9),
+                  quantile(plan_times[key], 0.5));
+    }
   }
   if (with_product) {
     std::printf("\nproduct rows: raw = RRT*, post = after LOSPO (no refinePath); budgets are the product's wall-clock "
@@ -576,15 +676,18 @@ int main(int argc, char** argv) {
   }
   // The headline comparison: ours against InformedRRTstar + simplifier under the same protocol.
   std::printf("\nMedian post ratio to five places, ours against OMPL InformedRRTstar + simplifier:\n\n");
-  std::printf("| protocol | budget ms | ours | InformedRRTstar | ours raw | InformedRRTstar raw |\n|---|---|---|---|---|---|\n");
+  std::printf("| legs | protocol | budget ms | ours | InformedRRTstar | ours raw | InformedRRTstar raw |\n|---|---|---|---|---|---|---|\n");
   const std::vector<std::tuple<std::string, std::string, std::string>> protocols{
       {"inside", "skyroute RRT*", "OMPL InformedRRTstar [inside]"}, {"after", ours_after.name, "OMPL InformedRRTstar"}};
-  for (const auto& [protocol, mine, theirs] : protocols) {
-    if (!ratios.count({mine, budgets.front(), true}) || !ratios.count({theirs, budgets.front(), true})) continue;
-    for (double b : budgets) {
-      std::printf("| %s | %.0f | %.5f | %.5f | %.5f | %.5f |\n", protocol.c_str(), b, quantile(ratios[{mine, b, true}], 0.5),
-                  quantile(ratios[{theirs, b, true}], 0.5), quantile(ratios[{mine, b, false}], 0.5),
-                  quantile(ratios[{theirs, b, false}], 0.5));
+  for (const auto& [set, count] : set_pairs) {
+    for (const auto& [protocol, mine_name, theirs_name] : protocols) {
+      const std::string mine = set + "|" + mine_name, theirs = set + "|" + theirs_name;
+      if (!ratios.count({mine, budgets.front(), true}) || !ratios.count({theirs, budgets.front(), true})) continue;
+      for (double b : budgets) {
+        std::printf("| %s | %s | %.0f | %.5f | %.5f | %.5f | %.5f |\n", set.c_str(), protocol.c_str(), b,
+                    quantile(ratios[{mine, b, true}], 0.5), quantile(ratios[{theirs, b, true}], 0.5),
+                    quantile(ratios[{mine, b, false}], 0.5), quantile(ratios[{theirs, b, false}], 0.5));
+      }
     }
   }
   return 0;

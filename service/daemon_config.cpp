@@ -142,7 +142,7 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
        100000},
       {"planning", "max_points", "largest number of mission points in one request", &s.max_points, 1, 1000},
       {"planning", "sample_dt_s", "spacing of the trajectory samples, seconds", &p.sample_dt_s, 0.001, 10},
-      {"planning", "corridor_margin_m", "RRT* samples within this distance of a leg's bounding box, metres",
+      {"planning", "corridor_margin_m", "RRT* samples within this distance of a leg's bounding box first (then wider), metres",
        &p.replan.route.corridor_margin_m, 0, 1e6},
       {"planning", "lospo_spacing_m",
        "rrtstar-lospo: spacing of the vertices LOSPO inserts along each leg's RRT* path before it joins the farthest "

@@ -1,5 +1,5 @@
 // The leg pipeline of seed 003: for each pair of consecutive route points, RRT* in a corridor
-// around the leg, then LOSPO; the legs' waypoints joined into one minimum-snap degree-7 trajectory
+// around the leg (grown when the terrain's way round lies beyond it), then LOSPO; the legs' waypoints joined into one minimum-snap degree-7 trajectory
 // that is checked (limits, terrain, obstacles) and repaired. Used by `skyroute plan` and the engine.
 #pragma once
 
@@ -34,7 +34,9 @@ struct RouteOptions {
   double leg_budget_ms = 200.0;          // RRT* time per leg; 0 = no deadline (then set iterations)
   std::uint64_t leg_max_iterations = 0;  // RRT* iteration budget per leg; 0 = none. With a budget
                                          // and no deadline the route is bit-identical per seed.
-  double corridor_margin_m = 3000.0;     // RRT* samples within this distance of the leg's box
+  double corridor_margin_m = 3000.0;     // RRT* samples within this distance of the leg's box first;
+                                         // when no path lies there, round the terrain's shortest way
+                                         // for the leg, then the whole terrain (each with the budget)
   RrtStarOptions rrt;                    // seed and budget fields are set per leg
   LospoOptions lospo;
   TrajectoryOptions trajectory = routeTrajectoryOptions();
@@ -80,7 +82,9 @@ struct PlannedRoute {
 
 // points_m: the route's points in visiting order (at least two), ENU metres.
 // Errors name the offending point ("points[i]") or leg ("legs[i]"): kOutsideMap, kOccupied,
-// kUnreachable (no path within the budget), kTimeout / kCancelled from `stop`, kInvalidArgument.
+// kUnreachable (proven: "no path: start and goal are not connected below the ceiling", with the
+// lowest ceiling that could connect them; or no path within the budget in any sampling region),
+// kTimeout / kCancelled from `stop`, kInvalidArgument.
 // An infeasible trajectory after repair (every repair, and in the pass mode a stop at the points
 // near the violation, tried) is kUnreachable naming the route point nearest the violation
 // ("points[i]"), the limit and the value; isTrajectoryStageError tells it from a leg's error.

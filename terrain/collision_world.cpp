@@ -425,4 +425,12 @@ Eigen::AlignedBox3d CollisionWorld::flyableBounds() const {
                              Eigen::Vector3d(en.max().x(), en.max().y(), top));
 }
 
+const FlyableRegions& CollisionWorld::flyableRegions() const {
+  std::call_once(regions_once_, [this] {
+    regions_ = std::make_unique<const FlyableRegions>(
+        FlyableRegions::build(*dilated_terrain_, options_.ceiling_m - options_.min_clearance_m));
+  });
+  return *regions_;
+}
+
 }  // namespace skyroute

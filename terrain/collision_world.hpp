@@ -7,11 +7,13 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <shared_mutex>
 #include <string>
 #include <vector>
 
+#include "terrain/flyable_regions.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/no_fly_zone.hpp"
 #include "terrain/obstacle.hpp"
@@ -110,6 +112,11 @@ class CollisionWorld {
   // ceiling (or the highest ground plus a margin when the ceiling is unlimited).
   Eigen::AlignedBox3d flyableBounds() const;
 
+  // The connected regions of the terrain a vehicle can fly over below the ceiling (the checked,
+  // dilated surface; obstacles and no-fly zones not counted), labelled on first use and kept:
+  // the proof that two places cannot be joined, in microseconds after the first call.
+  const FlyableRegions& flyableRegions() const;
+
  private:
   struct FclObstacles;
   CollisionWorld() = default;
@@ -126,6 +133,8 @@ class CollisionWorld {
   std::unique_ptr<FclObstacles> fcl_;
   std::vector<NoFlyZone> zones_;
   std::uint64_t obstacle_version_ = 0;
+  mutable std::once_flag regions_once_;
+  mutable std::unique_ptr<const FlyableRegions> regions_;
 };
 
 }  // namespace skyroute

@@ -129,6 +129,7 @@ class Search {
         cloud_{&nodes_},
         index_(3, cloud_, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
     box_volume_ = bounds.volume();
+    guided_ = !options.guide_m.empty() && options.guide_bias > 0.0;
     addNode(start, kNoParent, 0.0);
   }
 
@@ -300,7 +301,9 @@ class Search {
 
   Eigen::Vector3d sample() {
     if (sampler_.uniform01() < options_.goal_bias) return goal_;
-    if (!options_.informed_sampling || best_cost_ == std::numeric_limits<double>::infinity()) {
+    const bool no_path = best_cost_ == std::numeric_limits<double>::infinity();
+    if (no_path && guided_ && sampler_.uniform01() < options_.guide_bias) return guideSample();
+    if (!options_.informed_sampling || no_path) {
       return sampler_.inBox(bounds_);
     }
     // Draw from whichever of box and spheroid is smaller and reject what lies outside the other.
@@ -315,6 +318,18 @@ class Search {
       }
     }
     return sampler_.inBox(bounds_);
+  }
+
+  // Near a random guide point: horizontally within the radius, vertically from its height to the top.
+  Eigen::Vector3d guideSample() {
+    const auto& guide = options_.guide_m;
+    const std::size_t k = std::min(guide.size() - 1, static_cast<std::size_t>(sampler_.uniform01() * guide.size()));
+    const Eigen::Vector3d& g = guide[k];
+    const double r = options_.guide_radius_m;
+    const double x = g.x() + sampler_.uniform(-r, r);
+    const double y = g.y() + sampler_.uniform(-r, r);
+    const double z = sampler_.uniform(std::min(g.z(), bounds_.max().z()), bounds_.max().z());
+    return {x, y, z};
   }
 
   std::uint32_t nearestNode(const Eigen::Vector3d& x) const {
@@ -384,6 +399,7 @@ class Search {
   Eigen::Vector3d goal_;
   double max_step_;
   double box_volume_ = 0.0;
+  bool guided_ = false;  // guide points and a positive bias
   Sampler sampler_;
   InformedSet informed_;
   std::vector<Node> nodes_;
@@ -427,6 +443,15 @@ Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen:
   }
   if (!(options_.rewire_factor > 1.0) || !std::isfinite(options_.rewire_factor)) {
     return make_error(ErrorCode::kInvalidArgument, "rewire_factor", "rewire_factor must be finite and > 1");
+  }
+  if (!(options_.guide_bias >= 0.0 && options_.guide_bias < 1.0)) {
+    return make_error(ErrorCode::kInvalidArgument, "guide_bias", "guide_bias must be in [0, 1)");
+  }
+  if (!(options_.guide_radius_m >= 0.0) || !std::isfinite(options_.guide_radius_m)) {
+    return make_error(ErrorCode::kInvalidArgument, "guide_radius_m", "guide_radius_m must be finite and >= 0");
+  }
+  for (const Eigen::Vector3d& g : options_.guide_m) {
+    if (!finite(g)) return make_error(ErrorCode::kInvalidArgument, "guide_m", "a guide point is not finite: " + describe(g));
   }
   const Eigen::AlignedBox3d bounds = validator_.samplingBounds();
   if (bounds.isEmpty() || !bounds.min().allFinite() || !bounds.max().allFinite() || !(bounds.volume() > 0.0)) {

@@ -51,6 +51,15 @@ struct RrtStarOptions {
   // the goal when that path would not be shorter. Fewer checks per iteration; off by default so
   // existing callers (the route planner, the replanner) keep their trees exactly.
   bool skip_hopeless_checks = false;
+  // A coarse way from start to goal (for example round a ridge through a pass, found on the
+  // terrain's flyable regions), for a search over a region where uniform samples find such a way
+  // late. Until the first path, each sample is, with probability guide_bias, drawn near a random
+  // point of guide_m: within guide_radius_m of it east and north, between its height and the top
+  // of the sampling box. After the first path only the informed set is sampled (the guide does not
+  // bias the optimum). No guide (empty, or a bias of 0) leaves every draw as without this option.
+  std::vector<Eigen::Vector3d> guide_m;
+  double guide_bias = 0.0;       // in [0, 1)
+  double guide_radius_m = 0.0;
 };
 
 struct RrtStarResult {
