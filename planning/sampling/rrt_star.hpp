@@ -57,7 +57,7 @@ struct RrtStarOptions {
   // point of guide_m: within guide_radius_m of it east and north, between its height and the top
   // of the sampling box. After the first path only the informed set is sampled (the guide does not
   // bias the optimum). No guide (empty, or a bias of 0) leaves every draw as without this option.
-  std::vector<Eigen::Vector3d> guide_m;
+  std::vector<Eigen::Vector3d> guide_m = {};
   double guide_bias = 0.0;       // in [0, 1)
   double guide_radius_m = 0.0;
 };
