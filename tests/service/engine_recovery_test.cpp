@@ -16,32 +16,12 @@
 #include "service/state_journal.hpp"
 #include "tests/service/default_world_fixture.hpp"
 #include "tests/same_trajectory.hpp"
+#include "tests/service/recording_sink.hpp"
 
 namespace skyroute {
 namespace {
 
-// Keeps what the engine published, in order.
-class RecordingSink : public EngineSink {
- public:
-  void publishStatus(const PlanStatusData& status) override {
-    std::lock_guard lock(mutex_);
-    statuses.push_back(status);
-  }
-  void publishTrajectory(const TrajectoryData& trajectory) override {
-    std::lock_guard lock(mutex_);
-    trajectories.push_back(trajectory);
-  }
-  void retractTrajectory(const std::string& vehicle_id) override {
-    std::lock_guard lock(mutex_);
-    retracted.push_back(vehicle_id);
-  }
-  std::vector<PlanStatusData> statuses;
-  std::vector<TrajectoryData> trajectories;
-  std::vector<std::string> retracted;
-
- private:
-  std::mutex mutex_;
-};
+using testing::RecordingSink;
 
 // Passes everything on until cut(): then drops it, as a killed process would write nothing more.
 class CuttableSink : public EngineSink {

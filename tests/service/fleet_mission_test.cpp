@@ -12,6 +12,7 @@
 #include "service/fleet_mission.hpp"
 #include "terrain/terrain_world.hpp"
 #include "tests/service/default_world_fixture.hpp"
+#include "tests/service/recording_sink.hpp"
 
 namespace skyroute {
 namespace {
@@ -372,15 +373,7 @@ TEST(FleetSeparation, SpeedBoundCoversACurvedSegment) {
 
 // The engine plans a fleet on its planning path: accepted, planning, one trajectory per vehicle,
 // then the fleet status with the allocation; a bad request is refused at once naming the field.
-class RecordingSink : public EngineSink {
- public:
-  void publishStatus(const PlanStatusData& status) override { statuses.push_back(status); }
-  void publishTrajectory(const TrajectoryData& trajectory) override { trajectories.push_back(trajectory); }
-  void publishFleetStatus(const FleetStatusData& status) override { fleet.push_back(status); }
-  std::vector<PlanStatusData> statuses;
-  std::vector<TrajectoryData> trajectories;
-  std::vector<FleetStatusData> fleet;
-};
+using testing::RecordingSink;
 
 TEST_F(FleetMissionTest, EngineAnswersAFleetWithTrajectoriesAndAFleetStatus) {
   RecordingSink sink;

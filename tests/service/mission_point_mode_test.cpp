@@ -18,26 +18,12 @@
 #include "service/planner_registry.hpp"
 #include "service/route_planner.hpp"
 #include "tests/service/default_world_fixture.hpp"
+#include "tests/service/recording_sink.hpp"
 
 namespace skyroute {
 namespace {
 
-class RecordingSink : public EngineSink {
- public:
-  void publishStatus(const PlanStatusData& status) override {
-    std::lock_guard lock(mutex_);
-    statuses.push_back(status);
-  }
-  void publishTrajectory(const TrajectoryData& trajectory) override {
-    std::lock_guard lock(mutex_);
-    trajectories.push_back(trajectory);
-  }
-  std::vector<PlanStatusData> statuses;
-  std::vector<TrajectoryData> trajectories;
-
- private:
-  std::mutex mutex_;
-};
+using testing::RecordingSink;
 
 class MissionPointModeTest : public testing::DefaultWorldTest {
  protected:

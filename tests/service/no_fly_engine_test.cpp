@@ -8,18 +8,12 @@
 
 #include "service/engine.hpp"
 #include "tests/terrain_data.hpp"
+#include "tests/service/recording_sink.hpp"
 
 namespace skyroute {
 namespace {
 
-class RecordingSink : public EngineSink {
- public:
-  void publishStatus(const PlanStatusData& status) override { statuses.push_back(status); }
-  void publishTrajectory(const TrajectoryData& trajectory) override { trajectories.push_back(trajectory); }
-  void retractTrajectory(const std::string&) override {}
-  std::vector<PlanStatusData> statuses;
-  std::vector<TrajectoryData> trajectories;
-};
+using testing::RecordingSink;
 
 constexpr std::int64_t kStartNs = 1'800'000'000'000'000'000LL;
 constexpr double kHalfSideM = 300.0;  // the zone: a 600 m square
