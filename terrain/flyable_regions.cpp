@@ -15,6 +15,19 @@ constexpr double kDoubtfulBlockCost = 4.0;  // per metre through a block flyable
 constexpr int kNeighbourDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
 constexpr int kNeighbourDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
 
+// Calls visit(k, n) for each of the 8 neighbours n of block `at` inside a width x height grid
+// (row-major indices); k indexes kNeighbourDx / kNeighbourDy.
+template <class Visit>
+void forEachNeighbour(std::size_t at, int width, int height, Visit visit) {
+  const int x = static_cast<int>(at % static_cast<std::size_t>(width));
+  const int y = static_cast<int>(at / static_cast<std::size_t>(width));
+  for (int k = 0; k < 8; ++k) {
+    const int nx = x + kNeighbourDx[k], ny = y + kNeighbourDy[k];
+    if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+    visit(k, static_cast<std::size_t>(ny) * static_cast<std::size_t>(width) + static_cast<std::size_t>(nx));
+  }
+}
+
 }  // namespace
 
 FlyableRegions FlyableRegions::build(const Heightfield& terrain, double threshold_m, std::size_t max_blocks) {
@@ -91,16 +104,11 @@ FlyableRegions FlyableRegions::build(const Heightfield& terrain, double threshol
     while (!stack.empty()) {
       const std::size_t at = stack.back();
       stack.pop_back();
-      const int x = static_cast<int>(at % static_cast<std::size_t>(r.width_));
-      const int y = static_cast<int>(at / static_cast<std::size_t>(r.width_));
-      for (int k = 0; k < 8; ++k) {
-        const int nx = x + kNeighbourDx[k], ny = y + kNeighbourDy[k];
-        if (nx < 0 || ny < 0 || nx >= r.width_ || ny >= r.height_) continue;
-        const std::size_t n = static_cast<std::size_t>(ny) * r.width_ + nx;
-        if (r.label_[n] != 0 || !(r.floor_[n] <= threshold_m)) continue;
+      forEachNeighbour(at, r.width_, r.height_, [&](int, std::size_t n) {
+        if (r.label_[n] != 0 || !(r.floor_[n] <= threshold_m)) return;
         r.label_[n] = region;
         stack.push_back(n);
-      }
+      });
     }
   }
   return r;
@@ -186,17 +194,12 @@ std::optional<double> FlyableRegions::lowestConnectingGroundM(const Eigen::Vecto
     open.pop();
     if (value > best[at]) continue;
     if (at == goal) return static_cast<double>(value);
-    const int x = static_cast<int>(at % static_cast<std::size_t>(width_));
-    const int y = static_cast<int>(at / static_cast<std::size_t>(width_));
-    for (int k = 0; k < 8; ++k) {
-      const int nx = x + kNeighbourDx[k], ny = y + kNeighbourDy[k];
-      if (nx < 0 || ny < 0 || nx >= width_ || ny >= height_) continue;
-      const std::size_t n = static_cast<std::size_t>(ny) * width_ + nx;
+    forEachNeighbour(at, width_, height_, [&, value = value](int, std::size_t n) {
       const float through = std::max(value, floor_[n]);
-      if (!(through < best[n])) continue;  // also skips unknown blocks (+inf)
+      if (!(through < best[n])) return;  // also skips unknown blocks (+inf)
       best[n] = through;
       open.emplace(through, n);
-    }
+    });
   }
   return std::nullopt;
 }
@@ -228,22 +231,17 @@ std::vector<std::size_t> FlyableRegions::wayBlocks(const Eigen::Vector2d& a_en_m
       reached = true;
       break;
     }
-    const int x = static_cast<int>(at % static_cast<std::size_t>(width_));
-    const int y = static_cast<int>(at / static_cast<std::size_t>(width_));
-    for (int k = 0; k < 8; ++k) {
-      const int nx = x + kNeighbourDx[k], ny = y + kNeighbourDy[k];
-      if (nx < 0 || ny < 0 || nx >= width_ || ny >= height_) continue;
-      const std::size_t n = static_cast<std::size_t>(ny) * width_ + nx;
-      if (!flyable(n)) continue;
+    forEachNeighbour(at, width_, height_, [&, at = at](int k, std::size_t n) {
+      if (!flyable(n)) return;
       // Blocks flyable throughout are preferred: a block flyable only in part may hold no way
       // through (its low squares need not touch the next block's), so it costs more to cross.
       const double doubt = top_[n] <= threshold_m_ ? 1.0 : kDoubtfulBlockCost;
       const double g = cost[at] + doubt * std::hypot(kNeighbourDx[k] * ex, kNeighbourDy[k] * ny_m);
-      if (!(g < cost[n])) continue;
+      if (!(g < cost[n])) return;
       cost[n] = g;
       parent[n] = static_cast<std::int32_t>(at);
       open.emplace(g + heuristic(n), n);
-    }
+    });
   }
   std::vector<std::size_t> way;
   if (!reached) return way;
