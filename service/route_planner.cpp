@@ -7,6 +7,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "planning/core/polyline.hpp"
 #include "planning/sampling/leg_sampling_regions.hpp"
 #include "service/number_text.hpp"
 #include "service/planner_status.hpp"
@@ -39,6 +40,18 @@ std::string violationText(const Violation& v) {
 constexpr double kGuideBias = 0.5;
 constexpr double kGuidedStepsPerBlock = 10.0;
 constexpr int kBeyondCorridorLospoVertices = 300;
+
+// The regions' way under the ceiling (LegSamplingRegions::wayUnderCeiling) when every piece of it
+// is a valid motion for this validator (terrain, obstacles, zones); nothing otherwise.
+std::optional<std::vector<Eigen::Vector3d>> clearWayUnderCeiling(const MotionValidator& validator,
+                                                                 const LegSamplingRegions& regions) {
+  std::vector<Eigen::Vector3d> way = regions.wayUnderCeiling();
+  if (way.size() < 2) return std::nullopt;
+  for (std::size_t k = 1; k < way.size(); ++k) {
+    if (!validator.isMotionValid(way[k - 1], way[k])) return std::nullopt;
+  }
+  return way;
+}
 }  // namespace
 
 bool isTrajectoryStageError(const Error& error) {
@@ -124,6 +137,7 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
     std::optional<WorldMotionValidator> validator;
     Result<RrtStarResult> rrt = make_error(ErrorCode::kInternal, leg_name, "no sampling region");
     std::uint64_t samples = 0;
+    bool way_tried = false;
     while (auto region = regions.next()) {
       validator.emplace(world, *region, options.snapshot);
       // Beyond the corridor the region is wide and the way round may be narrow: half the samples
@@ -145,6 +159,19 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
       if (!rrt.ok()) return rrt.error();
       samples += rrt->iterations;
       if (rrt->solved() || stop.reason() != TerminationCondition::Reason::kNone) break;
+      // RRT* found nothing round the range in its budget (its first path on a long winding way
+      // can take more samples than a short budget holds): fly the flyable regions' way under the
+      // ceiling when every piece of it is clear, for LOSPO to straighten, before the whole terrain.
+      if (!regions.guide().empty() && !way_tried) {
+        way_tried = true;
+        if (auto way = clearWayUnderCeiling(*validator, regions)) {
+          rrt->path_m = std::move(*way);
+          rrt->length_m = polylineLength(rrt->path_m);
+          rrt->distance_to_goal_m = 0.0;
+          rrt->status = PlannerStatus::kSolved;
+          break;
+        }
+      }
     }
     if (!rrt.ok()) return rrt.error();
     if (!rrt->solved()) {

@@ -11,6 +11,9 @@ namespace {
 
 constexpr float kNever = std::numeric_limits<float>::infinity();  // a block with no flyable square
 constexpr double kDoubtfulBlockCost = 4.0;  // per metre through a block flyable only in part
+// How many blocks round the shortest way's the grid way may use: a block flyable only in part
+// may be crossed by none of its own cells, but by its neighbours'.
+constexpr int kGridWayRing = 16;
 
 constexpr int kNeighbourDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
 constexpr int kNeighbourDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
@@ -252,16 +255,129 @@ std::vector<std::size_t> FlyableRegions::wayBlocks(const Eigen::Vector2d& a_en_m
   return way;
 }
 
+Eigen::Vector2i FlyableRegions::lowestCell(std::size_t block) const {
+  const int col0 = static_cast<int>(block % static_cast<std::size_t>(width_)) * pool_;
+  const int row0 = static_cast<int>(block / static_cast<std::size_t>(width_)) * pool_;
+  const int cols = terrain_->dem().width(), rows = terrain_->dem().height();
+  Eigen::Vector2i lowest(col0, row0);
+  float lowest_m = std::numeric_limits<float>::infinity();
+  for (int row = row0; row <= std::min(row0 + pool_, rows - 1); ++row) {
+    for (int col = col0; col <= std::min(col0 + pool_, cols - 1); ++col) {
+      const float h = terrain_->heightCell(col, row);
+      if (h < lowest_m) {  // false for unknown (NaN) cells
+        lowest_m = h;
+        lowest = Eigen::Vector2i(col, row);
+      }
+    }
+  }
+  return lowest;
+}
+
 std::vector<Eigen::Vector3d> FlyableRegions::shortestWay(const Eigen::Vector2d& a_en_m,
                                                          const Eigen::Vector2d& b_en_m) const {
   const std::vector<std::size_t> blocks = wayBlocks(a_en_m, b_en_m);
   std::vector<Eigen::Vector3d> way;
   way.reserve(blocks.size());
   for (auto it = blocks.rbegin(); it != blocks.rend(); ++it) {
-    const double x = std::min<double>(static_cast<double>(*it % width_) * pool_ + 0.5 * pool_, squares_wide_);
-    const double y = std::min<double>(static_cast<double>(*it / width_) * pool_ + 0.5 * pool_, squares_high_);
+    double x = std::min<double>(static_cast<double>(*it % width_) * pool_ + 0.5 * pool_, squares_wide_);
+    double y = std::min<double>(static_cast<double>(*it / width_) * pool_ + 0.5 * pool_, squares_high_);
+    // A block flyable only in part is passed where it is flyable: at its lowest grid point (the
+    // centre may lie under ground above the threshold).
+    if (!(top_[*it] <= threshold_m_)) {
+      const Eigen::Vector2i low = lowestCell(*it);
+      x = low.x();
+      y = low.y();
+    }
     const Eigen::Vector2d en = terrain_->pixelToEn(x, y);
     if (en.allFinite()) way.emplace_back(en.x(), en.y(), static_cast<double>(floor_[*it]));
+  }
+  return way;
+}
+
+std::vector<Eigen::Vector2d> FlyableRegions::gridWay(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m,
+                                                     double max_ground_m) const {
+  if (!connected(a_en_m, b_en_m)) return {};
+  const int cols = terrain_->dem().width(), rows = terrain_->dem().height();
+  auto low = [&](int col, int row) {
+    // Not on the grid's outer edge: a point there is on the terrain's border, which the world's
+    // checks may count as outside.
+    if (col < 1 || row < 1 || col >= cols - 1 || row >= rows - 1) return false;
+    return terrain_->heightCell(col, row) <= max_ground_m;  // false for unknown
+  };
+  const Eigen::Vector2d a_px = terrain_->enToPixel(a_en_m.x(), a_en_m.y());
+  const Eigen::Vector2d b_px = terrain_->enToPixel(b_en_m.x(), b_en_m.y());
+  if (!a_px.allFinite() || !b_px.allFinite()) return {};
+  auto corners = [&](const Eigen::Vector2d& px) {
+    const int i = std::clamp(static_cast<int>(px.x()), 0, std::max(0, cols - 2));
+    const int j = std::clamp(static_cast<int>(px.y()), 0, std::max(0, rows - 2));
+    std::vector<std::size_t> out;
+    for (int dj = 0; dj <= 1; ++dj)
+      for (int di = 0; di <= 1; ++di)
+        if (low(i + di, j + dj)) out.push_back(static_cast<std::size_t>(j + dj) * cols + (i + di));
+    return out;
+  };
+  const std::vector<std::size_t> sources = corners(a_px), targets = corners(b_px);
+  if (sources.empty() || targets.empty()) return {};
+  // A* over the grid points (as many entries as the DEM has cells: the world holds several such
+  // arrays already). The ground between two low points side by side is linear, so at most the
+  // higher of them; a diagonal crosses a square, whose bilinear surface is at most its highest
+  // corner.
+  const Eigen::Vector2d cell_m = terrain_->dem().resolutionM().cwiseAbs();
+  auto heuristic = [&](std::size_t at) {
+    const double col = static_cast<double>(at % static_cast<std::size_t>(cols));
+    const double row = static_cast<double>(at / static_cast<std::size_t>(cols));
+    return std::hypot((col - b_px.x()) * cell_m.x(), (row - b_px.y()) * cell_m.y());
+  };
+  constexpr float kUnreached = std::numeric_limits<float>::infinity();
+  const std::size_t cells = static_cast<std::size_t>(cols) * static_cast<std::size_t>(rows);
+  std::vector<float> cost(cells, kUnreached);
+  std::vector<std::int32_t> parent(cells, -1);
+  std::vector<char> goal(cells, 0);
+  for (const std::size_t t : targets) goal[t] = 1;
+  using Entry = std::pair<double, std::size_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+  for (const std::size_t s : sources) {
+    cost[s] = 0.0f;
+    parent[s] = static_cast<std::int32_t>(s);
+    open.emplace(heuristic(s), s);
+  }
+  std::optional<std::size_t> reached;
+  while (!open.empty()) {
+    const auto [f, at] = open.top();
+    open.pop();
+    if (f > cost[at] + heuristic(at) + 1e-3) continue;
+    if (goal[at]) {
+      reached = at;
+      break;
+    }
+    const int col = static_cast<int>(at % static_cast<std::size_t>(cols));
+    const int row = static_cast<int>(at / static_cast<std::size_t>(cols));
+    for (int d = 0; d < 8; ++d) {
+      const int nc = col + kNeighbourDx[d], nr = row + kNeighbourDy[d];
+      if (!low(nc, nr)) continue;
+      if (d >= 4 && !(low(nc, row) && low(col, nr))) continue;  // a diagonal: the square's other corners
+      const std::size_t n = static_cast<std::size_t>(nr) * cols + nc;
+      const float g = cost[at] + static_cast<float>(std::hypot(kNeighbourDx[d] * cell_m.x(), kNeighbourDy[d] * cell_m.y()));
+      if (!(g < cost[n])) continue;
+      cost[n] = g;
+      parent[n] = static_cast<std::int32_t>(at);
+      open.emplace(g + heuristic(n), n);
+    }
+  }
+  if (!reached) return {};
+  std::vector<Eigen::Vector2i> way_cells;
+  for (std::size_t at = *reached;; at = static_cast<std::size_t>(parent[at])) {
+    way_cells.emplace_back(static_cast<int>(at % static_cast<std::size_t>(cols)), static_cast<int>(at / static_cast<std::size_t>(cols)));
+    if (static_cast<std::size_t>(parent[at]) == at) break;
+  }
+  std::reverse(way_cells.begin(), way_cells.end());
+  std::vector<Eigen::Vector2d> way;
+  for (std::size_t i = 0; i < way_cells.size(); ++i) {
+    // Keep the ends and every turn.
+    if (i > 0 && i + 1 < way_cells.size() && way_cells[i] - way_cells[i - 1] == way_cells[i + 1] - way_cells[i]) continue;
+    const Eigen::Vector2d en = terrain_->pixelToEn(way_cells[i].x(), way_cells[i].y());
+    if (!en.allFinite()) return {};
+    way.push_back(en);
   }
   return way;
 }

@@ -59,8 +59,17 @@ class FlyableRegions {
   // ridge should look. Nothing when they are not connected.
   std::optional<Eigen::AlignedBox2d> shortestWayBox(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m) const;
   // The same way as points: each block's centre (east, north) and its floor (up), from a's block
-  // to b's. Empty when they are not connected.
+  // to b's (a block flyable only in part: its lowest grid point instead of its centre). Empty when
+  // they are not connected.
   std::vector<Eigen::Vector3d> shortestWay(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m) const;
+  // A way from a corner of a's grid square to a corner of b's along the DEM's grid, every grid
+  // point on it at most max_ground_m, and a diagonal only across a square whose four corners are:
+  // the ground under it is then at most max_ground_m everywhere (the surface is bilinear), so
+  // flown that high plus the clearance it keeps the clearance. The shortest such way (A* over the
+  // DEM's grid points, a few arrays as large as the DEM for its time), collinear steps merged; ENU
+  // points. Empty when there is none (the blocks may connect where no such way does).
+  std::vector<Eigen::Vector2d> gridWay(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m,
+                                       double max_ground_m) const;
 
  private:
   FlyableRegions() = default;
@@ -70,6 +79,8 @@ class FlyableRegions {
   bool flyable(std::size_t i) const { return label_[i] != 0; }
   // A* over the flyable blocks: the blocks of the way from a's to b's, b's first; empty if none.
   std::vector<std::size_t> wayBlocks(const Eigen::Vector2d& a_en_m, const Eigen::Vector2d& b_en_m) const;
+  // The DEM cell (column, row) of a block's lowest known grid point.
+  Eigen::Vector2i lowestCell(std::size_t block) const;
 
   const Heightfield* terrain_ = nullptr;  // for pixel <-> ENU; the owner keeps it alive
   double threshold_m_ = 0.0;

@@ -8,6 +8,8 @@
 namespace skyroute {
 namespace {
 
+constexpr double kUnderCeilingM = 1.0;
+
 Eigen::AlignedBox3d spanningHeights(const Eigen::AlignedBox2d& box) {
   const double inf = std::numeric_limits<double>::infinity();
   return Eigen::AlignedBox3d(Eigen::Vector3d(box.min().x(), box.min().y(), -inf),
@@ -73,6 +75,28 @@ std::optional<Eigen::AlignedBox3d> LegSamplingRegions::next() {
     return step == 0 ? WorldMotionValidator::corridor(a_m_, b_m_, margin_m_) : spanningHeights(box);
   }
   return std::nullopt;
+}
+
+std::vector<Eigen::Vector3d> LegSamplingRegions::wayUnderCeiling() const {
+  std::vector<Eigen::Vector3d> path;
+  if (guide_.empty()) return path;
+  // A little under the ceiling, so that rounding in the checks never puts a point above it.
+  const double z_m = world_.options().ceiling_m - kUnderCeilingM;
+  auto push = [&path](const Eigen::Vector3d& p) {
+    if (path.empty() || (p - path.back()).norm() > 1e-6) path.push_back(p);
+  };
+  push(a_m_);
+  push(Eigen::Vector3d(a_m_.x(), a_m_.y(), std::max(a_m_.z(), z_m)));
+  // The ground under the way a little lower still: a geographic DEM's grid lines are not quite
+  // straight in ENU, so a straight piece may stray a few centimetres off its grid line.
+  const double max_ground_m = z_m - world_.options().min_clearance_m - kUnderCeilingM;
+  for (const Eigen::Vector2d& g : world_.flyableRegions().gridWay(a_m_.head<2>(), b_m_.head<2>(), max_ground_m)) {
+    push(Eigen::Vector3d(g.x(), g.y(), z_m));
+  }
+  if (path.size() < 3) return {};
+  push(Eigen::Vector3d(b_m_.x(), b_m_.y(), std::max(b_m_.z(), z_m)));
+  push(b_m_);
+  return path;
 }
 
 }  // namespace skyroute

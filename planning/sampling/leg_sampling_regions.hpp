@@ -38,6 +38,14 @@ class LegSamplingRegions {
   // RRT*'s guided samples (RrtStarOptions::guide_m).
   const std::vector<Eigen::Vector3d>& guide() const { return guide_; }
   double guideSpacingM() const { return guide_spacing_m_; }
+  // A way flown just under the ceiling: a, straight up, the flyable regions' grid way
+  // (FlyableRegions::gridWay: ground at most ceiling - clearance under every piece), above b,
+  // straight down to b. Clear of the terrain by construction but for the pieces at the ends, which
+  // cross a and b's grid squares; the caller checks every piece (ends, obstacles, zones). A path
+  // that needs no search, for when a random one is slow to come on a winding way round a range.
+  // Empty without a guide or a grid way (costs one more A* over the blocks and one over the cells
+  // near the way).
+  std::vector<Eigen::Vector3d> wayUnderCeiling() const;
   // Regions handed out so far, and whether the last was the whole terrain.
   int tried() const { return tried_; }
   bool wholeTerrainTried() const { return whole_tried_; }

@@ -1,7 +1,9 @@
 // The route planner's legs where the terrain decides: a leg whose only way round a ridge lies
 // beyond its sampling corridor is found (the corridor grows), a leg across a ridge that is above
 // the ceiling everywhere is refused at once as not connected (with the lowest ceiling that could
-// connect it), and a leg the corridor can hold is planned exactly as RRT* in that corridor plans it.
+// connect it), a leg whose RRT* finds nothing in its budget flies the regions' grid way under the
+// ceiling, and a leg the corridor can hold is planned exactly as RRT* in that corridor plans it.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -79,6 +81,31 @@ TEST(RoutePlannerRegions, ALegWhosePassLiesBeyondTheCorridorIsFound) {
   for (const auto& p : path) southmost = std::min(southmost, p.y());
   EXPECT_LT(southmost, pass_north_m);
   EXPECT_GT(route->legs[0].lospo_length_m, 2.0 * (a.y() - pass_north_m));
+}
+
+// RRT* with far too few samples for the way round finds nothing; the leg still flies: the
+// flyable regions' grid way under the ceiling, checked piece by piece, then straightened by LOSPO.
+TEST(RoutePlannerRegions, ALegRrtStarCannotSolveInItsBudgetFliesTheGridWayUnderTheCeiling) {
+  const auto w = testing::ridgeWorld(ridge(85, 92, 200.0), kCeilingM);
+  ASSERT_TRUE(w.world);
+  const Heightfield& hf = *w.terrain;
+  const Eigen::Vector3d a = above(hf, 15, 10, 60), b = above(hf, 85, 10, 60);
+  RouteOptions options = iterationBudget(300.0);
+  options.leg_max_iterations = 20;
+  auto route = planRoutePaths(w.world, {a, b}, options);
+  ASSERT_TRUE(route.ok()) << route.error().describe();
+  ASSERT_EQ(route->legs.size(), 1u);
+  const RouteLeg& leg = route->legs[0];
+  EXPECT_TRUE(leg.rrt.solved());
+  EXPECT_EQ(denseViolations(hf, leg.rrt.path_m), 0);
+  EXPECT_EQ(denseViolations(hf, leg.path_m), 0);
+  EXPECT_TRUE(leg.path_m.front().isApprox(a) && leg.path_m.back().isApprox(b));
+  const double pass_north_m = hf.pixelToEn(50, 85).y();
+  double southmost = a.y();
+  for (const auto& p : leg.path_m) southmost = std::min(southmost, p.y());
+  EXPECT_LT(southmost, pass_north_m);
+  // LOSPO straightened the staircase: shorter than the grid way it started from.
+  EXPECT_LT(leg.lospo_length_m, leg.rrt.length_m);
 }
 
 TEST(RoutePlannerRegions, ARidgeAboveTheCeilingEverywhereIsNotConnected) {

@@ -3,7 +3,9 @@
 // soundness of "not connected" against the world's own exact segment checks on hilly terrain with
 // pooled blocks (a valid straight flight between two points must never be called impossible).
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <set>
@@ -220,6 +222,54 @@ TEST(FlyableRegions, NotConnectedIsNeverSaidOfAValidFlightEvenWithPooledBlocks) 
       EXPECT_GT(separated, 100) << "the ceiling should split the valleys";
     }
   }
+}
+
+// The grid way is clear by construction: on hilly terrain with pooled blocks, every point along
+// every piece of it has ground at most the threshold (read from the heightfield every 2 m), and
+// it runs from a corner of the first point's grid square to a corner of the second's.
+TEST(FlyableRegions, TheGridWayKeepsTheGroundUnderItAtMostTheThreshold) {
+  const int n = 120;
+  TerrainGeneratorOptions g;
+  g.width = n;
+  g.height = n;
+  g.cell_size_m = 30.0;
+  g.seed = 5;
+  const std::vector<float> heights = generateTerrainHeights(g);
+  const float lowest = *std::min_element(heights.begin(), heights.end());
+  const float highest = *std::max_element(heights.begin(), heights.end());
+  const double threshold = lowest + 0.7 * (highest - lowest);
+  const auto w = testing::syntheticWorld(n, heights, threshold + 30.0);
+  ASSERT_TRUE(w.world);
+  const Heightfield& hf = *w.terrain;
+  int ways = 0;
+  for (std::size_t max_blocks : {std::size_t{1} << 20, std::size_t{400}}) {
+    const FlyableRegions regions = FlyableRegions::build(hf, threshold, max_blocks);
+    std::uint64_t state = 29;
+    auto u = [&state](double lo, double hi) {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      return lo + (hi - lo) * static_cast<double>(state >> 11) * 0x1.0p-53;
+    };
+    for (int k = 0; k < 200; ++k) {
+      const Eigen::Vector2d a = cellEn(hf, u(1, n - 2), u(1, n - 2)), b = cellEn(hf, u(1, n - 2), u(1, n - 2));
+      if (!(hf.heightAt(a.x(), a.y()) <= threshold && hf.heightAt(b.x(), b.y()) <= threshold)) continue;
+      if (!regions.connected(a, b)) continue;
+      const std::vector<Eigen::Vector2d> way = regions.gridWay(a, b, threshold);
+      if (way.empty()) continue;  // the blocks may connect where no grid way does
+      ++ways;
+      EXPECT_LT((way.front() - a).norm(), 2 * 30.0 * 1.5);
+      EXPECT_LT((way.back() - b).norm(), 2 * 30.0 * 1.5);
+      for (std::size_t i = 0; i + 1 < way.size(); ++i) {
+        const double length = (way[i + 1] - way[i]).norm();
+        const int steps = std::max(1, static_cast<int>(std::ceil(length / 2.0)));
+        for (int s = 0; s <= steps; ++s) {
+          const Eigen::Vector2d p = way[i] + (way[i + 1] - way[i]) * (static_cast<double>(s) / steps);
+          ASSERT_LE(hf.heightAt(p.x(), p.y()), threshold + 1e-3) << "piece " << i << " of way " << ways;
+        }
+      }
+    }
+  }
+  std::printf("%d grid ways checked\n", ways);
+  EXPECT_GT(ways, 40);
 }
 
 }  // namespace
