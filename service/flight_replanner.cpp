@@ -181,8 +181,23 @@ Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
     if (candidate.ok() && best && stop.shouldStop()) break;
     if (candidate.ok()) {
       if (!retime) tried.push_back(candidate->waypoints_m);
-      Status built = buildRouteTrajectory(world_, plan->points, limits, route, *candidate);
+      // With a hold to fall back on, the cycle's deadline stops the trajectory build too: a
+      // build that runs on past it (a long repair on a loaded machine) would make the answer
+      // late, where the hold answers within the cycle and the next cycle plans again.
+      RouteOptions build_route = route;
+      const bool deadline_stops_build = options_.hold_fallback && !holding_;
+      if (deadline_stops_build) {
+        build_route.trajectory.feasibility.stop_requested = [cancelled = route.trajectory.feasibility.stop_requested,
+                                                             &stop] {
+          return (cancelled && cancelled()) || stop.reason() == TerminationCondition::Reason::kDeadline;
+        };
+      }
+      Status built = buildRouteTrajectory(world_, plan->points, limits, build_route, *candidate);
       if (!built.ok()) candidate = built.error();
+      const bool cancelled = route.trajectory.feasibility.stop_requested && route.trajectory.feasibility.stop_requested();
+      if (!built.ok() && built.error().code == ErrorCode::kCancelled && deadline_stops_build && !cancelled) {
+        candidate = make_error(ErrorCode::kTimeout, "replan", "the cycle's deadline passed while building the trajectory");
+      }
     }
     if (!candidate.ok()) {
       spdlog::debug("event=replan_attempt attempt={} local={} ms={:.1f} error=\"{}\"", attempt, plan->rejoin.has_value(),
