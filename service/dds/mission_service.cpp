@@ -430,6 +430,8 @@ Status MissionService::reload(const DaemonConfig& config) {
     instance_.role = config.role;
     younger_rivals_logged_.clear();
     partners_logged_.clear();
+    alive_heartbeat_writers_ = 0;  // counted anew by the new heartbeat reader
+    republish_at_.clear();
     conflict_reported_ = false;
     if (active) startDdsThread();
   }

@@ -245,6 +245,12 @@ TEST_F(HotStandbyE2E, KilledPrimaryHandsEveryRevisionToTheStandbyWithinOneSecond
   watch_->poll();
   EXPECT_EQ(watch_->notAlive(), 0) << "the trajectory was disposed or unregistered";
   EXPECT_NE(standby_.err().find("event=takeover_republished"), std::string::npos) << standby_.err();
+
+  // skyroute gcs says which daemon the trajectory now comes from.
+  const Ran gcs = runToEnd({SKYROUTE_CLI, "gcs", "--domain", "126", "--count", "1", "--timeout", "20"}, "gcs_126", 30.0);
+  EXPECT_EQ(gcs.code, 0) << gcs.err;
+  EXPECT_NE(gcs.out.find("vehicle=uav-h"), std::string::npos) << gcs.out;
+  EXPECT_NE(gcs.out.find(" role=standby"), std::string::npos) << gcs.out;
 }
 
 TEST_F(HotStandbyE2E, RestartedPrimaryCatchesUpFromItsJournalAndTakesOwnershipBack) {
