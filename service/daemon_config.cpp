@@ -110,6 +110,20 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"dds", "startup_probe_s",
        "before serving, listen this long for another daemon with this service_id (then refuse to start); 0 serves at once, seconds",
        &c.startup_probe_s, 0, 10},
+      {"dds", "primary_strength",
+       "ownership strength of a primary's trajectory, status and heartbeat writers: readers take the strongest live "
+       "writer's samples; must be above standby_strength",
+       &c.primary_strength, 0, 2147483647},
+      {"dds", "standby_strength", "ownership strength of a standby's writers (below primary_strength)",
+       &c.standby_strength, 0, 2147483647},
+      {"dds", "liveliness_lease_s",
+       "liveliness lease of the trajectory, status and heartbeat writers: this long after a daemon dies, readers take "
+       "the standby's samples instead, seconds",
+       &c.liveliness_lease_s, 0.05, 60},
+      {"service", "role",
+       "primary, or standby: a hot standby on the primary's domain and service_id that plans every request too and "
+       "whose samples ground stations take when the primary dies (docs/dds.md)",
+       &c.role, -kInf, kInf, {"primary", "standby"}},
       {"service", "state_dir",
        "folder of the state journal (journal.sqlite, docs/journal.md): accepted missions, current trajectories, "
        "obstacles and no-fly zones survive a crash and a restart; \"\" = kept in memory only",
@@ -300,7 +314,24 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
   if (auto bad = validatePipelineOptions(config.engine.pipeline)) {
     return make_error(ErrorCode::kInvalidArgument, bad->field, bad->message);
   }
+  if (Status s = validateDaemonConfig(config); !s.ok()) return s.error();
   return config;
+}
+
+std::int32_t ownershipStrength(const DaemonConfig& config) {
+  return static_cast<std::int32_t>(config.role == "standby" ? config.standby_strength : config.primary_strength);
+}
+
+Status validateDaemonConfig(const DaemonConfig& config) {
+  if (config.role != "primary" && config.role != "standby") {
+    return make_error(ErrorCode::kInvalidArgument, "service.role", "'" + config.role + "' is not one of primary, standby");
+  }
+  if (config.primary_strength <= config.standby_strength) {
+    return make_error(ErrorCode::kInvalidArgument, "dds.primary_strength",
+                      "is " + std::to_string(config.primary_strength) + ", not above dds.standby_strength (" +
+                          std::to_string(config.standby_strength) + "): ground stations would not prefer the primary");
+  }
+  return Status::success();
 }
 
 Result<DaemonConfig> loadDaemonConfig(const std::string& path, DaemonConfig defaults) {

@@ -22,7 +22,13 @@ struct DaemonConfig {
   double heartbeat_period_s = 1.0;      // ServiceStatus period
   double flush_timeout_s = 0.5;         // on stop, writers wait this long (in all) for acknowledgements
   double startup_probe_s = 0.3;         // before serving, listen this long for another daemon with this service_id
+  // Hot standby (docs/dds.md): the ownership strength of the trajectory, status and heartbeat
+  // writers in each role (the primary's must be the higher), and their liveliness lease.
+  std::int64_t primary_strength = 100;
+  std::int64_t standby_strength = 10;
+  double liveliness_lease_s = 0.5;      // readers hand a silent writer's instances over after this
   // [service]
+  std::string role = "primary";         // primary or standby (hot standby of the primary's service_id)
   std::string state_dir;                // the state journal's folder (state_journal.hpp); "" = none
   // [security]
   std::string security_dir;             // DDS Security identity folder (scripts/make-pki.sh); "" = unsecured
@@ -34,6 +40,13 @@ struct DaemonConfig {
   std::string log_level = "info";       // trace, debug, info, warn, error
   std::string log_format = "text";      // text or json (one object per line)
 };
+
+// The ownership strength of this daemon's owned writers: its role's.
+std::int32_t ownershipStrength(const DaemonConfig& config);
+// The keys that relate to each other: kInvalidArgument naming the key (dds.primary_strength not
+// above dds.standby_strength; service.role neither primary nor standby). parseDaemonConfig checks
+// these too; the daemon checks again after its command-line overrides (--role).
+Status validateDaemonConfig(const DaemonConfig& config);
 
 // Errors: kParseError naming the file and line, kInvalidArgument naming the key ("planning.seed").
 Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::string& source_name,

@@ -91,6 +91,10 @@ struct TrajectoryData {
   std::vector<std::uint32_t> visiting_order;  // begin (0) first, end (N+1) last
   std::vector<LegBoundaryData> legs;
   std::vector<TrajectorySampleData> samples;
+  // Not on the wire: the daemon whose writer delivered it (its instance id and role, from the
+  // writer's USER_DATA; "" when not known), filled by the reader.
+  std::string source_instance = {};
+  std::string source_role = {};
 };
 
 // kReplanned: a new revision of a flying mission's trajectory (or, with an error, a replan that
@@ -154,6 +158,7 @@ struct PlanStatusData {
   int point_index = -1;
   std::string requester = {};        // the request's writer (MissionRequestData::requester); "" = anyone
   std::string service_instance = {}; // ServiceStatusData::instance_id of the daemon that answered
+  std::string service_id = {};       // the DDS key: the answering service (dds.service_id)
 
   static PlanStatusData failed(const MissionRequestData& request, const PlanError& error, double planning_time_s);
 };

@@ -59,6 +59,8 @@ std::string describe(const TrajectoryData& t) {
   }
   out << " legs=" << t.legs.size() << " order=";
   for (std::size_t i = 0; i < t.visiting_order.size(); ++i) out << (i ? "," : "") << t.visiting_order[i];
+  // Which daemon it comes from: with a hot standby, the primary or (after a takeover) the standby.
+  if (!t.source_instance.empty()) out << " from=" << t.source_instance << " role=" << t.source_role;
   return out.str();
 }
 

@@ -152,17 +152,40 @@ LiveServices waitForEveryService(const std::string& tool, const RequestOptions& 
 
 // Why a service that accepted the request is lost ("" while every one is alive): heartbeats on
 // time, and (before its first heartbeat reached us) still discovered.
+// A primary and its hot standby serve one service_id: only the live one of the two is heard
+// (heartbeats and statuses are owned, docs/dds.md), and a lost primary is not a lost service
+// while its standby's heartbeat is on time.
 std::string lostService(const std::set<std::string>& accepted_by, const std::map<std::string, Heard>& heard,
                         const dds::Reader<ServiceStatusData>& heartbeats, std::string* lost_instance) {
   std::set<std::string> discovered;
-  for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats.handle())) discovered.insert(s.instance_id);
+  std::map<std::string, std::string> service_of;  // instance id -> service id
+  for (const dds::ServiceInstance& s : dds::matchedInstances(heartbeats.handle())) {
+    discovered.insert(s.instance_id);
+    service_of[s.instance_id] = s.service_id;
+  }
+  const auto on_time = [&](const std::string& instance, double* silent_s = nullptr, double* period_s = nullptr) {
+    const auto h = heard.find(instance);
+    if (h == heard.end()) return false;
+    const double silent = std::chrono::duration<double>(Clock::now() - h->second.at).count();
+    if (silent_s) *silent_s = silent;
+    if (period_s) *period_s = h->second.period_s;
+    return silent <= std::max(kMinLostAfterS, kLostAfterPeriods * h->second.period_s);
+  };
+  const auto standby_serves = [&](const std::string& instance) {
+    const auto service = service_of.find(instance);
+    if (service == service_of.end()) return false;
+    for (const auto& [other, other_service] : service_of) {
+      if (other != instance && other_service == service->second && on_time(other)) return true;
+    }
+    return false;
+  };
   for (const std::string& instance : accepted_by) {
     *lost_instance = instance;
-    if (auto h = heard.find(instance); h != heard.end()) {
-      const double silent_s = std::chrono::duration<double>(Clock::now() - h->second.at).count();
-      if (silent_s > std::max(kMinLostAfterS, kLostAfterPeriods * h->second.period_s)) {
-        return "sent no heartbeat for " + numberText(silent_s, 3) + " s (its period is " +
-               numberText(h->second.period_s) + " s)";
+    double silent_s = 0.0, period_s = 0.0;
+    if (heard.count(instance) > 0) {
+      if (!on_time(instance, &silent_s, &period_s) && !standby_serves(instance)) {
+        return "sent no heartbeat for " + numberText(silent_s, 3) + " s (its period is " + numberText(period_s) +
+               " s)";
       }
     } else if (discovered.count(instance) == 0) {
       return "is no longer discovered on the domain";

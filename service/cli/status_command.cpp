@@ -37,6 +37,13 @@ struct LiveService {
   dds::ServiceInstance instance;  // host and pid, from discovery (empty when not discovered)
 };
 
+// A hot standby whose primary is heard: its heartbeats are owned by the primary's (docs/dds.md).
+bool standbyOfHeard(const dds::ServiceInstance& instance, const std::map<std::string, LiveService>& heard) {
+  if (instance.role != "standby") return false;
+  return std::any_of(heard.begin(), heard.end(),
+                     [&](const auto& h) { return h.second.heartbeat.service_id == instance.service_id; });
+}
+
 double uptimeS(const ServiceStatusData& s) { return static_cast<double>(s.stamp_utc_ns - s.started_utc_ns) * 1e-9; }
 
 nlohmann::json toJson(const LiveService& l) {
@@ -53,6 +60,7 @@ std::string describeLine(const LiveService& l) {
   char uptime[32];
   std::snprintf(uptime, sizeof uptime, "%.1f", uptimeS(s));
   return "service=" + s.service_id + " instance=" + s.instance_id +
+         (l.instance.role.empty() || l.instance.host.empty() ? "" : " role=" + l.instance.role) +
          (l.instance.host.empty() ? "" : " host=" + l.instance.host + " pid=" + std::to_string(l.instance.pid)) +
          " uptime_s=" + uptime + " queue=" + std::to_string(s.queue_length) + " vehicles=" + std::to_string(s.vehicles) +
          " replans=" + std::to_string(s.replans) + " obstacles=" + std::to_string(s.obstacles) +
@@ -91,7 +99,7 @@ void runStatus(const StatusOptions& o) {
     if (*outcome == dds::WaitLoop::Outcome::kStopped) break;
     for (dds::ServiceInstance& i : dds::discoveredInstances(daemons->get())) discovered[i.instance_id] = std::move(i);
     const bool all_heard = !discovered.empty() && std::all_of(discovered.begin(), discovered.end(), [&](const auto& d) {
-      return heard.count(d.first) > 0;
+      return heard.count(d.first) > 0 || standbyOfHeard(d.second, heard);
     });
     if (!all_heard) {
       all_heard_since_s = -1.0;
@@ -105,7 +113,11 @@ void runStatus(const StatusOptions& o) {
     if (auto d = discovered.find(id); d != discovered.end()) live.instance = d->second;
   }
   for (const auto& [id, instance] : discovered) {
-    if (heard.count(id) == 0) {
+    if (heard.count(id) == 0 && standbyOfHeard(instance, heard)) {
+      std::cout << "service=" << instance.service_id << " instance=" << id << " role=standby host=" << instance.host
+                << " pid=" << instance.pid << " (hot standby: its heartbeats reach readers only while the primary is down)"
+                << std::endl;
+    } else if (heard.count(id) == 0) {
       std::cerr << "skyroute status: " << instance.service_id << " " << instance.describe()
                 << " is discovered but sent no heartbeat within " << numberText(o.wait_s) << " s" << std::endl;
     }

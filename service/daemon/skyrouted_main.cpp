@@ -34,6 +34,7 @@ struct Overrides {
   std::optional<int> domain;
   std::optional<std::string> security_dir;
   std::optional<std::string> state_dir;
+  std::optional<std::string> role;
   std::optional<std::string> log_level;
   std::optional<std::string> log_format;
   std::optional<std::uint64_t> seed;
@@ -48,6 +49,8 @@ skyroute::Result<skyroute::DaemonConfig> buildConfig(const Overrides& o) {
   if (o.domain) config.domain = *o.domain;
   if (o.security_dir) config.security_dir = *o.security_dir;
   if (o.state_dir) config.state_dir = *o.state_dir;
+  if (o.role) config.role = *o.role;
+  if (skyroute::Status s = skyroute::validateDaemonConfig(config); !s.ok()) return s.error();
   if (o.log_level) config.log_level = *o.log_level;
   if (o.log_format) config.log_format = *o.log_format;
   if (o.seed) config.engine.pipeline.seed = *o.seed;
@@ -90,6 +93,11 @@ int main(int argc, char** argv) {
                  "Keep the state journal (DIR/journal.sqlite) so a restart after a crash republishes every "
                  "vehicle's trajectory and plans unfinished missions again; docs/journal.md (config "
                  "service.state_dir; default: none)");
+  app.add_option("--role", overrides.role,
+                 "primary | standby: a hot standby serves the primary's domain and service_id, plans every request "
+                 "too, and ground stations take its samples when the primary dies; docs/dds.md (config service.role, "
+                 "default primary)")
+      ->check(CLI::IsMember({"primary", "standby"}));
   app.add_option("--seed", overrides.seed, "Seed of every plan (config planning.seed, default 1)");
   app.add_option("--log-level", overrides.log_level, "trace | debug | info | warn | error (config log.level, default info)");
   app.add_option("--log-format", overrides.log_format, "text | json (config log.format, default text)");
@@ -128,8 +136,9 @@ int main(int argc, char** argv) {
     std::cerr << "skyrouted: " << s.error().describe() << std::endl;
     return 2;
   }
-  spdlog::info("event=starting version={} dem={} domain={} security={} state_dir={}", SKYROUTE_VERSION,
-               config->dem_path, config->domain, config->security_dir.empty() ? "off" : config->security_dir,
+  spdlog::info("event=starting version={} dem={} domain={} role={} strength={} security={} state_dir={}",
+               SKYROUTE_VERSION, config->dem_path, config->domain, config->role, skyroute::ownershipStrength(*config),
+               config->security_dir.empty() ? "off" : config->security_dir,
                config->state_dir.empty() ? "none" : config->state_dir);
 
   skyroute::dds::MissionService service;
@@ -147,8 +156,8 @@ int main(int argc, char** argv) {
     (void)service.cleanup();
     return fail(s.error(), s.error().field == "dds.service_id" ? kExitConflict : 3);
   }
-  spdlog::info("event=ready domain={} service_id={} instance={}", config->domain, config->service_id,
-               service.instance().instance_id);
+  spdlog::info("event=ready domain={} service_id={} role={} instance={}", config->domain, config->service_id,
+               config->role, service.instance().instance_id);
   int exit_code = 0;
 
   for (;;) {

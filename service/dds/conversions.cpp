@@ -191,7 +191,8 @@ struct CopyFromWire {
   MEMBER(vehicle_id) MEMBER(plan_id) MEMBER(revision) MEMBER(request_id) MEMBER(created_utc_ns)
 #define SKYROUTE_PLAN_STATUS_MEMBERS(MEMBER)                                                                 \
   MEMBER(request_id) MEMBER(vehicle_id) MEMBER(state) MEMBER(error_code) MEMBER(field) MEMBER(message) \
-  MEMBER(planning_time_s) MEMBER(stage) MEMBER(leg_index) MEMBER(point_index) MEMBER(requester) MEMBER(service_instance)
+  MEMBER(planning_time_s) MEMBER(stage) MEMBER(leg_index) MEMBER(point_index) MEMBER(requester) MEMBER(service_instance) \
+  MEMBER(service_id)
 #define SKYROUTE_SERVICE_STATUS_MEMBERS(MEMBER)                                                                \
   MEMBER(service_id) MEMBER(instance_id) MEMBER(started_utc_ns) MEMBER(heartbeat_period_s) MEMBER(stamp_utc_ns) \
   MEMBER(terrain_loaded) MEMBER(terrain_name) MEMBER(vehicles) MEMBER(replans) MEMBER(queue_length)           \

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <map>
 
 #include <spdlog/spdlog.h>
 
@@ -59,6 +60,8 @@ bool terrainChanged(const DaemonConfig& a, const DaemonConfig& b) {
 // ROS 2 mirror (on or off, or the origin of another terrain).
 bool edgeChanged(const DaemonConfig& a, const DaemonConfig& b) {
   return a.domain != b.domain || a.service_id != b.service_id || a.security_dir != b.security_dir ||
+         a.role != b.role || a.primary_strength != b.primary_strength || a.standby_strength != b.standby_strength ||
+         a.liveliness_lease_s != b.liveliness_lease_s ||
          a.ros2_enabled != b.ros2_enabled ||
          (b.ros2_enabled && terrainChanged(a, b));
 }
@@ -107,6 +110,8 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   ServiceInstance me = instance_;
   me.service_id = config.service_id;
   me.heartbeat_period_s = config.heartbeat_period_s;
+  me.role = config.role;
+  const OwnedWriterOptions owned{ownershipStrength(config), config.liveliness_lease_s};
   // A participant's announcement travels in clear even under DDS Security (the specification's
   // SPDP), so a secured daemon names itself only in its heartbeat writer's USER_DATA, which secure
   // discovery encrypts; peers then learn of it at endpoint discovery instead of participant discovery.
@@ -129,12 +134,13 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   if (auto e = emplaceCreated(edge->cancels, Reader<CancelRequestData>::create(p))) return *e;
   if (auto e = emplaceCreated(edge->obstacles, Reader<ObstacleUpdateData>::create(p))) return *e;
   if (auto e = emplaceCreated(edge->zones, Reader<NoFlyZoneData>::create(p))) return *e;
-  if (auto e = emplaceCreated(edge->trajectories, Writer<TrajectoryData>::create(p))) return *e;
-  if (auto e = emplaceCreated(edge->statuses, Writer<PlanStatusData>::create(p))) return *e;
-  if (auto e = emplaceCreated(edge->heartbeat, Writer<ServiceStatusData>::create(p, me.userData()))) return *e;
+  // The owned writers name this instance too, so a ground station can tell which daemon it hears.
+  if (auto e = emplaceCreated(edge->trajectories, Writer<TrajectoryData>::create(p, me.userData(), owned))) return *e;
+  if (auto e = emplaceCreated(edge->statuses, Writer<PlanStatusData>::create(p, me.userData(), owned))) return *e;
+  if (auto e = emplaceCreated(edge->heartbeat, Writer<ServiceStatusData>::create(p, me.userData(), owned))) return *e;
   if (auto e = emplaceCreated(edge->rivals, Reader<ServiceStatusData>::create(p))) return *e;
   if (auto e = emplaceCreated(edge->fleet_requests, Reader<FleetRequestData>::create(p))) return *e;
-  if (auto e = emplaceCreated(edge->fleet_statuses, Writer<FleetStatusData>::create(p))) return *e;
+  if (auto e = emplaceCreated(edge->fleet_statuses, Writer<FleetStatusData>::create(p, me.userData(), owned))) return *e;
   if (config.ros2_enabled) edge->ros2 = Ros2Mirror::create(p, world.frame().anchor());
   if (auto e = emplaceCreated(edge->loop, WaitLoop::create(p))) return *e;
 
@@ -184,7 +190,12 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   // Heartbeat samples carry nothing the node needs (rivals are read from discovery): drained.
   added = l.add(*edge->rivals, [](ServiceStatusData&&) {}, [](const Error&) {});
   if (!added.ok()) return added.error();
-  added = l.addStatus(edge->rivals->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [this] { checkRivals(); });
+  // A heartbeat writer that appears may be a rival; one that loses its liveliness (killed) or goes
+  // away may be the primary this standby stands in for.
+  added = l.addStatus(edge->rivals->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS | DDS_LIVELINESS_CHANGED_STATUS, [this] {
+    checkRivals();
+    checkPartnerLoss();
+  });
   if (!added.ok()) return added.error();
   added = l.addWithRejects(
       *edge->fleet_requests, [this](FleetRequestData&& request) { engine_->submitFleet(std::move(request)); },
@@ -228,7 +239,7 @@ Status MissionService::configure(const DaemonConfig& config) {
   if (!world.ok()) return world.error();
   auto engine = Engine::create(*world, config.engine, journal_sink_ ? static_cast<EngineSink&>(*journal_sink_) : *this);
   if (!engine.ok()) return engine.error();
-  instance_ = ServiceInstance::current(config.service_id, config.heartbeat_period_s);
+  instance_ = ServiceInstance::current(config.service_id, config.heartbeat_period_s, config.role);
   if (journal_) {
     predecessor_instance_id_ = recovered_->owner_instance_id;
     if (Status s = journal_->recordOwner(instance_.instance_id); !s.ok()) return s.error();
@@ -259,6 +270,14 @@ std::optional<ServiceInstance> MissionService::olderRival() {
   for (const ServiceInstance& other : matchedInstances(edge_->rivals->handle())) {
     if (other.service_id != service_id || other.instance_id == instance_.instance_id) continue;
     if (!predecessor_instance_id_.empty() && other.instance_id == predecessor_instance_id_) continue;
+    if (!other.rivals(instance_)) {  // a primary and its standby serve one service_id together
+      if (std::find(partners_logged_.begin(), partners_logged_.end(), other.instance_id) == partners_logged_.end()) {
+        partners_logged_.push_back(other.instance_id);
+        spdlog::info("event=partner_instance service_id={} role={} partner=\"{}\"", service_id, instance_.role,
+                     other.describe());
+      }
+      continue;
+    }
     if (other.precedes(instance_)) {
       older = other;
     } else if (std::find(younger_rivals_logged_.begin(), younger_rivals_logged_.end(), other.instance_id) ==
@@ -303,6 +322,7 @@ Status MissionService::activate() {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   if (recovered_) {
+    catchUpFromPartner(*recovered_);
     engine_->recover(*recovered_);
     recovered_.reset();
   }
@@ -407,7 +427,11 @@ Status MissionService::reload(const DaemonConfig& config) {
       std::swap(edge_, edge);
     }
     instance_.service_id = config.service_id;
+    instance_.role = config.role;
     younger_rivals_logged_.clear();
+    partners_logged_.clear();
+    alive_heartbeat_writers_ = 0;  // counted anew by the new heartbeat reader
+    republish_at_.clear();
     conflict_reported_ = false;
     if (active) startDdsThread();
   }
@@ -436,6 +460,7 @@ Status MissionService::reload(const DaemonConfig& config) {
 void MissionService::publishStatus(const PlanStatusData& status) {
   PlanStatusData addressed = status;
   addressed.service_instance = instance_.instance_id;
+  addressed.service_id = instance_.service_id;
   std::shared_lock lock(edge_mutex_);
   if (Status s = edge_->statuses->write(addressed); !s.ok()) {
     spdlog::error("event=write_failed topic=status field={} message=\"{}\"", s.error().field, s.error().message);
@@ -479,12 +504,101 @@ void MissionService::publishHeartbeat() {
   (void)edge_->heartbeat->write(status);
 }
 
+void MissionService::checkPartnerLoss() {
+  dds_liveliness_changed_status_t status{};
+  if (dds_get_liveliness_changed_status(edge_->rivals->handle(), &status) != DDS_RETCODE_OK) return;
+  const std::uint32_t alive = status.alive_count;
+  const bool lost = alive < alive_heartbeat_writers_;
+  alive_heartbeat_writers_ = alive;
+  if (!lost || config().role != "standby") return;
+  // A heartbeat writer died or left: perhaps the primary. Its readers now take this standby's
+  // samples, but only those written after they noticed, and the revisions this standby wrote
+  // meanwhile were refused: publish every current trajectory again. Readers notice the lost lease
+  // at about the same moment as this daemon, not exactly then: twice, a little apart.
+  const auto now = Clock::now();
+  const double lease_s = config().liveliness_lease_s;
+  republish_at_.push_back(now + seconds(std::min(0.1, lease_s / 2)));
+  republish_at_.push_back(now + seconds(std::min(0.4, lease_s)));
+  std::sort(republish_at_.begin(), republish_at_.end());
+  spdlog::info("event=partner_lost role=standby alive_heartbeat_writers={} message=\"republishing every current "
+               "trajectory for the readers this standby now serves\"",
+               alive);
+}
+
+void MissionService::republishDue(Clock::time_point now) {
+  if (republish_at_.empty() || now < republish_at_.front()) return;
+  republish_at_.erase(republish_at_.begin());
+  std::size_t n = 0;
+  for (const TrajectoryData& t : engine_->currentTrajectories()) {
+    publishTrajectory(t);
+    ++n;
+  }
+  spdlog::info("event=takeover_republished trajectories={}", n);
+}
+
+void MissionService::catchUpFromPartner(JournalState& state) {
+  if (config().role != "primary" || state.trajectories.empty()) return;
+  // A primary restarting on its journal while its standby served: the standby may have
+  // published newer revisions of the same plans (replans during the outage), or a new plan for a
+  // vehicle. Ground stations take the primary's samples as soon as it writes, so it must not
+  // write what is older than what they have. Its trajectory reader is a late joiner of the
+  // standby's transient-local history (its own writer has written nothing yet).
+  // The startup probe has listened for the daemons on the domain by now.
+  bool partner = false;
+  for (const ServiceInstance& other : matchedInstances(edge_->rivals->handle())) {
+    if (other.service_id == instance_.service_id && other.role == "standby") partner = true;
+  }
+  if (!partner) return;
+  auto reader = Reader<TrajectoryData>::create(edge_->participant.get());
+  if (!reader.ok()) {
+    spdlog::warn("event=catch_up_failed message=\"{}\"", reader.error().describe());
+    return;
+  }
+  // Its own trajectory writer matches too: at least two writers.
+  (void)reader->waitForWriters(2, 2.0);
+  std::map<std::string, TrajectoryData> on_bus;
+  const auto read_end = Clock::now() + seconds(0.5);
+  while (Clock::now() < read_end) {
+    (void)reader->takeAvailable(
+        [&](TrajectoryData&& t) {
+          const std::string vehicle = t.vehicle_id;
+          on_bus[vehicle] = std::move(t);
+        },
+        [](const Error&) {});
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  std::size_t adopted = 0, handed_over = 0;
+  std::vector<std::string> dropped;
+  for (TrajectoryData& t : state.trajectories) {
+    auto bus = on_bus.find(t.vehicle_id);
+    if (bus == on_bus.end()) continue;
+    if (bus->second.plan_id == t.plan_id) {
+      if (bus->second.revision > t.revision) {
+        t = bus->second;
+        t.source_instance.clear();
+        t.source_role.clear();
+        ++adopted;
+      }
+    } else if (bus->second.created_utc_ns > t.created_utc_ns) {
+      dropped.push_back(t.vehicle_id);  // a newer plan the standby made alone: it keeps serving it
+    }
+  }
+  for (const std::string& vehicle : dropped) {
+    std::erase_if(state.trajectories, [&](const TrajectoryData& t) { return t.vehicle_id == vehicle; });
+    std::erase_if(state.missions, [&](const JournalState::Mission& m) { return m.request.vehicle_id == vehicle; });
+    ++handed_over;
+  }
+  spdlog::info("event=caught_up trajectories_on_bus={} adopted={} left_to_standby={}", on_bus.size(), adopted,
+               handed_over);
+}
+
 void MissionService::ddsThread() {
   // The edge is swapped only while this thread is stopped, so it is read here without the lock.
   WaitLoop& loop = *edge_->loop;
   auto next_heartbeat = Clock::now();
   for (;;) {
     const auto now = Clock::now();
+    republishDue(now);
     if (now >= next_heartbeat) {
       publishHeartbeat();
       // On the period's grid, so a late heartbeat does not delay every later one.
@@ -492,7 +606,8 @@ void MissionService::ddsThread() {
       next_heartbeat = now - next_heartbeat < period ? next_heartbeat + period : now + period;
       bad_samples_log_.flush(now);
     }
-    const double wait_s = std::chrono::duration<double>(next_heartbeat - Clock::now()).count();
+    const auto wake = republish_at_.empty() ? next_heartbeat : std::min(next_heartbeat, republish_at_.front());
+    const double wait_s = std::chrono::duration<double>(wake - Clock::now()).count();
     auto outcome = loop.runOnce(std::max(wait_s, 0.0));
     if (!outcome.ok()) {
       // A DDS failure on one take must not end the service: log it and go on.

@@ -5,10 +5,17 @@
 // transient-local, keep-last 1 per vehicle, so a ground station that joins late gets every
 // vehicle's current trajectory; statuses reliable; a ServiceStatus heartbeat every period.
 //
-// One daemon per service_id on a domain: the heartbeat writer names this instance in its
+// One daemon per service_id and role on a domain: the heartbeat writer names this instance in its
 // USER_DATA (service_instance.hpp). activate() first listens for dds.startup_probe_s and refuses
-// to start when an older instance serves the same service_id; one that appears later makes the
-// younger of the two stop (on_conflict is called; the daemon exits with a message).
+// to start when an older instance serves the same service_id in the same role; one that appears
+// later makes the younger of the two stop (on_conflict is called; the daemon exits with a message).
+//
+// Hot standby (service.role, docs/dds.md): a primary and a standby serve one service_id; both plan
+// everything, and the trajectory, status and heartbeat writers are owned (qos.hpp), the primary's
+// stronger, so readers take the standby's samples only when the primary's lease runs out. The
+// standby then publishes its current trajectories again (readers refused what it wrote before they
+// noticed). A primary restarting on its journal first reads the standby's trajectories and
+// publishes nothing older than them.
 //
 // Reload (SIGHUP) validates everything before it changes anything (the DEM is opened, a new DDS
 // edge created), and keeps the engine: active missions, their trajectories and the obstacles
@@ -88,6 +95,12 @@ class MissionService final : public EngineSink {
   // younger one once.
   std::optional<ServiceInstance> olderRival();
   void checkRivals();  // on a heartbeat writer match: stop for an older rival
+  // A standby whose partner's heartbeat writer lost its liveliness: schedules the republishing.
+  void checkPartnerLoss();
+  void republishDue(std::chrono::steady_clock::time_point now);  // DDS thread
+  // A restarting primary: the journal's trajectories that the standby has since replaced by newer
+  // revisions of the same plan are taken from the bus; vehicles it gave a newer plan stay its own.
+  void catchUpFromPartner(JournalState& state);
 
   mutable std::mutex config_mutex_;  // config_ (reload writes it, the DDS thread reads it)
   DaemonConfig config_;
@@ -109,6 +122,9 @@ class MissionService final : public EngineSink {
   ConflictHandler on_conflict_;
   bool conflict_reported_ = false;   // DDS thread only
   std::vector<std::string> younger_rivals_logged_;  // DDS thread only
+  std::vector<std::string> partners_logged_;        // DDS thread only
+  std::uint32_t alive_heartbeat_writers_ = 0;       // DDS thread only
+  std::vector<std::chrono::steady_clock::time_point> republish_at_;  // DDS thread only, in order
   LogThrottle bad_samples_log_;      // refused samples, rate-limited per reason
   std::atomic<std::uint64_t> bad_samples_{0};
 };

@@ -24,6 +24,11 @@ Qos latestBestEffort() {
   return qos;
 }
 
+Qos exclusive(Qos qos) {
+  dds_qset_ownership(qos.get(), DDS_OWNERSHIP_EXCLUSIVE);
+  return qos;
+}
+
 void onlyXcdr1(dds_qos_t* qos) {
   const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
   dds_qset_data_representation(qos, 1, &xcdr1);
@@ -31,7 +36,7 @@ void onlyXcdr1(dds_qos_t* qos) {
 
 }  // namespace
 
-Qos trajectoryQos() { return lastValuePerKey(); }
+Qos trajectoryQos() { return exclusive(lastValuePerKey()); }
 
 Qos obstacleQos() { return lastValuePerKey(); }
 
@@ -43,7 +48,22 @@ Qos commandQos(double max_blocking_s) {
   return qos;
 }
 
-Qos heartbeatQos() { return latestBestEffort(); }
+Qos statusQos() {
+  Qos qos = exclusive(commandQos());
+  dds_qset_writer_data_lifecycle(qos.get(), false);
+  return qos;
+}
+
+Qos heartbeatQos() {
+  Qos qos = exclusive(latestBestEffort());
+  dds_qset_writer_data_lifecycle(qos.get(), false);
+  return qos;
+}
+
+void applyOwnedWriterQos(dds_qos_t* qos, const OwnedWriterOptions& options) {
+  dds_qset_ownership_strength(qos, options.ownership_strength);
+  dds_qset_liveliness(qos, DDS_LIVELINESS_AUTOMATIC, static_cast<dds_duration_t>(options.liveliness_lease_s * 1e9));
+}
 
 Qos rosLatchedQos() {
   Qos qos = lastValuePerKey();

@@ -33,9 +33,11 @@ std::string utcText(std::int64_t utc_ns) {
 
 }  // namespace
 
-ServiceInstance ServiceInstance::current(const std::string& service_id, double heartbeat_period_s) {
+ServiceInstance ServiceInstance::current(const std::string& service_id, double heartbeat_period_s,
+                                         const std::string& role) {
   ServiceInstance s;
   s.service_id = service_id;
+  s.role = role;
   s.heartbeat_period_s = heartbeat_period_s;
   s.host = hostName();
   s.pid = ::getpid();
@@ -52,7 +54,7 @@ ServiceInstance ServiceInstance::current(const std::string& service_id, double h
 std::string ServiceInstance::userData() const {
   return std::string(kTag) + ";service_id=" + service_id + ";instance=" + instance_id + ";host=" + host +
          ";pid=" + std::to_string(pid) + ";started_utc_ns=" + std::to_string(started_utc_ns) +
-         ";heartbeat_period_s=" + numberText(heartbeat_period_s, 9);
+         ";heartbeat_period_s=" + numberText(heartbeat_period_s, 9) + ";role=" + role;
 }
 
 std::optional<ServiceInstance> ServiceInstance::fromUserData(std::string_view text) {
@@ -73,6 +75,7 @@ std::optional<ServiceInstance> ServiceInstance::fromUserData(std::string_view te
         if (key == "pid") s.pid = std::stoll(value);
         if (key == "started_utc_ns") s.started_utc_ns = std::stoll(value);
         if (key == "heartbeat_period_s") s.heartbeat_period_s = std::stod(value);
+        if (key == "role" && !value.empty()) s.role = value;
       } catch (const std::exception&) {
         return std::nullopt;
       }
@@ -89,7 +92,7 @@ bool ServiceInstance::precedes(const ServiceInstance& other) const {
 }
 
 std::string ServiceInstance::describe() const {
-  return "instance " + instance_id + " (pid " + std::to_string(pid) + " on " + host + ", started " +
+  return "instance " + instance_id + " (" + role + ", pid " + std::to_string(pid) + " on " + host + ", started " +
          utcText(started_utc_ns) + ")";
 }
 

@@ -1,5 +1,5 @@
 // Who a running daemon is, on the wire: its service_id, an instance id unique to the process, its
-// host, pid and start time. Written into the USER_DATA QoS of its participant and of its heartbeat
+// role (primary or hot standby), its host, pid and start time. Written into the USER_DATA QoS of its participant and of its heartbeat
 // writer, every other participant learns it at discovery, before any sample: a daemon sees at once that another one
 // serves its service_id (the older stays; the younger refuses to start, or stops), and a client
 // counts the live services it must reach.
@@ -22,17 +22,22 @@ struct ServiceInstance {
   std::int64_t pid = 0;
   std::int64_t started_utc_ns = 0;
   double heartbeat_period_s = 1.0;  // at start (a reload may change it; each heartbeat says)
+  std::string role = "primary";     // service.role: primary or standby (a daemon that names none: primary)
 
   // A new instance of this process (random instance id), started now.
-  static ServiceInstance current(const std::string& service_id, double heartbeat_period_s = 1.0);
-  // "skyrouted-instance/1;service_id=...;instance=...;host=...;pid=...;started_utc_ns=...;heartbeat_period_s=..."
+  static ServiceInstance current(const std::string& service_id, double heartbeat_period_s = 1.0,
+                                 const std::string& role = "primary");
+  // "skyrouted-instance/1;service_id=...;instance=...;host=...;pid=...;started_utc_ns=...;heartbeat_period_s=...;role=..."
   std::string userData() const;
   static std::optional<ServiceInstance> fromUserData(std::string_view text);
 
   // Which of two instances with one service_id keeps serving: the one started first (ties: the
   // smaller instance id), so both sides reach the same verdict on their own.
   bool precedes(const ServiceInstance& other) const;
-  std::string describe() const;  // "instance 3f2a... (pid 1234 on host, started 2026-...Z)"
+  // Whether the two serve one service_id in the same role, so one of them must stop (a primary
+  // and its standby are partners, not rivals).
+  bool rivals(const ServiceInstance& other) const { return service_id == other.service_id && role == other.role; }
+  std::string describe() const;  // "instance 3f2a... (primary, pid 1234 on host, started 2026-...Z)"
 };
 
 // The daemons behind every heartbeat writer `heartbeat_reader` is matched with (this process's

@@ -23,12 +23,12 @@ struct TopicTraits;
 
 SKYROUTE_TOPIC(MissionRequestData, MissionRequest, "skyroute_mission_request", commandQos)
 SKYROUTE_TOPIC(TrajectoryData, Trajectory, "skyroute_trajectory", trajectoryQos)
-SKYROUTE_TOPIC(PlanStatusData, PlanStatus, "skyroute_plan_status", commandQos)
+SKYROUTE_TOPIC(PlanStatusData, PlanStatus, "skyroute_plan_status", statusQos)
 SKYROUTE_TOPIC(ObstacleUpdateData, ObstacleUpdate, "skyroute_obstacle_update", obstacleQos)
 SKYROUTE_TOPIC(CancelRequestData, CancelRequest, "skyroute_cancel_request", commandQos)
 SKYROUTE_TOPIC(ServiceStatusData, ServiceStatus, "skyroute_service_status", heartbeatQos)
 SKYROUTE_TOPIC(FleetRequestData, FleetRequest, "skyroute_fleet_request", commandQos)
-SKYROUTE_TOPIC(FleetStatusData, FleetStatus, "skyroute_fleet_status", commandQos)
+SKYROUTE_TOPIC(FleetStatusData, FleetStatus, "skyroute_fleet_status", statusQos)
 // Obstacles' durability: a late-joining daemon gets the zones in force.
 SKYROUTE_TOPIC(NoFlyZoneData, NoFlyZone, "skyroute_no_fly_zone", obstacleQos)
 

@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "service/dds/service_instance.hpp"
+
 namespace skyroute::dds {
 
 namespace {
@@ -83,6 +85,18 @@ std::string entityGuid(dds_entity_t entity) {
 std::string remoteWriterGuid(dds_entity_t reader, dds_instance_handle_t publication) {
   const Endpoint endpoint = matchedPublication(reader, publication);
   return endpoint ? guidText(endpoint->key) : "";
+}
+
+std::pair<std::string, std::string> remoteWriterSource(dds_entity_t reader, dds_instance_handle_t publication) {
+  const Endpoint endpoint = matchedPublication(reader, publication);
+  if (!endpoint || endpoint->qos == nullptr) return {};
+  void* value = nullptr;
+  std::size_t size = 0;
+  if (!dds_qget_userdata(endpoint->qos, &value, &size) || value == nullptr) return {};
+  const auto instance = ServiceInstance::fromUserData(std::string_view(static_cast<const char*>(value), size));
+  dds_free(value);
+  if (!instance) return {};
+  return {instance->instance_id, instance->role};
 }
 
 }  // namespace skyroute::dds

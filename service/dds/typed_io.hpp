@@ -5,7 +5,9 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -35,18 +37,29 @@ template <class Plain>
 inline constexpr bool kStampsRequester =
     std::is_same_v<Plain, MissionRequestData> || std::is_same_v<Plain, CancelRequestData>;
 
+// Trajectories, whose source_instance and source_role the reader fills with the daemon behind the sample's writer, so a
+// ground station can show which daemon (primary or standby) it follows.
+template <class Plain>
+inline constexpr bool kStampsSource = std::is_same_v<Plain, TrajectoryData>;
+// The instance id and role of the daemon behind the remote writer `publication`, from its
+// USER_DATA (service_instance.hpp); empty when it has none or is no longer matched.
+std::pair<std::string, std::string> remoteWriterSource(dds_entity_t reader, dds_instance_handle_t publication);
+
 template <class Plain>
 class Writer {
  public:
   using Traits = TopicTraits<Plain>;
 
   // user_data: the writer's USER_DATA QoS, which every matched reader can read at discovery,
-  // before any sample (the daemon's heartbeat writer names its instance there).
-  static Result<Writer> create(dds_entity_t participant, const std::string& user_data = "") {
+  // before any sample (the daemon's writers name its instance there). owned: the strength and
+  // liveliness lease of a daemon's writer of an owned topic (qos.hpp).
+  static Result<Writer> create(dds_entity_t participant, const std::string& user_data = "",
+                               const std::optional<OwnedWriterOptions>& owned = std::nullopt) {
     Qos qos = Traits::qos();
     if (!user_data.empty()) dds_qset_userdata(qos.get(), user_data.data(), user_data.size());
     auto topic = createTopic(participant, Traits::descriptor(), Traits::kName, qos.get());
     if (!topic) return topic.error();
+    if (owned) applyOwnedWriterQos(qos.get(), *owned);
     auto writer = createWriter(participant, topic->get(), qos.get());
     if (!writer) return writer.error();
     return Writer(std::move(*topic), std::move(*writer));
@@ -153,6 +166,12 @@ class Reader {
           const std::string sender = remoteWriterGuid(reader_.get(), infos[i].publication_handle);
           if (result.ok()) result.value().requester = sender;
           identity.requester = sender;
+        }
+        if constexpr (kStampsSource<Plain>) {
+          if (result.ok()) {
+            std::tie(result.value().source_instance, result.value().source_role) =
+                remoteWriterSource(reader_.get(), infos[i].publication_handle);
+          }
         }
         converted.emplace_back(std::move(result), std::move(identity));
       }

@@ -120,5 +120,41 @@ TEST(DaemonConfig, Ros2MirrorIsOnByDefaultAndCanBeTurnedOff) {
   EXPECT_EQ(bad.error().field, "ros2.enabled");
 }
 
+TEST(DaemonConfig, HotStandbyRoleAndStrengthsAreReadAndChecked) {
+  const DaemonConfig defaults;
+  EXPECT_EQ(defaults.role, "primary");
+  EXPECT_GT(ownershipStrength(defaults), 0);
+  auto standby = parseDaemonConfig(
+      "[service]\nrole = \"standby\"\n[dds]\nprimary_strength = 7\nstandby_strength = 3\nliveliness_lease_s = 0.25\n",
+      "standby.toml");
+  ASSERT_TRUE(standby.ok()) << standby.error().describe();
+  EXPECT_EQ(standby->role, "standby");
+  EXPECT_EQ(ownershipStrength(*standby), 3);
+  EXPECT_DOUBLE_EQ(standby->liveliness_lease_s, 0.25);
+  DaemonConfig primary = *standby;
+  primary.role = "primary";
+  EXPECT_EQ(ownershipStrength(primary), 7);
+
+  const auto refused = [](const std::string& toml) {
+    auto parsed = parseDaemonConfig(toml, "bad.toml");
+    return parsed.ok() ? std::string("(accepted)") : parsed.error().field;
+  };
+  EXPECT_EQ(refused("[service]\nrole = \"backup\"\n"), "service.role");
+  EXPECT_EQ(refused("[dds]\nprimary_strength = 5\nstandby_strength = 5\n"), "dds.primary_strength");
+  EXPECT_EQ(refused("[dds]\nstandby_strength = 200\n"), "dds.primary_strength");  // above the default primary's
+  EXPECT_EQ(refused("[dds]\nstandby_strength = -1\n"), "dds.standby_strength");
+  EXPECT_EQ(refused("[dds]\nprimary_strength = 3000000000\n"), "dds.primary_strength");
+  EXPECT_EQ(refused("[dds]\nprimary_strength = 1.5\n"), "dds.primary_strength");
+  EXPECT_EQ(refused("[dds]\nliveliness_lease_s = 0\n"), "dds.liveliness_lease_s");
+
+  // The daemon checks again after --role (validateDaemonConfig).
+  DaemonConfig overridden;
+  overridden.role = "secondary";
+  ASSERT_FALSE(validateDaemonConfig(overridden).ok());
+  EXPECT_EQ(validateDaemonConfig(overridden).error().field, "service.role");
+  overridden.role = "standby";
+  EXPECT_TRUE(validateDaemonConfig(overridden).ok());
+}
+
 }  // namespace
 }  // namespace skyroute
