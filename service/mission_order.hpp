@@ -4,6 +4,7 @@
 // to straight-line distances, and says why; the 3D leg planner decides feasibility afterwards.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,20 @@ struct MissionOrderOptions {
   GridMoves moves;                // sqrt(2) diagonals, octile heuristic, no corner cutting
 };
 
+// The grid and the MMD*L searches an order was chosen with, kept so a flying mission can be
+// re-ordered when obstacles change (mission_reorder.hpp) by repairing them instead of planning
+// afresh. (MissionPlanner is only declared here: its plan type shares a name with the pipeline's.)
+class MissionPlanner;
+struct MissionOrderSearch {
+  MissionOrderSearch();
+  ~MissionOrderSearch();
+
+  std::unique_ptr<GridLayer> grid;   // on the heap: the searches keep its address
+  std::vector<GridCell> cells;       // each point's cell, in the points' numbering
+  double flight_ceiling_m = 0.0;     // top of the grid's flight band
+  std::unique_ptr<MissionPlanner> planner;  // preplanned on `grid`
+};
+
 struct MissionOrder {
   std::vector<int> order;         // indices into the points: 0 first, the last point last
   std::string method;             // "fixed", "mmdstar" or "euclidean"
@@ -37,6 +52,8 @@ struct MissionOrder {
   // point to itself) or straight-line distances (euclidean). Empty for a fixed order, which
   // compares nothing.
   std::vector<std::vector<double>> cost_matrix_m;
+  // mmdstar: the searches behind the order, for live re-ordering (null otherwise).
+  std::shared_ptr<MissionOrderSearch> search;
 };
 
 // points_m: begin, mission points, end (ENU metres). fixed keeps the given order. The order grid
