@@ -85,6 +85,8 @@ Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::v
   const std::vector<GridCell> missions(cells.begin() + 1, cells.end() - 1);
   MissionOptions mission_options;
   mission_options.moves = options.moves;
+  mission_options.fresh_plan_fraction = options.fresh_plan_fraction;
+  mission_options.defer_goal_maps = options.defer_goal_maps;
   auto search = std::make_shared<MissionOrderSearch>();
   search->grid = std::make_unique<GridLayer>(std::move(*grid));
   search->cells = cells;

@@ -23,6 +23,13 @@ struct MissionOrderOptions {
                                   // least the DEM cell: MMD*L stays well under a second
   double band_margin_m = 300.0;   // the flight band reaches this far above the highest point
   GridMoves moves;                // sqrt(2) diagonals, octile heuristic, no corner cutting
+  // Repairs of the searches kept for live re-ordering (mission_reorder.hpp), bounded as
+  // MissionOptions does (the first order does not depend on them): a goal's repair that costs more
+  // than this share of planning it from scratch is given up, and the goal deferred (its costs
+  // taken from the other points' maps) or planned afresh. An obstacle next to a point changes
+  // nearly every cost of that point's map; the seed's repair then expands more than a fresh plan.
+  double fresh_plan_fraction = 0.25;
+  bool defer_goal_maps = true;
 };
 
 // The grid and the MMD*L searches an order was chosen with, kept so a flying mission can be
