@@ -26,10 +26,11 @@ struct MissionOrderOptions {
   // Repairs of the searches kept for live re-ordering (mission_reorder.hpp), bounded as
   // MissionOptions does (the first order does not depend on them): a goal's repair that costs more
   // than this share of planning it from scratch is given up, and the goal deferred (its costs
-  // taken from the other points' maps) or planned afresh. An obstacle next to a point changes
-  // nearly every cost of that point's map; the seed's repair then expands more than a fresh plan.
-  double fresh_plan_fraction = 0.25;
-  bool defer_goal_maps = true;
+  // taken from the other points' maps) or planned afresh. Off (the seed's repair): at mission
+  // scale on the embedded terrain 0.25 with deferral measured the same as the seed's repair, and
+  // 0.05 worse (docs/benchmarks.md, bench/mission_reorder_bench --fresh --defer).
+  double fresh_plan_fraction = 0.0;
+  bool defer_goal_maps = false;
 };
 
 // The grid and the MMD*L searches an order was chosen with, kept so a flying mission can be

@@ -155,10 +155,28 @@ ReorderCheck MissionReorder::check(std::span<const Obstacle> obstacles, double n
   for (int p : reached) planner.arriveAt(p);
   const MissionSearch& searches = planner.search();
   const std::optional<GridCell> vehicle = vehicleCell(vehicle_m);
-  planner.placeVehicle(vehicle.value_or(searches.points()[static_cast<std::size_t>(searches.vehiclePoint())]));
+  const GridCell start = vehicle.value_or(searches.points()[static_cast<std::size_t>(searches.vehiclePoint())]);
+  pending_.insert(pending_.end(), changed.begin(), changed.end());
+  // A point the obstacles cut off has no order at all, and repairing the searches towards it
+  // would raise every cost of its map and search the whole grid from it: one sweep of the grid
+  // (far cheaper) tells, and the repair waits, its cells kept, until the point is reachable again.
+  const std::vector<std::uint8_t> reach = reachableCells(grid, start, searches.moves());
+  for (int p : searches.remainingGoals()) {
+    const GridCell c = searches.points()[static_cast<std::size_t>(p)];
+    if (reach[grid.index(c)] != 0) continue;
+    const std::string name = p == searches.endPoint() ? "end" : "points[" + std::to_string(p - 1) + "]";
+    out.failure = make_error(ErrorCode::kUnreachable, name,
+                             name + " is cut off by the obstacles on the order grid: the order stays until it is "
+                                    "reachable again");
+    out.time_ms = msSince(started);
+    return out;
+  }
+  planner.placeVehicle(start);
   const SearchStats before = searches.stats();
   // The repair runs whatever happens next: the searches must see every change.
-  Result<MissionPlan> plan = planner.replan(changed, stop);
+  const std::vector<GridCell> repair = std::move(pending_);
+  pending_.clear();
+  Result<MissionPlan> plan = planner.replan(repair, stop);
   out.repaired = true;
   const SearchStats& after = searches.stats();
   out.search.expansions = after.expansions - before.expansions;

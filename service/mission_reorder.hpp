@@ -13,8 +13,9 @@
 // window_s); its cover is computed when the obstacles change, not every cycle, so an obstacle
 // that nobody updates does not cost a repair per cycle. Obstacles whose bottom is above the
 // grid's flight band cover nothing. The points' own cells are never covered (the grid keeps them
-// free of no-fly zones the same way): a point an obstacle surrounds is cut off, and the order
-// stays.
+// free of no-fly zones the same way): a point an obstacle surrounds is cut off (one sweep of the
+// grid from the vehicle tells), the order stays, and the searches are repaired only once every
+// point is reachable again (a repair towards a cut-off point would search the whole grid).
 //
 // The TSP is solved with the exact solver up to kExactPoints remaining points (the heuristic
 // above), and a new order is proposed only when it is shorter than the order being flown by at
@@ -47,6 +48,7 @@ struct MissionReorderOptions {
 // 1..N = points, N+1 = end).
 struct ReorderCheck {
   bool repaired = false;             // cells flipped: the searches were repaired, the TSP solved
+                                     // (not while a point is cut off: failure says which)
   std::size_t changed_cells = 0;     // cells whose blocked state flipped
   std::size_t covered_cells = 0;     // cells the obstacles cover now
   SearchStats search;                // the repair (cell expansions, queue operations, time)
@@ -95,6 +97,7 @@ class MissionReorder {
   MissionReorderOptions options_;
   double vehicle_radius_m_ = 0.0;
   std::vector<std::uint32_t> covered_;
+  std::vector<GridCell> pending_;  // flipped cells the searches have not seen (a point was cut off)
 };
 
 // "0,2,1,3" for logs and statuses.
