@@ -2,7 +2,8 @@
 // to the next point makes another order shorter, and the incremental repair gives exactly what a
 // from-scratch MMD*L solve of the same grid, vehicle and points left gives (cost matrix and order);
 // a reached point is never ordered again; an obstacle far from every point changes no order and
-// costs few expansions; a moving obstacle covers the cells it crosses within the sweep only.
+// costs few expansions; while a point is cut off the order stays and the repair waits (then sees
+// every cell that flipped); a moving obstacle covers the cells it crosses within the sweep only.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -177,6 +178,35 @@ TEST_F(MissionReorderTest, AnUpdateFarFromTheRouteChangesNothingAndCostsFewExpan
   const ReorderCheck again = reorder_->check(far, 0.0, {}, points_[0], left(first));
   EXPECT_FALSE(again.repaired);
   EXPECT_EQ(again.changed_cells, 0u);
+}
+
+TEST_F(MissionReorderTest, WhileAPointIsCutOffTheOrderStaysAndTheRepairWaitsForIt) {
+  const std::vector<int> first = order_.order;
+  // A closed ring round points[2] (mission point 3), then the same ring with a gap.
+  const Eigen::Vector2d at = points_[3].head<2>();
+  auto ring = [&](int gap) {
+    std::vector<Obstacle> out;
+    for (int k = 0; k < 16; ++k) {
+      if (k < gap) continue;
+      const double angle = 2.0 * M_PI * k / 16.0;
+      out.push_back(cylinder(200 + static_cast<std::uint64_t>(k), at + 800.0 * Eigen::Vector2d(std::cos(angle), std::sin(angle)), 200.0));
+    }
+    return out;
+  };
+  const ReorderCheck closed = reorder_->check(ring(0), 0.0, {}, points_[0], left(first));
+  ASSERT_TRUE(closed.failure);
+  EXPECT_EQ(closed.failure->field, "points[2]") << closed.failure->describe();
+  EXPECT_FALSE(closed.repaired);
+  EXPECT_GT(closed.changed_cells, 0u);
+  EXPECT_FALSE(closed.reordered());
+  // Open again: the searches now see the ring's cells too (kept while they waited), exactly as a
+  // from-scratch solve of the grid does.
+  const ReorderCheck open = reorder_->check(ring(3), 0.0, {}, points_[0], left(first));
+  ASSERT_FALSE(open.failure) << open.failure->describe();
+  ASSERT_TRUE(open.repaired);
+  const Scratch scratch = fromScratch(reorder_->search().cells.front(), 0, {1, 2, 3, 4});
+  expectSameCosts(scratch);
+  EXPECT_NEAR(open.new_cost_m, scratch.total * order_.cell_size_m, 1e-6);
 }
 
 TEST_F(MissionReorderTest, AMovingObstacleCoversTheCellsItCrossesWithinTheSweepOnly) {
