@@ -186,6 +186,13 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"replanning", "window_s", "a moving obstacle blocks the stretch it covers in this long, seconds",
        &p.replan.window_s, 0, 3600},
       {"replanning", "max_attempts", "candidates tried per replan", &s.max_attempts, 1, 100},
+      {"replanning", "reorder",
+       "re-order a flying mission's points left when the obstacles change (MMD*L searches repaired, open TSP from the "
+       "vehicle; missions whose order MMD*L chose)",
+       &p.reorder.enabled},
+      {"replanning", "reorder_sweep_s",
+       "re-ordering: an obstacle covers the order grid's cells its track crosses this long ahead, seconds",
+       &p.reorder.sweep_s, 0, 3600},
       {"replanning", "leg_max_iterations", "RRT* iterations per leg when replanning (0 = planning.leg_max_iterations)",
        &s.replan_leg_iterations, 0, 1e9},
       {"replanning", "budget_s",

@@ -178,6 +178,11 @@ class Engine {
   // The hold just published as `revision` (ReplanStep::holding): a non-terminal holding status
   // naming why no plan was found.
   void publishHold(const MissionRequestData& request, const ReplanStep& step, std::uint32_t revision);
+  // The cycle's look at a flying mission's order after the world changed (engine_reorder.cpp),
+  // under the mission's lock (`lock`, released when it publishes): when the points left are
+  // better flown in a new order, publishes that revision with a reordered status and returns true.
+  bool reorderMission(Mission& mission, std::unique_lock<std::mutex>& lock, double now_s, std::uint64_t changes,
+                      std::uint64_t coalesced);
   void startWorkers(int count);  // under mutex_
   void workerLoop();
   void replanLoop();

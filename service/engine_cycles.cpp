@@ -53,6 +53,10 @@ std::size_t Engine::replanCycle() {
     const std::uint64_t coalesced = changes - std::min(changes, mission->changes_checked);
     mission->changes_checked = changes;
     if (coalesced > 0) mission->failure_answered = false;
+    if (reorderMission(*mission, mission_lock, now_s, changes, coalesced)) {
+      ++published;
+      continue;  // a new revision this cycle; the next cycle checks it like any other
+    }
     const ReplanStep step = mission->plan.flight->step(now_s);
     if (step.holding) {
       mission->failure_answered = true;  // the hold is the answer to this change of the world

@@ -42,6 +42,9 @@ struct Engine::Mission {
   // A failed replan has been answered with a status since the last revision or world change
   // (a blocked vehicle fails every cycle; it is told once per change).
   bool failure_answered = false;
+  // The engine's count of world changes when the order was last looked at (engine_reorder.cpp):
+  // a mission whose order MMD*L chose is re-ordered at most once per change of the obstacles.
+  std::uint64_t order_checked = 0;
 };
 
 namespace engine_detail {

@@ -121,6 +121,15 @@ class FlightReplanner {
 
   // One cycle at world time now_s.
   ReplanStep step(double now_s);
+  // The points still to visit are to be flown in a new order (mission_reorder.hpp; defined in
+  // flight_reroute.cpp): the whole rest of the route is planned again through points_m, from the
+  // takeover a step at now_s would use (takeoverS), as a whole replan is. The new revision is
+  // adopted when its first conflict comes no sooner than the current trajectory's; otherwise
+  // failure says why and the current revision stays. Within the replan budget first, then, when
+  // it ran out with nothing, until a first candidate (a new order is not worth less for being late).
+  ReplanStep reroute(double now_s, const std::vector<Eigen::Vector3d>& points_m);
+  // The takeover time of a replan at now_s (see ReplanOptions::max_commit_s).
+  double takeoverS(double now_s) const;
 
   TrajectoryState stateAt(double world_s) const;
   // A holding vehicle has not finished: its route points are still ahead.

@@ -8,6 +8,7 @@
 #include "planning/mission/mission_planner.hpp"
 #include "planning/mission/open_tsp.hpp"
 #include "terrain/grid_from_terrain.hpp"
+#include "terrain/grid_layer.hpp"
 
 namespace skyroute {
 namespace {
@@ -33,6 +34,9 @@ Result<MissionOrder> euclideanOrder(const std::vector<Eigen::Vector3d>& points_m
 }
 
 }  // namespace
+
+MissionOrderSearch::MissionOrderSearch() = default;
+MissionOrderSearch::~MissionOrderSearch() = default;
 
 Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::vector<Eigen::Vector3d>& points_m,
                                         double min_clearance_m, double ceiling_m, bool fixed,
@@ -81,7 +85,13 @@ Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::v
   const std::vector<GridCell> missions(cells.begin() + 1, cells.end() - 1);
   MissionOptions mission_options;
   mission_options.moves = options.moves;
-  auto planner = MissionPlanner::create(*grid, cells.front(), missions, cells.back(), mission_options);
+  mission_options.fresh_plan_fraction = options.fresh_plan_fraction;
+  mission_options.defer_goal_maps = options.defer_goal_maps;
+  auto search = std::make_shared<MissionOrderSearch>();
+  search->grid = std::make_unique<GridLayer>(std::move(*grid));
+  search->cells = cells;
+  search->flight_ceiling_m = grid_options.flight_ceiling_m;
+  auto planner = MissionPlanner::create(*search->grid, cells.front(), missions, cells.back(), mission_options);
   if (!planner.ok()) return finish(euclideanOrder(points_m, "order grid: " + planner.error().describe()));
   auto plan = planner->preplan(stop);
   if (!plan.ok()) {
@@ -90,12 +100,15 @@ Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::v
   }
   out.order = plan->order;
   out.method = "mmdstar";
-  out.cost_m = plan->cost * grid->cellSize();
-  out.cell_size_m = grid->cellSize();
+  const double cell_size_m = search->grid->cellSize();
+  out.cost_m = plan->cost * cell_size_m;
+  out.cell_size_m = cell_size_m;
   out.expansions = plan->search.expansions;
   out.cost_matrix_m = plan->cost_matrix;
   for (auto& row : out.cost_matrix_m)
-    for (double& cost : row) cost *= grid->cellSize();  // infinity stays infinity
+    for (double& cost : row) cost *= cell_size_m;  // infinity stays infinity
+  search->planner = std::make_unique<MissionPlanner>(std::move(*planner));
+  out.search = std::move(search);
   out.time_ms = elapsedMs(started);
   return out;
 }

@@ -4,6 +4,7 @@
 // to straight-line distances, and says why; the 3D leg planner decides feasibility afterwards.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,28 @@ struct MissionOrderOptions {
                                   // least the DEM cell: MMD*L stays well under a second
   double band_margin_m = 300.0;   // the flight band reaches this far above the highest point
   GridMoves moves;                // sqrt(2) diagonals, octile heuristic, no corner cutting
+  // Repairs of the searches kept for live re-ordering (mission_reorder.hpp), bounded as
+  // MissionOptions does (the first order does not depend on them): a goal's repair that costs more
+  // than this share of planning it from scratch is given up, and the goal deferred (its costs
+  // taken from the other points' maps) or planned afresh. Off (the seed's repair): at mission
+  // scale on the embedded terrain 0.25 with deferral measured the same as the seed's repair, and
+  // 0.05 worse (docs/benchmarks.md, bench/mission_reorder_bench --fresh --defer).
+  double fresh_plan_fraction = 0.0;
+  bool defer_goal_maps = false;
+};
+
+// The grid and the MMD*L searches an order was chosen with, kept so a flying mission can be
+// re-ordered when obstacles change (mission_reorder.hpp) by repairing them instead of planning
+// afresh. (MissionPlanner is only declared here: its plan type shares a name with the pipeline's.)
+class MissionPlanner;
+struct MissionOrderSearch {
+  MissionOrderSearch();
+  ~MissionOrderSearch();
+
+  std::unique_ptr<GridLayer> grid;   // on the heap: the searches keep its address
+  std::vector<GridCell> cells;       // each point's cell, in the points' numbering
+  double flight_ceiling_m = 0.0;     // top of the grid's flight band
+  std::unique_ptr<MissionPlanner> planner;  // preplanned on `grid`
 };
 
 struct MissionOrder {
@@ -37,6 +60,8 @@ struct MissionOrder {
   // point to itself) or straight-line distances (euclidean). Empty for a fixed order, which
   // compares nothing.
   std::vector<std::vector<double>> cost_matrix_m;
+  // mmdstar: the searches behind the order, for live re-ordering (null otherwise).
+  std::shared_ptr<MissionOrderSearch> search;
 };
 
 // points_m: begin, mission points, end (ENU metres). fixed keeps the given order. The order grid

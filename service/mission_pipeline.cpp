@@ -207,6 +207,12 @@ Result<MissionPlan, PlanError> MissionPipeline::plan(const PipelineRequest& requ
     return *too_large;
   }
   plan.flight = std::move(*flight);
+  // Live re-ordering keeps the order's searches; without it they go now (a map per point).
+  if (!r.fixed_order) {
+    plan.reorder = MissionReorder::create(plan.mission.ordering.search, options_.reorder,
+                                          plan.mission.world->options().vehicle_radius_m);
+  }
+  plan.mission.ordering.search.reset();
   // Where the vehicle comes to rest instead of passing, and why (the status and the log say so).
   for (const RoutePointStop& stop : plan.flight->route().point_stops) {
     if (stop.point >= plan.mission.order.size()) continue;
@@ -271,6 +277,52 @@ TrajectoryData MissionPipeline::sample(const MissionPlan& plan, const Trajectory
                                         static_cast<std::uint32_t>(route_ids[leg.to_point]), leg.start_s, leg.end_s});
   }
   return data;
+}
+
+namespace {
+
+// The request indices of route points (copies of the ordered points); -1 for one that is none.
+std::vector<int> requestIndicesOf(const OrderedMission& mission, const std::vector<Eigen::Vector3d>& points_m) {
+  std::vector<int> out;
+  for (const Eigen::Vector3d& p : points_m) {
+    int id = -1;
+    for (std::size_t k = 0; k < mission.ordered_m.size(); ++k) {
+      if (mission.ordered_m[k] == p) id = mission.order[k];
+    }
+    out.push_back(id);
+  }
+  return out;
+}
+
+}  // namespace
+
+ReorderOutcome MissionPipeline::reorder(MissionPlan& plan, double now_s, const TerminationCondition& stop) const {
+  ReorderOutcome out;
+  if (!plan.reorder || !plan.flight || plan.flight->finished(now_s)) return out;
+  FlightReplanner& flight = *plan.flight;
+  OrderedMission& mission = plan.mission;
+  // Where a new route would take over: the points passed by then are reached, and the vehicle's
+  // start is there.
+  const double takeover_s = flight.takeoverS(now_s);
+  const std::vector<int> remaining = requestIndicesOf(mission, flight.remainingPoints(takeover_s));
+  if (remaining.empty() || std::find(remaining.begin(), remaining.end(), -1) != remaining.end()) return out;
+  const auto first_left = std::find(mission.order.begin(), mission.order.end(), remaining.front());
+  if (first_left == mission.order.begin() || first_left == mission.order.end()) return out;
+  const std::vector<int> reached(mission.order.begin() + 1, first_left);
+  out.check = plan.reorder->check(mission.world->obstacles(), now_s, reached, flight.stateAt(takeover_s).position_m,
+                                  remaining, stop);
+  if (!out.check.reordered()) return out;
+  std::vector<Eigen::Vector3d> points;
+  for (std::size_t k = 1; k < out.check.new_order.size(); ++k) points.push_back(mission.points_m[out.check.new_order[k]]);
+  out.step = flight.reroute(now_s, points);
+  if (!out.step.replanned) return out;
+  // The order as flown: the points passed (begin first), then the new order of those left.
+  std::vector<int> order(mission.order.begin(), first_left);
+  order.insert(order.end(), out.check.new_order.begin() + 1, out.check.new_order.end());
+  mission.order = std::move(order);
+  mission.ordered_m.clear();
+  for (int index : mission.order) mission.ordered_m.push_back(mission.points_m[static_cast<std::size_t>(index)]);
+  return out;
 }
 
 FleetPlanOutput MissionPipeline::planFleet(const FleetRequestData& request, std::int64_t start_utc_ns,

@@ -31,6 +31,7 @@
 #include "service/flight_replanner.hpp"
 #include "service/grid_leg_planner.hpp"
 #include "service/mission_order.hpp"
+#include "service/mission_reorder.hpp"
 #include "service/mission_types.hpp"
 #include "service/planner_registry.hpp"
 #include "service/request_footprint.hpp"
@@ -56,6 +57,7 @@ struct PipelineOptions {
   GridLegOptions grid_legs;               // the grid planners' flight-band grid
   ReplanOptions replan = defaultReplanOptions();  // replan.route: corridor, LOSPO, trajectory stage
   FleetMissionOptions fleet;              // fleet requests (their trajectory stage is replan.route's)
+  MissionReorderOptions reorder;          // live re-ordering of flying missions (mission_reorder.hpp)
 
   // The first plan's leg pipeline is RRT* on an iteration budget; a replan must come back within
   // a cycle, so its RRT* gets fewer iterations per leg (informed sampling around the current path
@@ -93,9 +95,18 @@ struct OrderedMission {
 struct MissionPlan {
   OrderedMission mission;
   std::unique_ptr<FlightReplanner> flight;  // the trajectory (flight->route()), ready to be replanned
+  // The order's MMD*L searches, kept to re-order the points left when obstacles change; null for
+  // a fixed order, one point, or a Euclidean fallback (nothing to repair), or with re-ordering off.
+  std::unique_ptr<MissionReorder> reorder;
   std::uint64_t seed = 0;
   std::vector<std::string> notes;            // e.g. a leg whose wall-clock cap fired
   double planning_time_s = 0.0;
+};
+
+// What a look at changed obstacles did to a flying mission (MissionPipeline::reorder).
+struct ReorderOutcome {
+  ReorderCheck check;  // point indices in request numbering
+  ReplanStep step;     // the flight planned through the new order (step.replanned: a new revision)
 };
 
 // Progress of a long plan: the stage that starts and a line saying what it does.
@@ -121,6 +132,13 @@ class MissionPipeline {
   // configured spacing, or, for a replanned revision longer than the sample cap allows (plan()
   // checked the first), at the spacing that keeps it within the cap.
   TrajectoryData sample(const MissionPlan& plan, const TrajectoryIdentity& identity) const;
+  // The order stage again, live, after the obstacles changed (mission_reorder.hpp): the points the
+  // flight has passed by its takeover after now_s are visited, the searches repaired, the points
+  // left ordered again from where the vehicle will be; when the order changes, the flight is
+  // planned through the new one and, when that gives a new revision, plan.mission's order and
+  // ordered points follow (the points passed first, as flown). Nothing for a plan without
+  // plan.reorder.
+  ReorderOutcome reorder(MissionPlan& plan, double now_s, const TerminationCondition& stop = {}) const;
   // A fleet request (fleet_mission.hpp) with this pipeline's trajectory stage and sample spacing.
   FleetPlanOutput planFleet(const FleetRequestData& request, std::int64_t start_utc_ns,
                             const TerminationCondition& stop = {}) const;

@@ -44,6 +44,7 @@ std::string_view to_string(PlanState state) {
     case PlanState::kCancelled: return "cancelled";
     case PlanState::kReplanned: return "replanned";
     case PlanState::kHolding: return "holding";
+    case PlanState::kReordered: return "reordered";
   }
   return "unknown";
 }

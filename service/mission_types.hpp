@@ -100,8 +100,10 @@ struct TrajectoryData {
 // kReplanned: a new revision of a flying mission's trajectory (or, with an error, a replan that
 // found nothing better; the revision named stays in force). kHolding: no new plan was found, so
 // the new revision keeps the trajectory as far as it is clear, then stops and waits at rest; the
-// mission goes on and replanning continues from the hold (docs/dds.md). Neither is terminal.
-enum class PlanState { kAccepted, kPlanning, kSucceeded, kFailed, kCancelled, kReplanned, kHolding };
+// mission goes on and replanning continues from the hold (docs/dds.md). kReordered: a new
+// revision that visits the points left in a new order, chosen again after the obstacles changed
+// (the message gives the old and the new order). None of these is terminal.
+enum class PlanState { kAccepted, kPlanning, kSucceeded, kFailed, kCancelled, kReplanned, kHolding, kReordered };
 std::string_view to_string(PlanState state);
 bool isTerminal(PlanState state);  // succeeded, failed or cancelled
 

@@ -3,8 +3,11 @@
 namespace skyroute {
 
 bool StatusTransitions::firstTime(const PlanStatusData& status) {
-  // Replans and holds come again and again in one mission: each is news.
-  if (status.state == PlanState::kReplanned || status.state == PlanState::kHolding) return true;
+  // Replans, holds and new orders come again and again in one mission: each is news.
+  if (status.state == PlanState::kReplanned || status.state == PlanState::kHolding ||
+      status.state == PlanState::kReordered) {
+    return true;
+  }
   return seen_.emplace(status.vehicle_id, status.request_id, status.state).second;
 }
 

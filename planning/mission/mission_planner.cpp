@@ -1,5 +1,6 @@
 #include "planning/mission/mission_planner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -187,6 +188,16 @@ void MissionPlanner::moveVehicle(GridCell cell) {
   // The order stays valid: drop the reached point from its front.
   plan_.order.erase(plan_.order.begin());
   if (!plan_.legs.empty()) plan_.legs.erase(plan_.legs.begin());
+}
+
+void MissionPlanner::arriveAt(int point) {
+  if (point < 1 || point > search_->missionCount() || search_->visited(point)) return;
+  search_->arriveAt(point);
+  // The order in hand stays an order of what is left, from the reached point; its legs no longer
+  // start where the vehicle is, so they go (the next replan makes new ones).
+  std::erase(plan_.order, point);
+  if (!plan_.order.empty()) plan_.order.front() = point;
+  plan_.legs.clear();
 }
 
 }  // namespace skyroute

@@ -84,6 +84,16 @@ class MissionPlanner {
   GridCell nextCell() const;
   // The vehicle moved to `cell`; reaching the next point of the order marks it visited (line 73).
   void moveVehicle(GridCell cell);
+  // For a caller that tracks the flight itself (the daemon's live re-ordering): the vehicle is at
+  // `cell` (where it will be when a new route takes over) without reaching any point there, and
+  // it reached remaining mission point `point` (1..n) whatever the order's next point was. A
+  // reached point becomes the vehicle's point and is never a goal again (lines 73-77); a point
+  // that is not a remaining mission point is ignored.
+  void placeVehicle(GridCell cell) { search_->moveVehicle(cell); }
+  void arriveAt(int point);
+  // The open TSP's settings for the next planning steps (e.g. a smaller exact limit where a
+  // replan must stay within a cycle).
+  void setTspOptions(const OpenTspOptions& tsp) { options_.tsp = tsp; }
   bool finished() const { return finished_; }
   GridCell vehicleCell() const { return search_->vehicleCell(); }
   const MissionPlan& plan() const { return plan_; }

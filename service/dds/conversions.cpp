@@ -317,6 +317,7 @@ void toWire(const PlanStatusData& in, skyroute_msgs_PlanStatus& out) {
 // The plain enums list their values in the IDL's order; these pin that down at compile time.
 static_assert(static_cast<int>(PlanState::kReplanned) == skyroute_msgs_STATE_REPLANNED);
 static_assert(static_cast<int>(PlanState::kHolding) == skyroute_msgs_STATE_HOLDING);
+static_assert(static_cast<int>(PlanState::kReordered) == skyroute_msgs_STATE_REORDERED);
 static_assert(static_cast<int>(PlanErrorCode::kInternal) == skyroute_msgs_ERROR_INTERNAL);
 static_assert(static_cast<int>(PlanErrorCode::kTooLarge) == skyroute_msgs_ERROR_TOO_LARGE);
 static_assert(static_cast<int>(PlanErrorCode::kDuplicateRequest) == skyroute_msgs_ERROR_DUPLICATE_REQUEST);
@@ -330,7 +331,7 @@ Result<PlanStatusData> fromWire(const skyroute_msgs_PlanStatus& in) {
   if (text(in.request_id).empty() && text(in.vehicle_id).empty()) {
     return invalid("request_id", "and vehicle_id are both missing (empty)");
   }
-  if (auto e = enumInRange(in.state, skyroute_msgs_STATE_HOLDING, "state")) return *e;
+  if (auto e = enumInRange(in.state, skyroute_msgs_STATE_REORDERED, "state")) return *e;
   if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_DUPLICATE_REQUEST, "error_code")) return *e;
   if (auto e = enumInRange(in.stage, skyroute_msgs_STAGE_REPLAN, "stage")) return *e;
   if (auto e = finite(in.planning_time_s, "planning_time_s")) return *e;

@@ -122,8 +122,8 @@ TEST(DdsConversion, ObstacleErrorsNameTheField) {
   EXPECT_EQ(dds::fromWire(wire.msg(), 12345)->valid_from_utc_ns, 12345);
 }
 
-// The holding state (a hold published as a new revision) crosses the wire as itself; a state past
-// the last one is refused naming the field.
+// The holding and reordered states (a hold, a new order, published as a new revision) cross the
+// wire as themselves; a state past the last one is refused naming the field.
 TEST(DdsConversion, HoldingStatusCrossesTheWireAndUnknownStatesAreRefused) {
   PlanStatusData hold;
   hold.request_id = "r1";
@@ -141,7 +141,19 @@ TEST(DdsConversion, HoldingStatusCrossesTheWireAndUnknownStatesAreRefused) {
   EXPECT_EQ(back->message, hold.message);
   EXPECT_EQ(to_string(PlanState::kHolding), "holding");
   EXPECT_FALSE(isTerminal(PlanState::kHolding));
-  wire.msg().state = static_cast<skyroute_msgs_PlanState>(skyroute_msgs_STATE_HOLDING + 1);
+  PlanStatusData reordered = hold;
+  reordered.state = PlanState::kReordered;
+  reordered.error_code = PlanErrorCode::kNone;
+  reordered.message = "reordered: visiting order 0,1,2,3 -> 0,2,1,3";
+  dds::WireSample<skyroute_msgs_PlanStatus> reordered_wire(&skyroute_msgs_PlanStatus_desc);
+  dds::toWire(reordered, reordered_wire.msg());
+  EXPECT_EQ(reordered_wire.msg().state, skyroute_msgs_STATE_REORDERED);
+  auto reordered_back = dds::fromWire(reordered_wire.msg());
+  ASSERT_TRUE(reordered_back.ok()) << reordered_back.error().describe();
+  EXPECT_EQ(reordered_back->state, PlanState::kReordered);
+  EXPECT_EQ(to_string(PlanState::kReordered), "reordered");
+  EXPECT_FALSE(isTerminal(PlanState::kReordered));
+  wire.msg().state = static_cast<skyroute_msgs_PlanState>(skyroute_msgs_STATE_REORDERED + 1);
   auto bad = dds::fromWire(wire.msg());
   ASSERT_FALSE(bad.ok());
   EXPECT_EQ(bad.error().field, "state");
