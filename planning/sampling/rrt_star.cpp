@@ -544,7 +544,13 @@ Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen:
       result.tree_size = 2;
       result.solution_improvements = 1;
       result.first_solution_s = std::chrono::duration<double>(Clock::now() - t0).count();
-      if (tree_out) *tree_out = RrtTree{{start_m, goal_m}, {kRrtTreeNoParent, 0}, {0.0, result.length_m}};
+      // A seed tree stays what is handed on, with the goal joined to its root.
+      if (tree_out) *tree_out = seed ? *seed : RrtTree{{start_m}, {kRrtTreeNoParent}, {0.0}};
+      if (tree_out) {
+        tree_out->positions_m.push_back(goal_m);
+        tree_out->parents.push_back(0);
+        tree_out->costs_m.push_back(result.length_m);
+      }
       return finish();
     }
   }

@@ -126,4 +126,28 @@ Result<RerootedTree> rerootTree(const RrtTree& old_tree, const Eigen::Vector3d& 
   return out;
 }
 
+RrtTree cheapestPart(const RrtTree& tree, std::size_t max_nodes) {
+  if (tree.layoutError()) return {};
+  if (tree.size() <= max_nodes) return tree;
+  // By cost, ties by index: a parent comes before its children either way (zero-length edges
+  // included), so the order is a valid layout and any prefix of it a tree.
+  std::vector<std::uint32_t> order(tree.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return tree.costs_m[a] != tree.costs_m[b] ? tree.costs_m[a] < tree.costs_m[b] : a < b;
+  });
+  order.resize(max_nodes);
+  std::vector<std::uint32_t> new_index(tree.size(), kRrtTreeNoParent);
+  RrtTree out;
+  for (std::uint32_t v : order) {
+    const std::uint32_t parent = tree.parents[v];
+    if (parent != kRrtTreeNoParent && new_index[parent] == kRrtTreeNoParent) continue;  // costs not monotone
+    new_index[v] = static_cast<std::uint32_t>(out.size());
+    out.positions_m.push_back(tree.positions_m[v]);
+    out.parents.push_back(parent == kRrtTreeNoParent ? kRrtTreeNoParent : new_index[parent]);
+    out.costs_m.push_back(tree.costs_m[v]);
+  }
+  return out;
+}
+
 }  // namespace skyroute

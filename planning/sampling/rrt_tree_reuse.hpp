@@ -45,4 +45,9 @@ Result<RerootedTree> rerootTree(const RrtTree& old_tree, const Eigen::Vector3d& 
                                const MotionValidator& validator, const TreeReuseOptions& options = {},
                                const TerminationCondition& stop = {});
 
+// The max_nodes cheapest nodes of a tree (all of it when it has no more), still a tree: a parent
+// costs no more than its children, so it is kept whenever they are. For a bounded tree to keep.
+// A tree that breaks RrtTree's layout gives an empty tree.
+RrtTree cheapestPart(const RrtTree& tree, std::size_t max_nodes);
+
 }  // namespace skyroute
