@@ -362,6 +362,7 @@ FlightReplanner::Candidate FlightReplanner::splice(PlannedRoute local, const Rej
       leg.path_m = local.legs[j].path_m;
       leg.tree = local.legs[j].tree;
       leg.reused_tree_nodes = local.legs[j].reused_tree_nodes;
+      leg.tree_reuse_ms = local.legs[j].tree_reuse_ms;
     }
     out.legs.push_back(std::move(leg));
   }

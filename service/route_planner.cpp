@@ -127,6 +127,7 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
     const bool keep_tree = i == 0 && options.keep_first_leg_tree;
     RrtTree grown;
     std::size_t reused_nodes = 0;
+    double reuse_ms = 0.0;
     bool first_region = true;
     while (auto region = regions.next()) {
       validator.emplace(world, *region, options.snapshot);
@@ -134,7 +135,9 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
       // searches wide regions the tree was not grown for.
       std::optional<RerootedTree> reused;
       if (i == 0 && first_region && options.first_leg_tree) {
+        const auto reuse_started = std::chrono::steady_clock::now();
         auto rerooted = rerootTree(*options.first_leg_tree, points_m[0], *validator, options.tree_reuse, stop);
+        reuse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - reuse_started).count();
         if (!rerooted.ok()) return rerooted.error();
         spdlog::debug("event=rrt_tree_reuse stored={} kept={} root_links={} blocked_edges={} motion_checks={} stopped={}",
                       options.first_leg_tree->size(), rerooted->kept_nodes, rerooted->root_links,
@@ -205,6 +208,7 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
                       rrt->iterations < options.leg_max_iterations;
     leg.rrt = std::move(rrt.value());
     leg.reused_tree_nodes = reused_nodes;
+    leg.tree_reuse_ms = reuse_ms;
     if (keep_tree) leg.tree = std::make_shared<const RrtTree>(cheapestPart(grown, options.tree_reuse.max_nodes));
     leg.lospo_length_m = shortened->length_m;
     leg.path_m = std::move(shortened->path_m);

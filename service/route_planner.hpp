@@ -77,6 +77,7 @@ struct RouteLeg {
   std::shared_ptr<const RrtTree> tree;
   // Nodes of RouteOptions::first_leg_tree the leg's search started with (0: a new tree).
   std::size_t reused_tree_nodes = 0;
+  double tree_reuse_ms = 0.0;  // re-rooting it (wall time, not in rrt.time_s)
   double start_s = 0.0;                 // trajectory time at from_point
   double end_s = 0.0;                   // trajectory time at to_point
 };
