@@ -128,13 +128,21 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
     RrtTree grown;
     std::size_t reused_nodes = 0;
     double reuse_ms = 0.0;
+    bool kept_tree_stays = false;
     bool first_region = true;
     while (auto region = regions.next()) {
       validator.emplace(world, *region, options.snapshot);
       // The reused tree joins the leg's first region (its corridor) only: beyond it the leg
       // searches wide regions the tree was not grown for.
+      // A straight first leg needs no tree (RRT* returns the motion at once): the kept tree is then
+      // neither re-rooted (its motion checks would buy nothing) nor replaced, and stays for a
+      // later replan that needs it.
+      if (i == 0 && first_region && options.first_leg_tree && rrt_options.try_direct_first &&
+          validator->isMotionValid(points_m[0], points_m[1])) {
+        kept_tree_stays = true;
+      }
       std::optional<RerootedTree> reused;
-      if (i == 0 && first_region && options.first_leg_tree) {
+      if (i == 0 && first_region && options.first_leg_tree && !kept_tree_stays) {
         const auto reuse_started = std::chrono::steady_clock::now();
         auto rerooted = rerootTree(*options.first_leg_tree, points_m[0], *validator, options.tree_reuse, stop);
         reuse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - reuse_started).count();
@@ -209,7 +217,9 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
     leg.rrt = std::move(rrt.value());
     leg.reused_tree_nodes = reused_nodes;
     leg.tree_reuse_ms = reuse_ms;
-    if (keep_tree) leg.tree = std::make_shared<const RrtTree>(cheapestPart(grown, options.tree_reuse.max_nodes));
+    if (keep_tree && !kept_tree_stays) {
+      leg.tree = std::make_shared<const RrtTree>(cheapestPart(grown, options.tree_reuse.max_nodes));
+    }
     leg.lospo_length_m = shortened->length_m;
     leg.path_m = std::move(shortened->path_m);
     for (std::size_t k = (i == 0 ? 0 : 1); k < leg.path_m.size(); ++k) route.waypoints_m.push_back(leg.path_m[k]);

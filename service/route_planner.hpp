@@ -56,7 +56,8 @@ struct RouteOptions {
   std::shared_ptr<const RrtTree> first_leg_tree;
   TreeReuseOptions tree_reuse;  // its max_nodes also caps the tree kept in RouteLeg::tree
   // Keep the first leg's grown RRT* tree (its cheapest tree_reuse.max_nodes nodes) in
-  // RouteLeg::tree, for a later replan's first_leg_tree.
+  // RouteLeg::tree, for a later replan's first_leg_tree. Not when first_leg_tree is given and the
+  // straight first leg is valid: no tree is grown then, and the caller keeps the one it has.
   bool keep_first_leg_tree = false;
 };
 
