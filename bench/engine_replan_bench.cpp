@@ -9,7 +9,11 @@
 // updates the flown part of the answer is checked against the obstacle in force (every sample,
 // the world's own distance): collisions and the smallest separation are reported.
 // Usage: engine_replan_bench [--rounds N] [--verbose] [--debug] [--case embedded|n44|both] [--no-local] [--no-retime]
-//                            [--no-band] [--no-commit] [--no-hold]
+//                            [--no-band] [--no-commit] [--no-hold] [--tree-reuse off|on|both]
+// --tree-reuse (default off) runs each case without and/or with planning.rrt_tree_reuse in the
+// same process (the same missions and crossings; an answer that differs changes the later
+// crossings, which are placed on the trajectory in force). "answer km" is the mean length of the
+// answers that are not holds, from the update's time to the goal.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -53,6 +57,7 @@ struct Outcome {
   int holds = 0;       // answered by a hold
   int collisions = 0;  // flown samples inside the obstacle (grown by the vehicle radius)
   double min_separation_m = std::numeric_limits<double>::infinity();
+  std::vector<double> answer_m;  // per answer that is not a hold: its length from now to the goal
 };
 
 struct Switches {
@@ -62,6 +67,7 @@ struct Switches {
   bool band = true;
   bool commit = true;
   bool hold = true;
+  bool tree_reuse = false;
 };
 
 Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData& mission, int rounds,
@@ -78,6 +84,7 @@ Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData
   if (!switches.band) options.pipeline.replan.band_slow_factor = 0.0;
   if (!switches.commit) options.pipeline.replan.max_commit_s = 0.0;
   options.pipeline.replan.hold_fallback = switches.hold;
+  options.pipeline.replan.rrt_tree_reuse = switches.tree_reuse;
   auto engine = Engine::create(*model, options, sink, [&] { return clock.now_ns; });
   if (!engine.ok()) return out;
   (*engine)->submit(mission);
@@ -135,6 +142,16 @@ Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData
       out.latency_ms.push_back(ms);
       out.cycles.push_back(cycles);
       out.holds += hold ? 1 : 0;
+      if (!hold) {
+        double length = 0.0;
+        const TrajectorySampleData* last = nullptr;
+        for (const TrajectorySampleData& s : sink.latest.samples) {
+          if (s.utc_ns < clock.now_ns) continue;
+          if (last) length += (s.position_enu_m - last->position_enu_m).norm();
+          last = &s;
+        }
+        out.answer_m.push_back(length);
+      }
       if (verbose) std::printf("update %d: %.1f ms, %d cycle(s)%s\n", u, ms, cycles, hold ? " (hold)" : "");
     }
     // The next 2 s are flown on the answer (or the revision kept): the vehicle sphere never touches the obstacle.
@@ -158,15 +175,18 @@ Outcome run(std::shared_ptr<const Heightfield> terrain, const MissionRequestData
 
 void row(const char* what, const Outcome& o) {
   if (o.latency_ms.empty()) {
-    std::printf("| %-44s | 0 | - | - | - | - | - | %d | %d | - |\n", what, o.misses, o.collisions);
+    std::printf("| %-44s | 0 | - | - | - | - | - | %d | %d | - | - |\n", what, o.misses, o.collisions);
     return;
   }
   std::vector<double> v = o.latency_ms;
   std::sort(v.begin(), v.end());
   auto q = [&](double f) { return v[std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(f * v.size())) - 1)]; };
   const int multi = static_cast<int>(std::count_if(o.cycles.begin(), o.cycles.end(), [](int c) { return c > 1; }));
-  std::printf("| %-44s | %zu | %.1f | %.1f | %.1f | %d | %d | %d | %d | %.0f |\n", what, v.size(), q(0.5), q(0.9),
-              q(0.99), multi, o.holds, o.misses, o.collisions, o.min_separation_m);
+  double answer_m = 0.0;
+  for (double m : o.answer_m) answer_m += m;
+  if (!o.answer_m.empty()) answer_m /= static_cast<double>(o.answer_m.size());
+  std::printf("| %-44s | %zu | %.1f | %.1f | %.1f | %d | %d | %d | %d | %.0f | %.3f |\n", what, v.size(), q(0.5), q(0.9),
+              q(0.99), multi, o.holds, o.misses, o.collisions, o.min_separation_m, answer_m / 1e3);
 }
 
 }  // namespace
@@ -176,6 +196,7 @@ int main(int argc, char** argv) {
   bool verbose = false;
   bool retime = true, local = true, band = true, commit = true, hold = true;
   std::string only = "both";  // embedded | n44 | both
+  std::string tree_reuse = "off";  // off | on | both
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) rounds = std::atoi(argv[++i]);
     if (std::strcmp(argv[i], "--verbose") == 0) verbose = true;
@@ -185,20 +206,33 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--no-commit") == 0) commit = false;
     if (std::strcmp(argv[i], "--no-hold") == 0) hold = false;
     if (std::strcmp(argv[i], "--case") == 0 && i + 1 < argc) only = argv[++i];
+    if (std::strcmp(argv[i], "--tree-reuse") == 0 && i + 1 < argc) tree_reuse = argv[++i];
     if (std::strcmp(argv[i], "--debug") == 0) spdlog::set_level(spdlog::level::debug);
   }
-  const Switches switches{verbose, local, retime, band, commit, hold};
+  if (tree_reuse != "off" && tree_reuse != "on" && tree_reuse != "both") {
+    std::fprintf(stderr, "unknown --tree-reuse %s (off, on or both)\n", tree_reuse.c_str());
+    return 2;
+  }
+  std::vector<bool> reuse_runs;
+  if (tree_reuse != "on") reuse_runs.push_back(false);
+  if (tree_reuse != "off") reuse_runs.push_back(true);
+  auto runRows = [&](const std::string& what, std::shared_ptr<const Heightfield> t, const MissionRequestData& m) {
+    for (bool reuse : reuse_runs) {
+      Switches s{verbose, local, retime, band, commit, hold, reuse};
+      row((what + (reuse ? " + tree reuse" : "")).c_str(), run(t, m, rounds, s));
+    }
+  };
   CollisionWorldOptions options;
   options.build_octree = false;
   std::printf("| case | answered | p50 ms | p90 ms | p99 ms | updates needing > 1 cycle | answered by a hold | no revision "
-              "| collisions | min separation m |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+              "| collisions | min separation m | answer km |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
 
   const std::string dem = std::string(SKYROUTE_DATA_DIR) + "/default_terrain.tif";
   std::shared_ptr<const Heightfield> terrain = loadTerrainWorld(dem, options).value().heightfield;
   if (only != "n44") {
     const MissionRequestData m = bench::laneMission(*terrain, "lane", 0, 1);
-    row("embedded terrain, lane mission", run(terrain, m, rounds, switches));
+    runRows("embedded terrain, lane mission", terrain, m);
   }
 
   const std::string n44 = std::string(SKYROUTE_SHARED_DATA_DIR) + "/dem/N44W072.hgt";
@@ -207,7 +241,7 @@ int main(int argc, char** argv) {
     std::fclose(f);
     std::shared_ptr<const Heightfield> real = loadTerrainWorld(n44, options).value().heightfield;
     const MissionRequestData m = bench::seed003Mission(seed003Table1Scenario(*real), "seed003");
-    row("N44W072, seed-003 vehicle", run(real, m, rounds, switches));
+    runRows("N44W072, seed-003 vehicle", real, m);
   } else {
     bench::skipCaseForMissingData("(N44W072 case skipped: " + n44 + " not found)", n44 + " not found");
   }

@@ -15,11 +15,15 @@
 //
 // Usage: replan_bench [--seeds N] [--first-seed S] [--config NAME] [--budget-ms MS]
 //                     [--replan-iterations N] [--max-commit-s S] [--replan-accel-fraction F]
+//                     [--tree-reuse off|on|both]
 // (NAME: deadline | no-deadline | both; MS: replan_budget_ms, default the pipeline's; N: RRT*
 // iterations per leg when replanning, default the pipeline's, 0 = the first plan's)
 // "deadline" is the pipeline's defaults (a wall-clock budget per replan); "no deadline" sets
 // replan_budget_ms = 0, so attempts end only on their iteration budgets (reproducible, and what
 // the work costs when nothing cuts it short).
+// --tree-reuse (default off) runs each config without and/or with ReplanOptions::rrt_tree_reuse
+// (planning.rrt_tree_reuse): the same seeds and the same obstacles, in one process, so the
+// latency rows and the flown length (km, summed every 10 ms) compare the two directly.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -68,6 +72,8 @@ struct SeedOutcome {
   double min_separation_m = std::numeric_limits<double>::infinity();
   int replans = 0, adopted = 0, failed = 0;
   double max_replan_wall_ms = 0.0;
+  double flown_m = 0.0;               // length of the flown curve, summed every 10 ms
+  std::size_t reused_tree_nodes = 0;  // over the adopted replans
 };
 
 struct Config {
@@ -100,6 +106,7 @@ int main(int argc, char** argv) {
   int seeds = 5;
   std::uint64_t first_seed = 1;
   std::string which = "both";
+  std::string tree_reuse = "off";
   double budget_ms = 0.0;         // 0: the pipeline's default
   long replan_iterations = -1;    // < 0: the pipeline's default
   ReplanOverrides overrides;
@@ -112,6 +119,7 @@ int main(int argc, char** argv) {
     else if (a == "--replan-iterations") replan_iterations = std::atol(argv[i + 1]);
     else if (a == "--max-commit-s") overrides.max_commit_s = std::atof(argv[i + 1]);
     else if (a == "--replan-accel-fraction") overrides.replan_accel_fraction = std::atof(argv[i + 1]);
+    else if (a == "--tree-reuse") tree_reuse = argv[i + 1];
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
@@ -140,9 +148,25 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "unknown config %s\n", which.c_str());
     return 2;
   }
+  if (tree_reuse != "off" && tree_reuse != "on" && tree_reuse != "both") {
+    std::fprintf(stderr, "unknown --tree-reuse %s (off, on or both)\n", tree_reuse.c_str());
+    return 2;
+  }
+  {
+    std::vector<Config> with_reuse;
+    for (const Config& c : configs) {
+      if (tree_reuse != "on") with_reuse.push_back(c);
+      if (tree_reuse == "off") continue;
+      Config reusing = c;
+      reusing.name += " + tree reuse";
+      reusing.options.rrt_tree_reuse = true;
+      with_reuse.push_back(reusing);
+    }
+    configs = std::move(with_reuse);
+  }
 
-  std::printf("| config | seed | arrived | arrival s | collisions | min sep m | replans | adopted | failed | max replan ms |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| config | seed | arrived | arrival s | collisions | min sep m | replans | adopted | failed | max replan ms | flown km | reused nodes |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   struct Totals {
     Samples replan, check, start;
     std::vector<SeedOutcome> outcomes;
@@ -184,10 +208,12 @@ int main(int argc, char** argv) {
           ++out.replans;
           out.max_replan_wall_ms = std::max(out.max_replan_wall_ms, wall);
           if (step.replanned) ++out.adopted;
+          out.reused_tree_nodes += step.reused_tree_nodes;
           if (step.failure) ++out.failed;
         }
         for (double ts = t; ts < t + options.period_s; ts += 0.01) {
           const Eigen::Vector3d p = r.stateAt(ts).position_m;
+          if (ts > 0.0) out.flown_m += (p - r.stateAt(ts - 0.01).position_m).norm();
           bool hit = p.z() - world->heightfield->heightAt(p.x(), p.y()) < world_options.min_clearance_m - 0.5;
           for (const Obstacle& o : scenario.obstacles) hit = hit || o.contains(p, ts, world_options.vehicle_radius_m);
           out.collisions += hit ? 1 : 0;
@@ -196,9 +222,10 @@ int main(int argc, char** argv) {
       }
       out.arrived = r.finished(t);
       out.arrival_s = r.arrivalWorldS();
-      std::printf("| %s | %llu | %s | %.1f | %d | %.0f | %d | %d | %d | %.1f |\n", configs[c].name.c_str(),
+      std::printf("| %s | %llu | %s | %.1f | %d | %.0f | %d | %d | %d | %.1f | %.3f | %zu |\n", configs[c].name.c_str(),
                   static_cast<unsigned long long>(out.seed), out.arrived ? "yes" : "NO", out.arrival_s, out.collisions,
-                  out.min_separation_m, out.replans, out.adopted, out.failed, out.max_replan_wall_ms);
+                  out.min_separation_m, out.replans, out.adopted, out.failed, out.max_replan_wall_ms, out.flown_m / 1e3,
+                  out.reused_tree_nodes);
       std::fflush(stdout);
       totals[c].outcomes.push_back(out);
       progress.done(configs[c].name + " seed " + std::to_string(out.seed));
@@ -217,6 +244,25 @@ int main(int argc, char** argv) {
     row("replan", totals[c].replan);
     row("check only", totals[c].check);
     row("initial plan", totals[c].start);
+  }
+
+  std::printf("\n| config | seeds arrived | collisions | flown km mean | arrival s mean | adopted replans | reused nodes |\n");
+  std::printf("|---|---|---|---|---|---|---|\n");
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    int arrived = 0, collisions = 0, adopted = 0;
+    double flown = 0.0, arrival = 0.0;
+    std::size_t reused = 0;
+    for (const SeedOutcome& o : totals[c].outcomes) {
+      arrived += o.arrived ? 1 : 0;
+      collisions += o.collisions;
+      adopted += o.adopted;
+      flown += o.flown_m;
+      arrival += std::isnan(o.arrival_s) ? 0.0 : o.arrival_s;
+      reused += o.reused_tree_nodes;
+    }
+    const double n = std::max<double>(1.0, static_cast<double>(totals[c].outcomes.size()));
+    std::printf("| %s | %d/%zu | %d | %.3f | %.1f | %d | %zu |\n", configs[c].name.c_str(), arrived,
+                totals[c].outcomes.size(), collisions, flown / n / 1e3, arrival / n, adopted, reused);
   }
   return 0;
 }

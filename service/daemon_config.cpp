@@ -38,6 +38,7 @@ struct IntegerShadow {
       grid_window_segments, max_attempts, replan_leg_iterations, max_stored_results, max_samples, fleet_vehicles,
       fleet_tasks, max_obstacles;
   std::string mission_point_mode;
+  std::int64_t tree_reuse_nodes;
 };
 
 IntegerShadow shadowOf(const DaemonConfig& c) {
@@ -58,7 +59,8 @@ IntegerShadow shadowOf(const DaemonConfig& c) {
                        static_cast<std::int64_t>(p.fleet.max_vehicles),
                        static_cast<std::int64_t>(p.fleet.max_tasks),
                        static_cast<std::int64_t>(c.engine.obstacles.max_obstacles),
-                       std::string(to_string(p.replan.route.trajectory.fixed_waypoint_mode))};
+                       std::string(to_string(p.replan.route.trajectory.fixed_waypoint_mode)),
+                       static_cast<std::int64_t>(p.replan.route.tree_reuse.max_nodes)};
 }
 
 void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
@@ -79,6 +81,7 @@ void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
   p.fleet.max_vehicles = static_cast<std::size_t>(s.fleet_vehicles);
   p.fleet.max_tasks = static_cast<std::size_t>(s.fleet_tasks);
   c.engine.obstacles.max_obstacles = static_cast<std::size_t>(s.max_obstacles);
+  p.replan.route.tree_reuse.max_nodes = static_cast<std::size_t>(s.tree_reuse_nodes);
   // The key's choices are the parser's names.
   p.replan.route.trajectory.fixed_waypoint_mode =
       parseFixedWaypointMode(s.mission_point_mode).value_or(p.replan.route.trajectory.fixed_waypoint_mode);
@@ -178,6 +181,16 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"planning", "grid_window_segments",
        "the grid planners' output re-planned in windows of this many segments (0 = off; hab-pp, hab-pp-rrt)",
        &s.grid_window_segments, 0, 1000},
+      {"planning", "rrt_tree_reuse",
+       "rrtstar-lospo replans: keep the RRT* tree of the leg being flown and grow it again from the takeover "
+       "point (what that point still reaches through motions clear of the updated obstacles is kept; the kept "
+       "nodes count against replanning.leg_max_iterations, of which at least a quarter is still sampled) instead "
+       "of a new tree; docs/benchmarks.md compares replan latency and length with and without",
+       &p.replan.rrt_tree_reuse},
+      {"planning", "rrt_tree_reuse_max_nodes",
+       "with rrt_tree_reuse: RRT* nodes kept per vehicle at most (the cheapest from the root), and re-rooted at "
+       "most per replan (one motion check each)",
+       &s.tree_reuse_nodes, 1, 1000000},
       {"replanning", "enabled", "replan active missions when obstacles will meet them (skyrouted)", &c.engine.replanning},
       {"replanning", "period_s", "replanning cycle t_ref, seconds", &p.replan.period_s, 0.01, 10},
       {"replanning", "horizon_s", "how far ahead conflicts are looked for, seconds", &p.replan.horizon_s, 1, 3600},

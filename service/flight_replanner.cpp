@@ -115,6 +115,10 @@ RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>&
   }
   route.snapshot = snapshot;
   route.trajectory_start_world_s = at_world_s;
+  if (options_.rrt_tree_reuse) {
+    route.keep_first_leg_tree = true;
+    if (state) route.first_leg_tree = leg_tree_;
+  }
   route.moving_check_horizon_s = 0.0;  // conflicts in time are judged here, over the horizon
   // The new curve continues the flown one up to the jerk, and a local stretch ends in the state
   // the current trajectory has where it joins it again.
@@ -371,6 +375,9 @@ FlightReplanner::Candidate FlightReplanner::splice(PlannedRoute local, const Rej
       leg.rrt = local.legs[j].rrt;
       leg.lospo_length_m = local.legs[j].lospo_length_m;
       leg.path_m = local.legs[j].path_m;
+      leg.tree = local.legs[j].tree;
+      leg.reused_tree_nodes = local.legs[j].reused_tree_nodes;
+      leg.tree_reuse_ms = local.legs[j].tree_reuse_ms;
     }
     out.legs.push_back(std::move(leg));
   }
@@ -379,6 +386,7 @@ FlightReplanner::Candidate FlightReplanner::splice(PlannedRoute local, const Rej
 }
 
 void FlightReplanner::adopt(PlannedRoute route, std::vector<Eigen::Vector3d> points, double start_world_s) {
+  if (options_.rrt_tree_reuse && !route.legs.empty() && route.legs.front().tree) leg_tree_ = route.legs.front().tree;
   route_ = std::move(route);
   points_ = std::move(points);
   start_world_s_ = start_world_s;
@@ -560,6 +568,7 @@ ReplanStep FlightReplanner::step(double now_s) {
     result.latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
     return result;
   }
+  if (!best->route.legs.empty()) result.reused_tree_nodes = best->route.legs.front().reused_tree_nodes;
   Candidate adopted = withKeptPart(std::move(best.value()), std::max(now_s, start_world_s_), takeover_s);
   const double adopted_start_s = std::max(now_s, start_world_s_);
   adopt(std::move(adopted.route), std::move(adopted.points), adopted_start_s);

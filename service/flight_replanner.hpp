@@ -70,6 +70,10 @@ struct ReplanOptions {
   double band_slow_factor = 0.4;
   double band_slack_s = 3.0;
   RouteOptions route;               // per-leg budget, LOSPO, trajectory options
+  // RRT* tree reuse (seed 003 section 3-2): the first leg's RRT* tree of the plan in force is
+  // kept (route.tree_reuse.max_nodes at most), and a replan's first leg grows it, re-rooted at
+  // the takeover point, instead of a new tree (RouteOptions::first_leg_tree).
+  bool rrt_tree_reuse = false;
   // Wall-clock budget of one replan, from the conflict check to the new trajectory, all attempts
   // included (the RRT* and LOSPO stop at it; the trajectory build and check of the path in hand
   // finish). When it runs out the best candidate so far is used; when there is none yet, the
@@ -99,6 +103,7 @@ struct ReplanStep {
   bool holding = false;
   double takeover_s = 0.0;          // world time the new revision's plan starts from
   double latency_ms = 0.0;          // wall time of the replan (check included)
+  std::size_t reused_tree_nodes = 0;  // nodes of the kept RRT* tree the adopted plan's first leg grew
   std::optional<Error> failure;     // why no new plan could be made (without holding, the old revision is kept)
 };
 
@@ -222,6 +227,7 @@ class FlightReplanner {
   std::uint32_t revision_ = 0;
   int failed_cycles_ = 0;  // replanning cycles in a row that found nothing better
   bool holding_ = false;
+  std::shared_ptr<const RrtTree> leg_tree_;  // ReplanOptions::rrt_tree_reuse: the first leg's tree in force
 };
 
 }  // namespace skyroute

@@ -138,8 +138,35 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
     Result<RrtStarResult> rrt = make_error(ErrorCode::kInternal, leg_name, "no sampling region");
     std::uint64_t samples = 0;
     bool way_tried = false;
+    const bool keep_tree = i == 0 && options.keep_first_leg_tree;
+    RrtTree grown;
+    std::size_t reused_nodes = 0;
+    double reuse_ms = 0.0;
+    bool kept_tree_stays = false;
+    bool first_region = true;
     while (auto region = regions.next()) {
       validator.emplace(world, *region, options.snapshot);
+      // The reused tree joins the leg's first region (its corridor) only: beyond it the leg
+      // searches wide regions the tree was not grown for.
+      // A straight first leg needs no tree (RRT* returns the motion at once): the kept tree is then
+      // neither re-rooted (its motion checks would buy nothing) nor replaced, and stays for a
+      // later replan that needs it.
+      if (i == 0 && first_region && options.first_leg_tree && rrt_options.try_direct_first &&
+          validator->isMotionValid(points_m[0], points_m[1])) {
+        kept_tree_stays = true;
+      }
+      std::optional<RerootedTree> reused;
+      if (i == 0 && first_region && options.first_leg_tree && !kept_tree_stays) {
+        const auto reuse_started = std::chrono::steady_clock::now();
+        auto rerooted = rerootTree(*options.first_leg_tree, points_m[0], *validator, options.tree_reuse, stop);
+        reuse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - reuse_started).count();
+        if (!rerooted.ok()) return rerooted.error();
+        spdlog::debug("event=rrt_tree_reuse stored={} kept={} root_links={} blocked_edges={} motion_checks={} stopped={}",
+                      options.first_leg_tree->size(), rerooted->kept_nodes, rerooted->root_links,
+                      rerooted->blocked_edges, rerooted->motion_checks, rerooted->stopped);
+        if (rerooted->kept_nodes > 0) reused.emplace(std::move(rerooted.value()));
+      }
+      first_region = false;
       // Beyond the corridor the region is wide and the way round may be narrow: half the samples
       // before the first path go near the flyable regions' shortest way, and the steering range
       // is a few blocks of it (a fifth of a wide region's diagonal is tens of kilometres, and
@@ -154,8 +181,16 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
       TerminationCondition leg_stop = options.leg_budget_ms > 0.0
                                           ? TerminationCondition::afterMilliseconds(options.leg_budget_ms)
                                           : TerminationCondition();
-      if (options.leg_max_iterations > 0) leg_stop.withIterationBudget(options.leg_max_iterations);
-      rrt = planner.plan(points_m[i], points_m[i + 1], leg_stop, stop);
+      std::uint64_t iterations = options.leg_max_iterations;
+      if (reused && iterations > 0) {
+        const auto least = static_cast<std::uint64_t>(std::ceil(kReusedLegMinNewShare * static_cast<double>(iterations)));
+        iterations = std::max(least, iterations - std::min<std::uint64_t>(iterations, reused->kept_nodes));
+      }
+      if (iterations > 0) leg_stop.withIterationBudget(iterations);
+      RrtTree* tree_out = keep_tree ? &grown : nullptr;
+      rrt = reused ? planner.planFromTree(reused->tree, points_m[i + 1], leg_stop, stop, tree_out)
+                   : planner.plan(points_m[i], points_m[i + 1], leg_stop, stop, tree_out);
+      reused_nodes = reused ? reused->kept_nodes : 0;
       if (!rrt.ok()) return rrt.error();
       samples += rrt->iterations;
       if (rrt->solved() || stop.reason() != TerminationCondition::Reason::kNone) break;
@@ -207,6 +242,11 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
     leg.time_capped = options.leg_max_iterations > 0 && rrt->stop_reason == TerminationCondition::Reason::kDeadline &&
                       rrt->iterations < options.leg_max_iterations;
     leg.rrt = std::move(rrt.value());
+    leg.reused_tree_nodes = reused_nodes;
+    leg.tree_reuse_ms = reuse_ms;
+    if (keep_tree && !kept_tree_stays) {
+      leg.tree = std::make_shared<const RrtTree>(cheapestPart(grown, options.tree_reuse.max_nodes));
+    }
     leg.lospo_length_m = shortened->length_m;
     leg.path_m = std::move(shortened->path_m);
     for (std::size_t k = (i == 0 ? 0 : 1); k < leg.path_m.size(); ++k) route.waypoints_m.push_back(leg.path_m[k]);

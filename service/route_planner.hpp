@@ -15,6 +15,7 @@
 #include "planning/core/termination.hpp"
 #include "planning/sampling/lospo.hpp"
 #include "planning/sampling/rrt_star.hpp"
+#include "planning/sampling/rrt_tree_reuse.hpp"
 #include "planning/sampling/world_motion_validator.hpp"
 #include "terrain/collision_world.hpp"
 #include "trajectory/trajectory_builder.hpp"
@@ -47,7 +48,22 @@ struct RouteOptions {
   // With a start time, moving obstacles are checked in time up to this far into the trajectory;
   // beyond it only terrain and fixed obstacles (the replanning loop looks again as time goes on).
   double moving_check_horizon_s = 60.0;
+  // RRT* tree reuse (replanning, seed 003 section 3-2): the first leg grows this tree instead of
+  // a new one, re-rooted at points_m[0] against the leg's corridor and obstacles (rerootTree:
+  // only what that point still reaches through valid motions is kept). The kept nodes count
+  // against the leg's iteration budget: the search draws the rest, and at least
+  // kReusedLegMinNewShare of it. nullptr = a new tree.
+  std::shared_ptr<const RrtTree> first_leg_tree;
+  TreeReuseOptions tree_reuse;  // its max_nodes also caps the tree kept in RouteLeg::tree
+  // Keep the first leg's grown RRT* tree (its cheapest tree_reuse.max_nodes nodes) in
+  // RouteLeg::tree, for a later replan's first_leg_tree. Not when first_leg_tree is given and the
+  // straight first leg is valid: no tree is grown then, and the caller keeps the one it has.
+  bool keep_first_leg_tree = false;
 };
+
+// Share of a leg's iteration budget a search from a reused tree still draws, however many nodes
+// it kept: the kept nodes were sampled for another start and goal.
+inline constexpr double kReusedLegMinNewShare = 0.25;
 
 struct RouteLeg {
   std::size_t from_point = 0;
@@ -58,6 +74,11 @@ struct RouteLeg {
   bool time_capped = false;
   double lospo_length_m = 0.0;
   std::vector<Eigen::Vector3d> path_m;  // after LOSPO
+  // The leg's RRT* tree (RouteOptions::keep_first_leg_tree, first leg only), shared read-only.
+  std::shared_ptr<const RrtTree> tree;
+  // Nodes of RouteOptions::first_leg_tree the leg's search started with (0: a new tree).
+  std::size_t reused_tree_nodes = 0;
+  double tree_reuse_ms = 0.0;  // re-rooting it (wall time, not in rrt.time_s)
   double start_s = 0.0;                 // trajectory time at from_point
   double end_s = 0.0;                   // trajectory time at to_point
 };

@@ -133,6 +133,52 @@ class Search {
     addNode(start, kNoParent, 0.0);
   }
 
+  // Takes over a seed tree's nodes after the root (parents come first, so each one's parent is
+  // in the tree already), then connects the cheapest node near the goal whose motion to it is
+  // valid: a seed that reaches the goal's neighbourhood is a solution before any sample.
+  void seedFrom(const RrtTree& seed, RrtStarResult& result, Clock::time_point t0) {
+    nodes_.reserve(seed.size());
+    for (std::size_t i = 1; i < seed.size(); ++i) addNode(seed.positions_m[i], seed.parents[i], seed.costs_m[i]);
+    std::vector<std::pair<std::size_t, double>> near;
+    nearWithin(goal_, max_step_, near);
+    std::vector<std::pair<double, std::uint32_t>> by_cost;
+    for (const auto& [idx, d2] : near) {
+      by_cost.emplace_back(nodes_[idx].cost + std::sqrt(d2), static_cast<std::uint32_t>(idx));
+    }
+    std::sort(by_cost.begin(), by_cost.end());
+    for (const auto& [c_cost, c] : by_cost) {
+      if ((nodes_[c].p - goal_).norm() == 0.0 || motionValid(nodes_[c].p, goal_)) {
+        goal_parents_.push_back(c);
+        break;
+      }
+    }
+    updateBestSolution(result, t0);
+  }
+
+  // The tree as data, parents before children (rewiring may have given a node a younger parent).
+  void exportTree(RrtTree& out) const {
+    out.positions_m.clear();
+    out.parents.clear();
+    out.costs_m.clear();
+    std::vector<std::uint32_t> new_index(nodes_.size(), kNoParent);
+    std::vector<std::uint32_t> order{0};
+    new_index[0] = 0;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      for (std::uint32_t c : nodes_[order[k]].children) {
+        new_index[c] = static_cast<std::uint32_t>(order.size());
+        order.push_back(c);
+      }
+    }
+    out.positions_m.reserve(order.size());
+    out.parents.reserve(order.size());
+    out.costs_m.reserve(order.size());
+    for (std::uint32_t v : order) {
+      out.positions_m.push_back(nodes_[v].p);
+      out.parents.push_back(nodes_[v].parent == kNoParent ? kRrtTreeNoParent : new_index[nodes_[v].parent]);
+      out.costs_m.push_back(nodes_[v].cost);
+    }
+  }
+
   void run(const TerminationCondition& stop, const TerminationCondition* outer, RrtStarResult& result,
            Clock::time_point t0) {
     std::vector<std::pair<std::size_t, double>> near;
@@ -431,8 +477,24 @@ Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen:
 }
 
 Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
-                                    const TerminationCondition& stop, const TerminationCondition* outer) const {
+                                    const TerminationCondition& stop, const TerminationCondition& outer,
+                                    RrtTree* tree_out) const {
+  return plan(start_m, goal_m, stop, &outer, nullptr, tree_out);
+}
+
+Result<RrtStarResult> RrtStar::planFromTree(const RrtTree& seed, const Eigen::Vector3d& goal_m,
+                                            const TerminationCondition& stop, const TerminationCondition& outer,
+                                            RrtTree* tree_out) const {
+  if (seed.empty()) return make_error(ErrorCode::kInvalidArgument, "seed_tree", "has no root");
+  if (auto bad = seed.layoutError()) return make_error(ErrorCode::kInvalidArgument, "seed_tree", *bad);
+  return plan(seed.positions_m.front(), goal_m, stop, &outer, &seed, tree_out);
+}
+
+Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
+                                    const TerminationCondition& stop, const TerminationCondition* outer,
+                                    const RrtTree* seed, RrtTree* tree_out) const {
   const auto t0 = Clock::now();
+  if (tree_out) *tree_out = RrtTree{};
   if (!finite(start_m)) return make_error(ErrorCode::kInvalidArgument, "start", "start is not finite: " + describe(start_m));
   if (!finite(goal_m)) return make_error(ErrorCode::kInvalidArgument, "goal", "goal is not finite: " + describe(goal_m));
   if (!(options_.goal_bias >= 0.0 && options_.goal_bias < 1.0)) {
@@ -482,14 +544,26 @@ Result<RrtStarResult> RrtStar::plan(const Eigen::Vector3d& start_m, const Eigen:
       result.tree_size = 2;
       result.solution_improvements = 1;
       result.first_solution_s = std::chrono::duration<double>(Clock::now() - t0).count();
+      // A seed tree stays what is handed on, with the goal joined to its root.
+      if (tree_out) *tree_out = seed ? *seed : RrtTree{{start_m}, {kRrtTreeNoParent}, {0.0}};
+      if (tree_out) {
+        tree_out->positions_m.push_back(goal_m);
+        tree_out->parents.push_back(0);
+        tree_out->costs_m.push_back(result.length_m);
+      }
       return finish();
     }
   }
 
   const double max_step = options_.max_step_m > 0.0 ? options_.max_step_m : 0.2 * bounds.diagonal().norm();
   Search search(validator_, options_, bounds, start_m, goal_m, max_step);
+  if (seed) {
+    search.seedFrom(*seed, result, t0);
+    result.seeded_nodes = seed->size();
+  }
   search.run(stop, outer, result, t0);
   search.fillResult(result, options_.allow_approximate);
+  if (tree_out) search.exportTree(*tree_out);
   result.motion_checks += search.motionChecks();
   return finish();
 }

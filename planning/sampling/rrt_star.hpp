@@ -22,6 +22,7 @@
 #include "planning/core/polyline.hpp"
 #include "planning/core/result.hpp"
 #include "planning/core/termination.hpp"
+#include "planning/sampling/rrt_tree.hpp"
 
 namespace skyroute {
 
@@ -68,6 +69,7 @@ struct RrtStarResult {
   double length_m = 0.0;                // polyline length of path_m
   double distance_to_goal_m = 0.0;      // 0 for exact solutions
   std::size_t tree_size = 0;            // nodes in the tree, start included
+  std::size_t seeded_nodes = 0;         // of them, taken over from a seed tree (planFromTree), root included
   std::uint64_t iterations = 0;         // samples drawn
   std::uint64_t motion_checks = 0;      // isMotionValid calls
   std::uint64_t solution_improvements = 0;
@@ -94,11 +96,27 @@ class RrtStar {
   Result<RrtStarResult> plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
                              const TerminationCondition& stop, const TerminationCondition& outer) const;
 
+  // As above, and the tree grown is stored in *tree_out (as data, for a later planFromTree).
+  Result<RrtStarResult> plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
+                             const TerminationCondition& stop, const TerminationCondition& outer,
+                             RrtTree* tree_out) const;
+  // Grows `seed` instead of a tree with the start alone: its root (node 0) is the start, and its
+  // nodes and edges are taken as they are (the caller vouches that they are valid against this
+  // validator and that the costs are the path lengths from the root: rerootTree() makes such a
+  // tree). The nodes near the goal are tried for a goal connection before the first sample, so
+  // a seed that already reaches the goal's neighbourhood gives a path with no new sample; the
+  // search then goes on until `stop` (iterations count new samples only). Errors as plan(), and
+  // kInvalidArgument ("seed_tree") for an empty seed or one that breaks RrtTree's layout.
+  Result<RrtStarResult> planFromTree(const RrtTree& seed, const Eigen::Vector3d& goal_m,
+                                     const TerminationCondition& stop, const TerminationCondition& outer,
+                                     RrtTree* tree_out = nullptr) const;
+
   const RrtStarOptions& options() const { return options_; }
 
  private:
   Result<RrtStarResult> plan(const Eigen::Vector3d& start_m, const Eigen::Vector3d& goal_m,
-                             const TerminationCondition& stop, const TerminationCondition* outer) const;
+                             const TerminationCondition& stop, const TerminationCondition* outer,
+                             const RrtTree* seed = nullptr, RrtTree* tree_out = nullptr) const;
 
   const MotionValidator& validator_;
   RrtStarOptions options_;

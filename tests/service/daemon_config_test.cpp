@@ -18,6 +18,8 @@ TEST(DaemonConfig, DescribedConfigurationParsesBackToItself) {
   config.engine.pipeline.replan.replan_budget_ms = 25.0;
   config.engine.replanning = false;
   config.log_format = "json";
+  config.engine.pipeline.replan.rrt_tree_reuse = true;
+  config.engine.pipeline.replan.route.tree_reuse.max_nodes = 500;
   const std::string text = describeDaemonConfig(config);
   auto parsed = parseDaemonConfig(text, "described.toml");
   ASSERT_TRUE(parsed.ok()) << parsed.error().describe() << "\n" << text;
@@ -29,6 +31,8 @@ TEST(DaemonConfig, DescribedConfigurationParsesBackToItself) {
   EXPECT_DOUBLE_EQ(parsed->engine.pipeline.replan.replan_budget_ms, 25.0);  // written as budget_s = 0.025
   EXPECT_FALSE(parsed->engine.replanning);
   EXPECT_EQ(parsed->log_format, "json");
+  EXPECT_TRUE(parsed->engine.pipeline.replan.rrt_tree_reuse);
+  EXPECT_EQ(parsed->engine.pipeline.replan.route.tree_reuse.max_nodes, 500u);
   EXPECT_EQ(describeDaemonConfig(*parsed), text);
 }
 
@@ -54,6 +58,8 @@ TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
        ErrorCode::kInvalidArgument},
       {"[dds]\ndomain = 300\n", "dds.domain", ErrorCode::kInvalidArgument},
       {"[replanning]\nenabled = 1\n", "replanning.enabled", ErrorCode::kInvalidArgument},
+      {"[planning]\nrrt_tree_reuse = \"yes\"\n", "planning.rrt_tree_reuse", ErrorCode::kInvalidArgument},
+      {"[planning]\nrrt_tree_reuse_max_nodes = 0\n", "planning.rrt_tree_reuse_max_nodes", ErrorCode::kInvalidArgument},
       {"[log]\nformat = \"xml\"\n", "log.format", ErrorCode::kInvalidArgument},
       {"seed = 1\n", "seed", ErrorCode::kInvalidArgument},
       {"''='x'\n", "\"\"", ErrorCode::kInvalidArgument},
