@@ -504,6 +504,16 @@ bool FlightReplanner::clearAhead(double now_s, double horizon_s) const {
   return std::isinf(firstConflictS(route_.built.trajectory, start_world_s_, now_s, horizon_s));
 }
 
+TerminationCondition FlightReplanner::cycleStop(std::chrono::steady_clock::time_point started) const {
+  TerminationCondition stop = options_.replan_budget_ms > 0.0
+                                  ? TerminationCondition::after(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                        started + std::chrono::duration<double, std::milli>(options_.replan_budget_ms) -
+                                        std::chrono::steady_clock::now()))
+                                  : TerminationCondition();
+  if (options_.cancel) stop.withCancelFlag(options_.cancel);
+  return stop;
+}
+
 ReplanStep FlightReplanner::step(double now_s) {
   ReplanStep result;
   const auto started = std::chrono::steady_clock::now();
@@ -521,12 +531,7 @@ ReplanStep FlightReplanner::step(double now_s) {
   }
   if (points.size() < 2) return result;  // already at the goal
   // The deadline counts from the start of the cycle: the check above is part of the latency.
-  TerminationCondition stop = options_.replan_budget_ms > 0.0
-                                  ? TerminationCondition::after(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                        started + std::chrono::duration<double, std::milli>(options_.replan_budget_ms) -
-                                        std::chrono::steady_clock::now()))
-                                  : TerminationCondition();
-  if (options_.cancel) stop.withCancelFlag(options_.cancel);
+  TerminationCondition stop = cycleStop(started);
   const std::vector<Eigen::Vector3d> ahead = waypointsAhead(state.position_m, takeover_s);
   Result<Candidate> best = make_error(ErrorCode::kInternal, "replan", "not run");
   // A hold is no route to rejoin: plan the whole rest from it.

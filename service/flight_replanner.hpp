@@ -17,6 +17,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -156,6 +157,9 @@ class FlightReplanner {
   double firstConflictS(const Trajectory& trajectory, double start_world_s, double from_s, double horizon_s) const;
 
  private:
+  // The cycle's stop: the replan budget counted from `started` (the start of the cycle), and the
+  // cancel flag.
+  TerminationCondition cycleStop(std::chrono::steady_clock::time_point started) const;
   FlightReplanner() = default;
   // Where a local repair joins the current trajectory again.
   struct Rejoin {

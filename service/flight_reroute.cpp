@@ -32,12 +32,7 @@ ReplanStep FlightReplanner::reroute(double now_s, const std::vector<Eigen::Vecto
     if ((p - state.position_m).norm() > 1.0) points.push_back(p);
   }
   if (points.size() < 2) return done(make_error(ErrorCode::kInvalidArgument, "reroute", "no point left to fly to"));
-  TerminationCondition stop = options_.replan_budget_ms > 0.0
-                                  ? TerminationCondition::after(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                        started + std::chrono::duration<double, std::milli>(options_.replan_budget_ms) -
-                                        std::chrono::steady_clock::now()))
-                                  : TerminationCondition();
-  if (options_.cancel) stop.withCancelFlag(options_.cancel);
+  TerminationCondition stop = cycleStop(started);
   auto whole = [&](int attempt) {
     // The current path goes through the old order: no candidate can repeat it.
     AttemptPlan plan = wholePlan(points, {}, attempt);

@@ -5,6 +5,7 @@
 // ceiling, and a leg the corridor can hold is planned exactly as RRT* in that corridor plans it.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -37,11 +38,11 @@ Eigen::Vector3d above(const Heightfield& hf, double col, double row, double agl_
   return {en.x(), en.y(), hf.heightAt(en.x(), en.y()) + agl_m};
 }
 
-RouteOptions iterationBudget(double corridor_margin_m) {
+RouteOptions iterationBudget(double corridor_margin_m, std::uint64_t leg_iterations = 4000) {
   RouteOptions o;
   o.seed = 3;
   o.leg_budget_ms = 0.0;  // reproducible: the iteration budget alone
-  o.leg_max_iterations = 4000;
+  o.leg_max_iterations = leg_iterations;
   o.corridor_margin_m = corridor_margin_m;
   return o;
 }
@@ -90,9 +91,7 @@ TEST(RoutePlannerRegions, ALegRrtStarCannotSolveInItsBudgetFliesTheGridWayUnderT
   ASSERT_TRUE(w.world);
   const Heightfield& hf = *w.terrain;
   const Eigen::Vector3d a = above(hf, 15, 10, 60), b = above(hf, 85, 10, 60);
-  RouteOptions options = iterationBudget(300.0);
-  options.leg_max_iterations = 20;
-  auto route = planRoutePaths(w.world, {a, b}, options);
+  auto route = planRoutePaths(w.world, {a, b}, iterationBudget(300.0, 20));
   ASSERT_TRUE(route.ok()) << route.error().describe();
   ASSERT_EQ(route->legs.size(), 1u);
   const RouteLeg& leg = route->legs[0];
@@ -113,9 +112,7 @@ TEST(RoutePlannerRegions, ARidgeAboveTheCeilingEverywhereIsNotConnected) {
   ASSERT_TRUE(w.world);
   const Heightfield& hf = *w.terrain;
   const Eigen::Vector3d a = above(hf, 15, 10, 60), b = above(hf, 85, 10, 60);
-  RouteOptions options = iterationBudget(300.0);
-  options.leg_max_iterations = 20000;
-  auto route = planRoutePaths(w.world, {a, b}, options);
+  auto route = planRoutePaths(w.world, {a, b}, iterationBudget(300.0, 20000));
   ASSERT_FALSE(route.ok());
   EXPECT_EQ(route.error().code, ErrorCode::kUnreachable) << route.error().describe();
   EXPECT_EQ(route.error().field, "legs[0]");

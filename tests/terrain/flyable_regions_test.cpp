@@ -24,6 +24,30 @@ using testing::RidgeSpec;
 
 Eigen::Vector2d cellEn(const Heightfield& hf, double col, double row) { return hf.pixelToEn(col, row); }
 
+// Hilly generated terrain, kHillySize cells each way of 30 m.
+constexpr int kHillySize = 120;
+std::vector<float> hillyHeights(std::uint64_t seed) {
+  TerrainGeneratorOptions g;
+  g.width = kHillySize;
+  g.height = kHillySize;
+  g.cell_size_m = 30.0;
+  g.seed = seed;
+  return generateTerrainHeights(g);
+}
+
+// Seeded uniform numbers in [lo, hi) (a 64-bit LCG: the same sequence on every platform).
+class Uniform {
+ public:
+  explicit Uniform(std::uint64_t seed) : state_(seed) {}
+  double operator()(double lo, double hi) {
+    state_ = state_ * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (hi - lo) * static_cast<double>(state_ >> 11) * 0x1.0p-53;
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
 TEST(FlyableRegions, ARidgeWithAPassIsConnectedOnlyThroughThePass) {
   RidgeSpec spec;
   spec.pass_first_row = 40;
@@ -171,13 +195,8 @@ TEST(FlyableRegions, LowestConnectingGroundMatchesABruteForceSearch) {
 }
 
 TEST(FlyableRegions, NotConnectedIsNeverSaidOfAValidFlightEvenWithPooledBlocks) {
-  const int n = 120;
-  TerrainGeneratorOptions g;
-  g.width = n;
-  g.height = n;
-  g.cell_size_m = 30.0;
-  g.seed = 3;
-  const std::vector<float> heights = generateTerrainHeights(g);
+  const int n = kHillySize;
+  const std::vector<float> heights = hillyHeights(3);
   const float lowest = *std::min_element(heights.begin(), heights.end());
   const float highest = *std::max_element(heights.begin(), heights.end());
   const double ceiling = lowest + 30.0 + 0.45 * (highest - lowest);  // valleys separated by ridges
@@ -186,11 +205,7 @@ TEST(FlyableRegions, NotConnectedIsNeverSaidOfAValidFlightEvenWithPooledBlocks) 
   for (std::size_t max_blocks : {std::size_t{1} << 20, std::size_t{400}, std::size_t{60}}) {
     const FlyableRegions regions = FlyableRegions::build(*w.terrain, ceiling - 30.0, max_blocks);
     const Eigen::AlignedBox2d en = w.terrain->boundsEn();
-    std::uint64_t state = 17;
-    auto u = [&state](double lo, double hi) {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-      return lo + (hi - lo) * static_cast<double>(state >> 11) * 0x1.0p-53;
-    };
+    Uniform u(17);
     auto validPoint = [&]() -> std::optional<Eigen::Vector3d> {
       for (int k = 0; k < 1000; ++k) {
         const Eigen::Vector2d p(u(en.min().x(), en.max().x()), u(en.min().y(), en.max().y()));
@@ -228,13 +243,8 @@ TEST(FlyableRegions, NotConnectedIsNeverSaidOfAValidFlightEvenWithPooledBlocks) 
 // every piece of it has ground at most the threshold (read from the heightfield every 2 m), and
 // it runs from a corner of the first point's grid square to a corner of the second's.
 TEST(FlyableRegions, TheGridWayKeepsTheGroundUnderItAtMostTheThreshold) {
-  const int n = 120;
-  TerrainGeneratorOptions g;
-  g.width = n;
-  g.height = n;
-  g.cell_size_m = 30.0;
-  g.seed = 5;
-  const std::vector<float> heights = generateTerrainHeights(g);
+  const int n = kHillySize;
+  const std::vector<float> heights = hillyHeights(5);
   const float lowest = *std::min_element(heights.begin(), heights.end());
   const float highest = *std::max_element(heights.begin(), heights.end());
   const double threshold = lowest + 0.7 * (highest - lowest);
@@ -244,11 +254,7 @@ TEST(FlyableRegions, TheGridWayKeepsTheGroundUnderItAtMostTheThreshold) {
   int ways = 0;
   for (std::size_t max_blocks : {std::size_t{1} << 20, std::size_t{400}}) {
     const FlyableRegions regions = FlyableRegions::build(hf, threshold, max_blocks);
-    std::uint64_t state = 29;
-    auto u = [&state](double lo, double hi) {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-      return lo + (hi - lo) * static_cast<double>(state >> 11) * 0x1.0p-53;
-    };
+    Uniform u(29);
     for (int k = 0; k < 200; ++k) {
       const Eigen::Vector2d a = cellEn(hf, u(1, n - 2), u(1, n - 2)), b = cellEn(hf, u(1, n - 2), u(1, n - 2));
       if (!(hf.heightAt(a.x(), a.y()) <= threshold && hf.heightAt(b.x(), b.y()) <= threshold)) continue;
