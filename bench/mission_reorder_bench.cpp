@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/support/bench_stats.hpp"
 #include "planning/mission/mission_planner.hpp"
 #include "service/mission_order.hpp"
 #include "service/mission_reorder.hpp"
@@ -31,35 +32,11 @@ using namespace skyroute;
 
 namespace {
 
-double threadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
+using skyroute::bench::Sample;
+using skyroute::bench::quantile;
+using skyroute::bench::threadCpuMs;
 
-struct Sample {
-  std::vector<double> v;
-  void add(double x) { v.push_back(x); }
-  double mean() const {
-    double s = 0;
-    for (double x : v) s += x;
-    return v.empty() ? 0.0 : s / static_cast<double>(v.size());
-  }
-  double stddev() const {
-    if (v.size() < 2) return 0.0;
-    const double m = mean();
-    double s = 0;
-    for (double x : v) s += (x - m) * (x - m);
-    return std::sqrt(s / static_cast<double>(v.size() - 1));
-  }
-  double max() const { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
-  double p95() const {
-    if (v.empty()) return 0.0;
-    std::vector<double> sorted = v;
-    std::sort(sorted.begin(), sorted.end());
-    return sorted[static_cast<std::size_t>(0.95 * static_cast<double>(sorted.size() - 1))];
-  }
-};
+
 
 struct Kind {
   const char* name = "";

@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/support/bench_stats.hpp"
 #include "bench/support/shared_data.hpp"
 #include "planning/grid/grid_search.hpp"
 #include "planning/mission/mission_planner.hpp"
@@ -45,6 +46,10 @@ using namespace skyroute;
 
 namespace {
 
+using skyroute::bench::Sample;
+using skyroute::bench::quantile;
+using skyroute::bench::threadCpuMs;
+
 // Processor time of the whole process: the machine is shared, so wall time mostly measures the
 // other jobs; this counts only our own work (all threads).
 double cpuMs() {
@@ -52,28 +57,7 @@ double cpuMs() {
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
 }
-double threadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
 
-struct Sample {
-  std::vector<double> v;
-  void add(double x) { v.push_back(x); }
-  double mean() const {
-    double s = 0;
-    for (double x : v) s += x;
-    return v.empty() ? 0.0 : s / static_cast<double>(v.size());
-  }
-  double stddev() const {
-    if (v.size() < 2) return 0.0;
-    const double m = mean();
-    double s = 0;
-    for (double x : v) s += (x - m) * (x - m);
-    return std::sqrt(s / static_cast<double>(v.size() - 1));
-  }
-};
 
 struct Cell {
   Sample pre_exp, pre_ms, re_exp, re_ms;

@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/support/bench_stats.hpp"
 #include "bench/seed003_world.hpp"
 #include "bench/support/bench_progress.hpp"
 #include "service/flight_replanner.hpp"
@@ -44,21 +45,13 @@
 
 namespace {
 
+using skyroute::bench::Sample;
+using skyroute::bench::quantile;
+using skyroute::bench::threadCpuMs;
+
 using namespace skyroute;
 
-double threadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  // Nearest rank: p99 of 150 samples is the 149th, not an interpolation below the worst ones.
-  const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
-  return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1];
-}
 
 struct Samples {
   std::vector<double> wall_ms, cpu_ms;
