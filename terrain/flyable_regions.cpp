@@ -11,9 +11,6 @@ namespace {
 
 constexpr float kNever = std::numeric_limits<float>::infinity();  // a block with no flyable square
 constexpr double kDoubtfulBlockCost = 4.0;  // per metre through a block flyable only in part
-// How many blocks round the shortest way's the grid way may use: a block flyable only in part
-// may be crossed by none of its own cells, but by its neighbours'.
-constexpr int kGridWayRing = 16;
 
 constexpr int kNeighbourDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
 constexpr int kNeighbourDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
