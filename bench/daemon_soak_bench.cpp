@@ -29,7 +29,7 @@ constexpr int kVehicles = testing::Soak::kVehicles;
 
 // The soak of tests/daemon/soak_scenario.hpp, a table row per window. Exits non-zero when the
 // run breaks a bound the soak test also asserts (docs/benchmarks.md): an update unanswered, a
-// revision lost, a request without a terminal status, RSS growth of 5 % or more from the first
+// revision lost, a request without a terminal status, RSS growth of 5 % or more from the second (the first with two)
 // window to the last, a heartbeat gap over 3 s (a stalled DDS thread), or the daemon gone.
 bool soakTable(testing::Station& station, testing::ChildProcess& daemon, const Heightfield& terrain, double minutes,
              double window_s) {
@@ -45,7 +45,7 @@ bool soakTable(testing::Station& station, testing::ChildProcess& daemon, const H
       });
   std::printf("updates missing an answer: %d (the drain's count in the last window); revisions published %zu, lost %d, "
               "superseded before the station read them %d; requests %zu, without a terminal status %zu; RSS growth "
-              "first -> last window %.2f %%; longest heartbeat gap %.2f s; daemon %s\n",
+              "after the warm-up window %.2f %%; longest heartbeat gap %.2f s; daemon %s\n",
               soak.missing(), soak.revisions_published, soak.revisions_lost, soak.revisions_superseded, soak.requests,
               soak.requests_unanswered, 100.0 * soak.rssGrowth(), soak.longestHeartbeatGapS(),
               soak.daemon_running ? "running" : "EXITED");
