@@ -34,6 +34,7 @@ namespace {
 
 using skyroute::bench::Sample;
 using skyroute::bench::quantile;
+using skyroute::bench::processCpuMs;
 using skyroute::bench::threadCpuMs;
 
 
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
   int points = 20, missions = 5, updates = 40, in_force = 4;
   unsigned seed = 1;
   MissionOrderOptions order_options;
+  MissionReorderOptions reorder_options;
   for (int i = 1; i < argc; ++i) {
     auto value = [&]() { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
     if (!std::strcmp(argv[i], "--points")) points = value();
@@ -66,8 +68,9 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--seed")) seed = static_cast<unsigned>(value());
     else if (!std::strcmp(argv[i], "--fresh") && i + 1 < argc) order_options.fresh_plan_fraction = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--defer")) order_options.defer_goal_maps = value() != 0;
+    else if (!std::strcmp(argv[i], "--threads")) reorder_options.repair_threads = value();
     else {
-      std::fprintf(stderr, "usage: mission_reorder_bench [--points N] [--missions N] [--updates N] [--obstacles N] [--seed S] [--fresh F] [--defer 0|1]\n");
+      std::fprintf(stderr, "usage: mission_reorder_bench [--points N] [--missions N] [--updates N] [--obstacles N] [--seed S] [--fresh F] [--defer 0|1] [--threads N]\n");
       return 2;
     }
   }
@@ -93,7 +96,8 @@ int main(int argc, char** argv) {
   near.name = "near";
   far.name = "far";
   Sample pre_exp, pre_ms;
-  double worst_ms = 0.0;
+  double worst_ms = 0.0;      // wall
+  double worst_cpu_ms = 0.0;  // every thread
   const double speed_mps = 20.0, step_s = 15.0;
   for (int mission = 0; mission < missions; ++mission) {
     // Points the order grid can carry (MMD*L, not the Euclidean fallback).
@@ -117,7 +121,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     const double cell_m = order.cell_size_m;
-    std::unique_ptr<MissionReorder> reorder = MissionReorder::create(order.search, MissionReorderOptions{}, 5.0);
+    std::unique_ptr<MissionReorder> reorder = MissionReorder::create(order.search, reorder_options, 5.0);
     std::vector<int> reached;
     std::vector<int> flying(order.order.begin() + 1, order.order.end());
     Eigen::Vector2d vehicle = pts.front().head<2>();
@@ -205,11 +209,12 @@ int main(int argc, char** argv) {
       Kind& kind = is_near ? near : far;
       ++kind.updates;
       const auto wall0 = std::chrono::steady_clock::now();
-      const double cpu0 = threadCpuMs();
+      const double cpu0 = processCpuMs();
       const ReorderCheck check = reorder->check(obstacles, now_s, reached, above(vehicle), flying);
-      const double cpu_ms = threadCpuMs() - cpu0;
+      const double cpu_ms = processCpuMs() - cpu0;
       const double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall0).count();
-      worst_ms = std::max(worst_ms, cpu_ms);
+      worst_ms = std::max(worst_ms, wall_ms);
+      worst_cpu_ms = std::max(worst_cpu_ms, cpu_ms);
       if (!check.repaired) {
         if (check.failure) ++kind.cut_off;  // a point cut off: the repair waits
         continue;
@@ -269,21 +274,22 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("mission_reorder_bench: %d missions of %d points on the embedded terrain's order grid, %d updates each "
-              "(%d obstacles in force per feed), seed %u, fresh_plan_fraction %.2f, defer_goal_maps %d\n\n",
-              missions, points, updates, in_force, seed, order_options.fresh_plan_fraction, order_options.defer_goal_maps ? 1 : 0);
+              "(%d obstacles in force per feed), seed %u, fresh_plan_fraction %.2f, defer_goal_maps %d, repair threads %d\n\n",
+              missions, points, updates, in_force, seed, order_options.fresh_plan_fraction, order_options.defer_goal_maps ? 1 : 0,
+              reorder_options.repair_threads);
   std::printf("preplanning (order stage): %.0f +- %.0f expansions, %.1f +- %.1f ms\n\n", pre_exp.mean(), pre_exp.stddev(),
               pre_ms.mean(), pre_ms.stddev());
-  std::printf("| update | updates (not placed) | repaired | incremental expansions | incremental ms (cpu) | p95 / max ms | from-scratch expansions "
+  std::printf("| update | updates (not placed) | repaired | incremental expansions | incremental ms (cpu, all threads) | p95 / max ms | wall ms p95 / max | from-scratch expansions "
               "| from-scratch ms (cpu) | expansions saved | reorders | no order | mismatches |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Kind* k : {&near, &far}) {
     const double saved = k->scratch_exp.mean() > 0 ? 1.0 - k->inc_exp.mean() / k->scratch_exp.mean() : 0.0;
-    std::printf("| %s | %d (%d) | %d | %.0f +- %.0f (max %.0f) | %.2f +- %.2f | %.1f / %.1f | %.0f +- %.0f | %.1f +- %.1f | %.1f %% | %d | %d | %d |\n",
+    std::printf("| %s | %d (%d) | %d | %.0f +- %.0f (max %.0f) | %.2f +- %.2f | %.1f / %.1f | %.1f / %.1f | %.0f +- %.0f | %.1f +- %.1f | %.1f %% | %d | %d | %d |\n",
                 k->name, k->updates, k->unchecked, k->repaired, k->inc_exp.mean(), k->inc_exp.stddev(), k->inc_exp.max(), k->inc_ms.mean(),
-                k->inc_ms.stddev(), k->inc_ms.p95(), k->inc_ms.max(), k->scratch_exp.mean(), k->scratch_exp.stddev(), k->scratch_ms.mean(),
+                k->inc_ms.stddev(), k->inc_ms.p95(), k->inc_ms.max(), k->inc_wall_ms.p95(), k->inc_wall_ms.max(), k->scratch_exp.mean(), k->scratch_exp.stddev(), k->scratch_ms.mean(),
                 k->scratch_ms.stddev(), 100.0 * saved, k->reorders, k->cut_off, k->mismatches);
   }
-  std::printf("\nlargest update (cover + repair + TSP, cpu): %.2f ms (target: 50 ms) %s\n", worst_ms,
-              worst_ms <= 50.0 ? "MET" : "MISSED");
+  std::printf("\nlargest update (cover + repair + TSP): %.2f ms wall (target: 50 ms) %s; %.2f ms of processor time\n",
+              worst_ms, worst_ms <= 50.0 ? "MET" : "MISSED", worst_cpu_ms);
   return near.mismatches + far.mismatches == 0 ? 0 : 3;
 }

@@ -39,6 +39,7 @@ struct IntegerShadow {
       fleet_tasks, max_obstacles;
   std::string mission_point_mode;
   std::int64_t tree_reuse_nodes;
+  std::int64_t reorder_threads;
 };
 
 IntegerShadow shadowOf(const DaemonConfig& c) {
@@ -60,7 +61,8 @@ IntegerShadow shadowOf(const DaemonConfig& c) {
                        static_cast<std::int64_t>(p.fleet.max_tasks),
                        static_cast<std::int64_t>(c.engine.obstacles.max_obstacles),
                        std::string(to_string(p.replan.route.trajectory.fixed_waypoint_mode)),
-                       static_cast<std::int64_t>(p.replan.route.tree_reuse.max_nodes)};
+                       static_cast<std::int64_t>(p.replan.route.tree_reuse.max_nodes),
+                       static_cast<std::int64_t>(p.reorder.repair_threads)};
 }
 
 void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
@@ -82,6 +84,7 @@ void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
   p.fleet.max_tasks = static_cast<std::size_t>(s.fleet_tasks);
   c.engine.obstacles.max_obstacles = static_cast<std::size_t>(s.max_obstacles);
   p.replan.route.tree_reuse.max_nodes = static_cast<std::size_t>(s.tree_reuse_nodes);
+  p.reorder.repair_threads = static_cast<int>(s.reorder_threads);
   // The key's choices are the parser's names.
   p.replan.route.trajectory.fixed_waypoint_mode =
       parseFixedWaypointMode(s.mission_point_mode).value_or(p.replan.route.trajectory.fixed_waypoint_mode);
@@ -206,6 +209,10 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"replanning", "reorder_sweep_s",
        "re-ordering: an obstacle covers the order grid's cells its track crosses this long ahead, seconds",
        &p.reorder.sweep_s, 0, 3600},
+      {"replanning", "reorder_threads",
+       "re-ordering: threads of one repair of the MMD*L searches, the replanning loop's included (the goals' maps are "
+       "repaired apart; same results)",
+       &s.reorder_threads, 1, 16},
       {"replanning", "leg_max_iterations", "RRT* iterations per leg when replanning (0 = planning.leg_max_iterations)",
        &s.replan_leg_iterations, 0, 1e9},
       {"replanning", "budget_s",

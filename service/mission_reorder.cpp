@@ -65,6 +65,7 @@ MissionReorder::MissionReorder(std::shared_ptr<MissionOrderSearch> search, const
   tsp.max_exact_points = kExactPoints;
   tsp.compare_heuristic = false;  // the gap is a benchmark's question, not the cycle's
   search_->planner->setTspOptions(tsp);
+  search_->planner->setThreads(options_.repair_threads);
 }
 
 std::vector<std::uint32_t> MissionReorder::coverOf(const GridLayer& grid, std::span<const Obstacle> obstacles,

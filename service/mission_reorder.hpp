@@ -42,6 +42,10 @@ struct MissionReorderOptions {
   bool enabled = true;           // re-order flying missions whose order MMD*L chose
   double sweep_s = 15.0;         // an obstacle covers the cells its track crosses this long ahead
   double min_gain_cells = 1.0;   // a new order must save at least this much (cell edges)
+  // Threads of one repair, the replanning loop's included: the goals' maps are repaired apart
+  // (same results), so a repair that changes many maps takes about half the time on two free
+  // cores. 1 = the replanning loop's thread alone.
+  int repair_threads = 2;
 };
 
 // What one look at the changed obstacles found. Point indices are the mission's (0 = begin,

@@ -18,6 +18,13 @@ inline double threadCpuMs() {
   return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
 }
 
+// Processor time of the whole process (every thread), in milliseconds (CLOCK_PROCESS_CPUTIME_ID).
+inline double processCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
+}
+
 // Nearest rank: p99 of 150 samples is the 149th, not an interpolation below the worst ones.
 // NaN for no values.
 inline double quantile(std::vector<double> v, double q) {

@@ -94,6 +94,12 @@ class MissionPlanner {
   // The open TSP's settings for the next planning steps (e.g. a smaller exact limit where a
   // replan must stay within a cycle).
   void setTspOptions(const OpenTspOptions& tsp) { options_.tsp = tsp; }
+  // Threads of the next planning steps (MissionOptions::threads), e.g. more for the repairs of a
+  // live re-ordering than for the first plan on a planning worker.
+  void setThreads(int threads) {
+    options_.threads = threads;
+    search_->setThreads(threads);
+  }
   bool finished() const { return finished_; }
   GridCell vehicleCell() const { return search_->vehicleCell(); }
   const MissionPlan& plan() const { return plan_; }

@@ -42,6 +42,9 @@ class MissionSearch {
   virtual GridCell nextCell(int goal_point) const = 0;
   // Number of g/rhs maps currently held (memory, seed 3.5.2).
   virtual std::size_t costMapCount() const = 0;
+  // The threads the next planning steps may use, the caller's included (MMD*L's goals are
+  // independent maps); searches that cannot split ignore it. Results do not depend on it.
+  virtual void setThreads(int threads) { (void)threads; }
 
   // The vehicle moved (to a neighbouring cell, usually).
   virtual void moveVehicle(GridCell cell);

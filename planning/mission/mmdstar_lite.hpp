@@ -67,6 +67,7 @@ class MmdStarLite final : public MissionSearch {
   std::vector<GridCell> path(int from_point, int to_point) const override;
   GridCell nextCell(int goal_point) const override;
   std::size_t costMapCount() const override;
+  void setThreads(int threads) override { threads_ = threads < 1 ? 1 : threads; }
   void moveVehicle(GridCell cell) override;
   void arriveAt(int point) override;
 
