@@ -91,6 +91,9 @@ Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::v
   search->grid = std::make_unique<GridLayer>(std::move(*grid));
   search->cells = cells;
   search->flight_ceiling_m = grid_options.flight_ceiling_m;
+  search->band_floor_m = terrain.minHeightM() + min_clearance_m;
+  search->zones = no_fly_zones;
+  search->zone_margin_m = zone_margin_m;
   auto planner = MissionPlanner::create(*search->grid, cells.front(), missions, cells.back(), mission_options);
   if (!planner.ok()) return finish(euclideanOrder(points_m, "order grid: " + planner.error().describe()));
   auto plan = planner->preplan(stop);

@@ -44,6 +44,9 @@ struct MissionOrderSearch {
   std::unique_ptr<GridLayer> grid;   // on the heap: the searches keep its address
   std::vector<GridCell> cells;       // each point's cell, in the points' numbering
   double flight_ceiling_m = 0.0;     // top of the grid's flight band
+  double band_floor_m = 0.0;         // the lowest ground plus the clearance: no flight below
+  std::vector<NoFlyZone> zones;      // the no-fly zones the grid was built with (blocked for good)
+  double zone_margin_m = 0.0;        // each zone's polygon grown by this
   std::unique_ptr<MissionPlanner> planner;  // preplanned on `grid`
 };
 

@@ -309,8 +309,8 @@ ReorderOutcome MissionPipeline::reorder(MissionPlan& plan, double now_s, const T
   const auto first_left = std::find(mission.order.begin(), mission.order.end(), remaining.front());
   if (first_left == mission.order.begin() || first_left == mission.order.end()) return out;
   const std::vector<int> reached(mission.order.begin() + 1, first_left);
-  out.check = plan.reorder->check(mission.world->obstacles(), now_s, reached, flight.stateAt(takeover_s).position_m,
-                                  remaining, stop);
+  out.check = plan.reorder->check(mission.world->obstacles(), mission.world->noFlyZones(), now_s, reached,
+                                  flight.stateAt(takeover_s).position_m, remaining, stop);
   if (!out.check.reordered()) return out;
   std::vector<Eigen::Vector3d> points;
   for (std::size_t k = 1; k < out.check.new_order.size(); ++k) points.push_back(mission.points_m[out.check.new_order[k]]);

@@ -6,6 +6,7 @@
 #include <iterator>
 
 #include "planning/mission/mission_planner.hpp"
+#include "terrain/grid_from_terrain.hpp"
 
 namespace skyroute {
 namespace {
@@ -35,6 +36,12 @@ double distanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, con
   const double length2 = ab.squaredNorm();
   const double t = length2 > 0.0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
   return (p - (a + t * ab)).norm();
+}
+
+// The same zone as published (a zone replaced under its name with a new shape is another).
+bool sameZone(const NoFlyZone& a, const NoFlyZone& b) {
+  return a.name == b.name && a.ring_m == b.ring_m && a.floor_m == b.floor_m && a.ceiling_m == b.ceiling_m &&
+         a.valid_from_s == b.valid_from_s && a.valid_until_s == b.valid_until_s;
 }
 
 std::vector<GridCell> cellsOf(const GridLayer& grid, std::span<const std::uint32_t> indices) {
@@ -124,9 +131,29 @@ std::optional<GridCell> MissionReorder::vehicleCell(const Eigen::Vector3d& vehic
   return best;
 }
 
-ReorderCheck MissionReorder::check(std::span<const Obstacle> obstacles, double now_s, std::span<const int> reached,
-                                   const Eigen::Vector3d& vehicle_m, std::span<const int> remaining,
-                                   const TerminationCondition& stop) {
+std::vector<std::uint32_t> MissionReorder::zoneCover(const MissionOrderSearch& search, std::span<const NoFlyZone> zones,
+                                                     double now_s, double sweep_s) {
+  std::vector<std::uint32_t> cover;
+  const GridLayer& grid = *search.grid;
+  const double margin = search.zone_margin_m;
+  for (const NoFlyZone& zone : zones) {
+    if (!zone.activeDuring(now_s, now_s + std::max(0.0, sweep_s))) continue;
+    if (zone.floor_m - margin > search.flight_ceiling_m || zone.ceiling_m + margin < search.band_floor_m) continue;
+    if (std::any_of(search.zones.begin(), search.zones.end(), [&](const NoFlyZone& z) { return sameZone(z, zone); }))
+      continue;  // blocked in the grid already
+    for (const GridCell& c : noFlyZoneCells(grid, zone, margin)) cover.push_back(static_cast<std::uint32_t>(grid.index(c)));
+  }
+  std::sort(cover.begin(), cover.end());
+  cover.erase(std::unique(cover.begin(), cover.end()), cover.end());
+  std::erase_if(cover, [&](std::uint32_t i) {
+    return std::any_of(search.cells.begin(), search.cells.end(), [&](const GridCell& c) { return grid.index(c) == i; });
+  });
+  return cover;
+}
+
+ReorderCheck MissionReorder::check(std::span<const Obstacle> obstacles, std::span<const NoFlyZone> zones, double now_s,
+                                   std::span<const int> reached, const Eigen::Vector3d& vehicle_m,
+                                   std::span<const int> remaining, const TerminationCondition& stop) {
   const auto started = std::chrono::steady_clock::now();
   ReorderCheck out;
   out.old_order.push_back(reached.empty() ? 0 : reached.back());
@@ -135,6 +162,12 @@ ReorderCheck MissionReorder::check(std::span<const Obstacle> obstacles, double n
   GridLayer& grid = *search_->grid;
   std::vector<std::uint32_t> cover = coverOf(grid, obstacles, now_s, options_.sweep_s, vehicle_radius_m_,
                                              search_->flight_ceiling_m, search_->cells);
+  if (!zones.empty()) {
+    const std::vector<std::uint32_t> zoned = zoneCover(*search_, zones, now_s, options_.sweep_s);
+    std::vector<std::uint32_t> both;
+    std::set_union(cover.begin(), cover.end(), zoned.begin(), zoned.end(), std::back_inserter(both));
+    cover = std::move(both);
+  }
   out.covered_cells = cover.size();
   std::vector<std::uint32_t> gone;
   std::vector<std::uint32_t> added;

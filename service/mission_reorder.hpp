@@ -17,6 +17,9 @@
 // grid from the vehicle tells), the order stays, and the searches are repaired only once every
 // point is reachable again (a repair towards a cut-off point would search the whole grid).
 //
+// No-fly zones published after the order was chosen cover their footprint the same way while
+// they are in force within the sweep (the zones the grid was built with are blocked in it).
+//
 // The TSP is solved with the exact solver up to kExactPoints remaining points (the heuristic
 // above), and a new order is proposed only when it is shorter than the order being flown by at
 // least min_gain_cells on the new costs: orders of equal cost are not swapped back and forth.
@@ -80,6 +83,13 @@ class MissionReorder {
   // (the end last). When the cover changed, repairs the searches and solves the TSP again.
   ReorderCheck check(std::span<const Obstacle> obstacles, double now_s, std::span<const int> reached,
                      const Eigen::Vector3d& vehicle_m, std::span<const int> remaining,
+                     const TerminationCondition& stop = {}) {
+    return check(obstacles, {}, now_s, reached, vehicle_m, remaining, stop);
+  }
+  // The same with the no-fly zones in force too: a zone the grid was not built with covers its
+  // footprint (zoneCover) while it is in force during the sweep, and a lifted one uncovers it.
+  ReorderCheck check(std::span<const Obstacle> obstacles, std::span<const NoFlyZone> zones, double now_s,
+                     std::span<const int> reached, const Eigen::Vector3d& vehicle_m, std::span<const int> remaining,
                      const TerminationCondition& stop = {});
 
   // The cells the obstacles covered at the last check (sorted grid indices), for tests.
@@ -91,6 +101,12 @@ class MissionReorder {
   static std::vector<std::uint32_t> coverOf(const GridLayer& grid, std::span<const Obstacle> obstacles, double now_s,
                                             double sweep_s, double vehicle_radius_m, double flight_ceiling_m,
                                             std::span<const GridCell> free_cells);
+  // Sorted grid indices of the cells the zones cover on the search's grid at now_s: the footprint
+  // (grown by the zone margin) of every zone in force at some time of [now_s, now_s + sweep_s]
+  // that reaches into the flight band and that the grid was not built with, the points' cells
+  // excepted (they are kept free, as the grid keeps them).
+  static std::vector<std::uint32_t> zoneCover(const MissionOrderSearch& search, std::span<const NoFlyZone> zones,
+                                              double now_s, double sweep_s);
 
  private:
   MissionReorder(std::shared_ptr<MissionOrderSearch> search, const MissionReorderOptions& options, double vehicle_radius_m);

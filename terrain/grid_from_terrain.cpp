@@ -13,17 +13,8 @@ std::vector<GridCell> zoneCells(const GridLayer& grid, const Heightfield& terrai
   for (const NoFlyZone& zone : options.no_fly_zones) {
     if (zone.floor_m - margin > options.flight_ceiling_m) continue;
     if (zone.ceiling_m + margin < terrain.minHeightM() + options.min_clearance_m) continue;
-    const Eigen::AlignedBox2d box = zone.boundsEn();
-    const Eigen::Vector2d lo_m = box.min() - Eigen::Vector2d::Constant(margin + grid.cellSize());
-    const Eigen::Vector2d hi_m = box.max() + Eigen::Vector2d::Constant(margin + grid.cellSize());
-    const Eigen::Vector2d lo = ((lo_m - grid.origin()) / grid.cellSize()).array().floor();
-    const Eigen::Vector2d hi = ((hi_m - grid.origin()) / grid.cellSize()).array().ceil();
-    for (int y = std::max(0, static_cast<int>(lo.y())); y <= std::min(grid.height() - 1, static_cast<int>(hi.y())); ++y) {
-      for (int x = std::max(0, static_cast<int>(lo.x())); x <= std::min(grid.width() - 1, static_cast<int>(hi.x())); ++x) {
-        const GridCell c{x, y};
-        if (zone.touchesSquare(grid.cellCenter(c), grid.cellSize(), margin)) cells.push_back(c);
-      }
-    }
+    const std::vector<GridCell> footprint = noFlyZoneCells(grid, zone, margin);
+    cells.insert(cells.end(), footprint.begin(), footprint.end());
   }
   for (const Eigen::Vector2d& p : options.keep_free_m) {
     const auto free = grid.cellAt(p);
@@ -33,6 +24,23 @@ std::vector<GridCell> zoneCells(const GridLayer& grid, const Heightfield& terrai
 }
 
 }  // namespace
+
+std::vector<GridCell> noFlyZoneCells(const GridLayer& grid, const NoFlyZone& zone, double margin_m) {
+  std::vector<GridCell> cells;
+  const Eigen::AlignedBox2d box = zone.boundsEn();
+  const Eigen::Vector2d lo_m = box.min() - Eigen::Vector2d::Constant(margin_m + grid.cellSize());
+  const Eigen::Vector2d hi_m = box.max() + Eigen::Vector2d::Constant(margin_m + grid.cellSize());
+  const Eigen::Vector2d lo = ((lo_m - grid.origin()) / grid.cellSize()).array().floor();
+  const Eigen::Vector2d hi = ((hi_m - grid.origin()) / grid.cellSize()).array().ceil();
+  if (!lo.allFinite() || !hi.allFinite()) return cells;
+  for (int y = std::max(0, static_cast<int>(std::max(lo.y(), -1.0))); y <= std::min(grid.height() - 1, static_cast<int>(std::min(hi.y(), double(grid.height())))); ++y) {
+    for (int x = std::max(0, static_cast<int>(std::max(lo.x(), -1.0))); x <= std::min(grid.width() - 1, static_cast<int>(std::min(hi.x(), double(grid.width())))); ++x) {
+      const GridCell c{x, y};
+      if (zone.touchesSquare(grid.cellCenter(c), grid.cellSize(), margin_m)) cells.push_back(c);
+    }
+  }
+  return cells;
+}
 
 Result<GridLayer> buildTerrainGrid(const Heightfield& terrain, const TerrainGridOptions& options) {
   if (!(options.cell_size_m > 0.0) || !std::isfinite(options.cell_size_m)) {

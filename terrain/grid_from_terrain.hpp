@@ -30,6 +30,10 @@ struct TerrainGridOptions {
   std::vector<Eigen::Vector2d> keep_free_m;
 };
 
+// The cells of `grid` whose square the zone's polygon, grown by margin_m, touches (its footprint,
+// whatever its floor, ceiling and time window).
+std::vector<GridCell> noFlyZoneCells(const GridLayer& grid, const NoFlyZone& zone, double margin_m);
+
 // Errors: kInvalidArgument naming the option (cell size <= 0, grid too large); kCancelled.
 Result<GridLayer> buildTerrainGrid(const Heightfield& terrain, const TerrainGridOptions& options);
 

@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include "service/engine.hpp"
+#include "service/no_fly_zone_data.hpp"
 #include "tests/service/default_world_fixture.hpp"
 #include "tests/service/recording_sink.hpp"
 
@@ -156,6 +157,43 @@ TEST_F(EngineReorderTest, AWallOnTheApproachToTheNextPointGivesAReorderedRevisio
   // Clear ahead now, and the same obstacles: the next cycle publishes nothing.
   now_ns_ += 100'000'000LL;
   EXPECT_EQ(engine_->replanCycle(), 0u);
+}
+
+TEST_F(EngineReorderTest, ANoFlyZoneOnTheApproachToTheNextPointGivesAReorderedRevisionThatAvoidsIt) {
+  const MissionRequestData r = request();
+  ASSERT_FALSE(engine_->submit(r).has_value());
+  ASSERT_TRUE(engine_->planNext());
+  ASSERT_EQ(sink_.trajectories.size(), 1u);
+  const TrajectoryData first = sink_.trajectories.front();
+  const std::uint32_t next = first.visiting_order[1];
+
+  // 10 s into the flight a zone 1.9 km wide and 400 m deep is published across the way from
+  // begin to the next point, halfway (WGS84 ring, heights AMSL, as the DDS edge receives it).
+  now_ns_ += 10'000'000'000LL;
+  const Eigen::Vector2d from = r.begin.enu_m.head<2>();
+  const Eigen::Vector2d to = pointOf(r, next).head<2>();
+  const Eigen::Vector2d along = (to - from).normalized();
+  const Eigen::Vector2d across(-along.y(), along.x());
+  const Eigen::Vector2d mid = 0.5 * (from + to);
+  NoFlyZoneData zone;
+  zone.zone_id = "tfr";
+  for (const Eigen::Vector2d& v : {Eigen::Vector2d(mid - 950.0 * across - 200.0 * along), Eigen::Vector2d(mid + 950.0 * across - 200.0 * along),
+                                   Eigen::Vector2d(mid + 950.0 * across + 200.0 * along), Eigen::Vector2d(mid - 950.0 * across + 200.0 * along)})
+    zone.ring.push_back(heightfield_->frame().toGeo(Eigen::Vector3d(v.x(), v.y(), 0.0)));
+  zone.floor_amsl_m = -1000.0;
+  zone.ceiling_amsl_m = 9000.0;
+  ASSERT_FALSE(engine_->updateNoFlyZone(zone).has_value());
+  ASSERT_EQ(engine_->replanCycle(), 1u);
+  ASSERT_EQ(sink_.trajectories.size(), 2u);
+  const TrajectoryData& second = sink_.trajectories.back();
+  EXPECT_EQ(sink_.statuses.back().state, PlanState::kReordered) << sink_.statuses.back().message;
+  EXPECT_EQ(logLines("event=reordered"), 1u);
+  EXPECT_NE(second.visiting_order[1], next);
+  EXPECT_TRUE(std::is_permutation(second.visiting_order.begin(), second.visiting_order.end(), first.visiting_order.begin()));
+  // Every sample outside the zone (grown by the vehicle's radius).
+  const NoFlyZone in_frame = toNoFlyZone(zone, heightfield_->frame()).value();
+  for (const TrajectorySampleData& s : second.samples)
+    ASSERT_FALSE(in_frame.touchesPoint(s.position_enu_m, WorldModelOptions{}.vehicle_radius_m)) << "at t_rel " << s.t_rel_s;
 }
 
 TEST_F(EngineReorderTest, AnObstacleFarFromTheMissionPublishesNothing) {

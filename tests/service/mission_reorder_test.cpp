@@ -209,6 +209,63 @@ TEST_F(MissionReorderTest, WhileAPointIsCutOffTheOrderStaysAndTheRepairWaitsForI
   EXPECT_NEAR(open.new_cost_m, scratch.total * order_.cell_size_m, 1e-6);
 }
 
+TEST_F(MissionReorderTest, ANoFlyZoneAcrossTheApproachReordersAsAnObstacleDoesAndLiftingItRestoresTheCosts) {
+  const std::vector<int> first = order_.order;
+  const int next = first[1];
+  // A zone 1.9 km long and 400 m deep across the way from begin to the next point, halfway: the
+  // footprint of the cylinder wall of the first test.
+  const Eigen::Vector2d from = points_[0].head<2>();
+  const Eigen::Vector2d to = points_[static_cast<std::size_t>(next)].head<2>();
+  const Eigen::Vector2d along = (to - from).normalized();
+  const Eigen::Vector2d across(-along.y(), along.x());
+  const Eigen::Vector2d mid = 0.5 * (from + to);
+  NoFlyZone zone;
+  zone.name = "tfr-1";
+  zone.ring_m = {mid - 950.0 * across - 200.0 * along, mid + 950.0 * across - 200.0 * along,
+                 mid + 950.0 * across + 200.0 * along, mid - 950.0 * across + 200.0 * along};
+  zone.floor_m = 0.0;
+  zone.ceiling_m = 9000.0;
+  const std::vector<NoFlyZone> zones{zone};
+  const ReorderCheck check = reorder_->check({}, zones, 0.0, {}, points_[0], left(first));
+  ASSERT_FALSE(check.failure) << check.failure->describe();
+  ASSERT_TRUE(check.repaired);
+  EXPECT_GT(check.covered_cells, 0u);
+  ASSERT_TRUE(check.reordered()) << orderText(check.old_order) << " stays: " << check.old_cost_m << " m vs "
+                                 << check.new_cost_m << " m";
+  EXPECT_NE(check.new_order[1], next);
+  const Scratch scratch = fromScratch(reorder_->search().cells.front(), 0, {1, 2, 3, 4});
+  EXPECT_EQ(check.new_order, scratch.order);
+  expectSameCosts(scratch);
+  // A zone whose window starts after the sweep covers nothing yet.
+  NoFlyZone later = zone;
+  later.name = "tfr-2";
+  later.valid_from_s = 3600.0;
+  EXPECT_TRUE(MissionReorder::zoneCover(reorder_->search(), std::vector<NoFlyZone>{later}, 0.0, 15.0).empty());
+  // Lifted: its cells are free again, and the costs are the first plan's.
+  const ReorderCheck lifted = reorder_->check({}, std::vector<NoFlyZone>{}, 0.0, {}, points_[0], left(check.new_order.empty() ? first : check.new_order));
+  ASSERT_TRUE(lifted.repaired);
+  EXPECT_EQ(lifted.changed_cells, check.changed_cells);
+  EXPECT_TRUE(reorder_->covered().empty());
+  EXPECT_NEAR(lifted.new_cost_m, order_.cost_m, 1e-6);
+}
+
+TEST_F(MissionReorderTest, AZoneTheGridWasBuiltWithIsNotCoveredAgain) {
+  NoFlyZone zone;
+  zone.name = "built-in";
+  zone.ring_m = {{-5900, 5000}, {-5000, 5000}, {-5000, 5900}, {-5900, 5900}};
+  zone.floor_m = 0.0;
+  zone.ceiling_m = 9000.0;
+  auto order = orderMissionPoints(*terrain_, points_, kClearanceM, kCeilingM, false, MissionOrderOptions{}, {},
+                                  std::vector<NoFlyZone>{zone}, kVehicleRadiusM);
+  ASSERT_TRUE(order.ok()) << order.error().describe();
+  ASSERT_EQ(order->method, "mmdstar");
+  EXPECT_TRUE(MissionReorder::zoneCover(*order->search, std::vector<NoFlyZone>{zone}, 0.0, 15.0).empty());
+  // The same name with another shape is a new zone.
+  NoFlyZone moved = zone;
+  for (Eigen::Vector2d& v : moved.ring_m) v.x() += 1500.0;
+  EXPECT_FALSE(MissionReorder::zoneCover(*order->search, std::vector<NoFlyZone>{moved}, 0.0, 15.0).empty());
+}
+
 TEST_F(MissionReorderTest, AMovingObstacleCoversTheCellsItCrossesWithinTheSweepOnly) {
   const GridLayer& grid = reorder_->grid();
   Obstacle moving = cylinder(3, Eigen::Vector2d(-2000, 0), 100.0);
