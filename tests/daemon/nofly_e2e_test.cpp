@@ -117,16 +117,30 @@ TEST_F(NoFlyE2e, ZoneUnderAFlyingVehicleTriggersAReplanRoundIt) {
   ASSERT_TRUE(writer.ok());
   ASSERT_TRUE(writer->waitForReaders(1, 20.0).ok());
   ASSERT_TRUE(writer->write(zoneData("closed", zone)).ok());
+  // A replan that misses its cycle's budget (a loaded machine) answers with a hold first; the
+  // route round the zone to the end follows at a later cycle. Every revision keeps out of it.
+  auto reachesTheEnd = [&](const TrajectoryData& t) {
+    return !t.samples.empty() && (t.samples.back().position_enu_m - enuOf(m.end)).norm() < 1.0;
+  };
   ASSERT_TRUE(station_->pumpUntil(
-      [&] { return station_->latest("uav-2")->revision > first_revision || !daemon_.running(); }, 60.0))
+      [&] {
+        const TrajectoryData& t = *station_->latest("uav-2");
+        return (t.revision > first_revision && reachesTheEnd(t)) || !daemon_.running();
+      },
+      60.0))
       << daemon_.err();
-  const TrajectoryData& replanned = *station_->latest("uav-2");
-  ASSERT_FALSE(replanned.samples.empty());
-  for (const TrajectorySampleData& s : replanned.samples) {
-    ASSERT_FALSE(zone.containsWithin(s.position_enu_m, 5.0))
-        << "revision " << replanned.revision << " enters the zone at t = " << s.t_rel_s << " s";
+  std::size_t revisions = 0;
+  for (const TrajectoryData& t : station_->trajectory_log) {
+    if (t.vehicle_id != "uav-2" || t.revision <= first_revision) continue;
+    ++revisions;
+    ASSERT_FALSE(t.samples.empty());
+    for (const TrajectorySampleData& s : t.samples) {
+      ASSERT_FALSE(zone.containsWithin(s.position_enu_m, 5.0))
+          << "revision " << t.revision << " enters the zone at t = " << s.t_rel_s << " s";
+    }
   }
-  EXPECT_LT((replanned.samples.back().position_enu_m - enuOf(m.end)).norm(), 1.0);
+  EXPECT_GE(revisions, 1u);
+  EXPECT_TRUE(reachesTheEnd(*station_->latest("uav-2")));
 }
 
 TEST_F(NoFlyE2e, BadZoneFileInTheConfigurationStopsTheDaemonNamingIt) {
