@@ -113,6 +113,7 @@ struct RunResult {
   double request_bytes_per_s = 0.0, request_packets_per_s = 0.0;
   double feed_bytes_per_s = 0.0, feed_packets_per_s = 0.0;
   double feed_s = 0.0;
+  double samples_per_trajectory = 0.0;  // mean over the first trajectories
   std::string failure;             // why the run stopped short ("" = it did not)
 };
 
@@ -185,6 +186,13 @@ RunResult run(const Settings& s, const Heightfield& terrain, int daemons, int do
   r.request_bytes_per_s = (lo1.bytes - lo0.bytes) / r.burst_s;
   r.request_packets_per_s = (lo1.packets - lo0.packets) / r.burst_s;
   r.planned = static_cast<int>(first_ms.size());
+  {
+    std::set<std::string> counted;
+    double samples = 0.0;
+    for (const TrajectoryData& t : station->trajectory_log)
+      if (counted.insert(t.vehicle_id).second) samples += static_cast<double>(t.samples.size());
+    r.samples_per_trajectory = counted.empty() ? 0.0 : samples / static_cast<double>(counted.size());
+  }
   for (const auto& [vehicle, ms] : first_ms) r.request_ms.push_back(ms);
   if (r.planned < s.vehicles) r.failure = std::to_string(s.vehicles - r.planned) + " vehicles unplanned after 30 min";
 
@@ -288,6 +296,10 @@ int main(int argc, char** argv) {
     if (r.burst_s > 0 && base_rps > 0)
       std::printf("%d daemon(s): throughput x%.2f of the first row\n", r.daemons, (r.planned / r.burst_s) / base_rps);
     if (r.feed_s > 0) std::printf("%d daemon(s): feed ran at %.1f updates/s\n", r.daemons, s.updates / r.feed_s);
+    // A TrajectorySample is 14 doubles and an int64 on the wire: 120 B.
+    std::printf("%d daemon(s): %.0f samples per trajectory (about %.0f kB each, %.1f MB for every vehicle's current one)\n",
+                r.daemons, r.samples_per_trajectory, r.samples_per_trajectory * 120.0 / 1e3,
+                r.samples_per_trajectory * 120.0 * r.planned / 1e6);
     if (!r.failure.empty()) std::printf("%d daemon(s): %s\n", r.daemons, r.failure.c_str());
   }
   return std::all_of(results.begin(), results.end(), [](const RunResult& r) { return r.failure.empty(); }) ? 0 : 1;
