@@ -22,12 +22,20 @@ ShardRouter::ShardRouter(ShardMember self, std::int64_t join_margin_ns)
 
 std::string ShardRouter::ownerOfKeyLocked(const std::string& key) const {
   if (!settled_) return {};
+  auto plan = plans_.find(key);
+  if (plan == plans_.end()) {
+    // A key this daemon never saw a request for (a cancel or a refused request naming an unknown
+    // vehicle): the oldest member answers. It has read every request any younger member read,
+    // so it knows the key when anyone does, and then this daemon's answer is "not mine" too.
+    const auto oldest = std::min_element(members_.begin(), members_.end(), [](const auto& a, const auto& b) {
+      return a.started_utc_ns != b.started_utc_ns ? a.started_utc_ns < b.started_utc_ns : a.service_id < b.service_id;
+    });
+    return oldest->service_id;
+  }
   std::vector<std::string> eligible;
-  if (auto plan = plans_.find(key); plan != plans_.end()) {
-    // Members that were serving when the request arrived read it too; a later joiner may not have.
-    for (const ShardMember& m : members_) {
-      if (m.started_utc_ns + join_margin_ns_ <= plan->second.seen_utc_ns) eligible.push_back(m.service_id);
-    }
+  // Members that were serving when the request arrived read it too; a later joiner may not have.
+  for (const ShardMember& m : members_) {
+    if (m.started_utc_ns + join_margin_ns_ <= plan->second.seen_utc_ns) eligible.push_back(m.service_id);
   }
   if (eligible.empty()) {
     for (const ShardMember& m : members_) eligible.push_back(m.service_id);

@@ -9,6 +9,8 @@
 // serving when the plan's request arrived can own it (started at least join_margin before: they
 // read the request too); when none of them is live any more, every live member can. A daemon
 // that joins therefore takes new requests at once, and older vehicles only when their owner dies.
+// What names a vehicle or fleet this daemon never saw a request for (a cancel, a refused request)
+// is answered by the oldest live member.
 //
 // Thread-safe: the edge's thread feeds it, the engine's threads ask who owns what.
 #pragma once
@@ -72,7 +74,7 @@ class ShardRouter {
   ShardActions onMission(const MissionRequestData& request, std::int64_t now_utc_ns);
   ShardActions onFleet(const FleetRequestData& request, std::int64_t now_utc_ns);
   // A cancel: the dormant copy it names is forgotten on every member. True when this daemon
-  // answers it (it owns the vehicle, or for a vehicle nobody plans, the vehicle's rendezvous owner).
+  // answers it (it owns the vehicle, or for a vehicle nobody plans, it is the oldest member).
   bool onCancel(const CancelRequestData& cancel);
   // Every trajectory on the wire (this daemon's own included).
   void onTrajectory(const TrajectoryData& trajectory);

@@ -128,7 +128,9 @@ TEST(ShardRouter, ALeaversFlyingVehiclesAreResumedAndItsUnplannedOnesPlanned) {
   for (const MissionRequestData& m : missions) {
     const auto owners = g.ownersOf(m.vehicle_id);
     ASSERT_EQ(owners.size(), 1u);
-    if (owner[m.vehicle_id] != "shard-b") EXPECT_EQ(owners[0], owner[m.vehicle_id]);
+    if (owner[m.vehicle_id] != "shard-b") {
+      EXPECT_EQ(owners[0], owner[m.vehicle_id]);
+    }
   }
 }
 
@@ -156,6 +158,14 @@ TEST(ShardRouter, AJoinerTakesOnlyRequestsThatArriveAfterItsMargin) {
     by_d += owners[0] == "shard-d";
   }
   EXPECT_GT(by_d, 3);
+  // A cancel naming an old vehicle the joiner never heard of, or a vehicle nobody has: one answer.
+  for (const std::string& vehicle : {std::string("old-3"), std::string("nobody")}) {
+    CancelRequestData cancel;
+    cancel.vehicle_id = vehicle;
+    int answering = 0;
+    for (auto& [id, r] : g.routers) answering += r->onCancel(cancel) ? 1 : 0;
+    EXPECT_EQ(answering, 1) << vehicle;
+  }
 }
 
 TEST(ShardRouter, AFleetHasOneOwnerForAllItsVehiclesAndACancelledMissionIsNotPlannedAgain) {
