@@ -38,6 +38,7 @@ void MissionService::startShard() {
 }
 
 void MissionService::scheduleShardCheck() {
+  if (!router_) return;
   const auto now = Clock::now();
   // At once, and again shortly: a liveliness change may be signalled before the instance states
   // it changes are readable.

@@ -254,6 +254,14 @@ TEST_F(ShardE2E, FleetRequestAcrossTheShardsIsPlannedByOneDaemon) {
   std::size_t planners = 0;
   for (std::size_t i = 0; i < 3; ++i) planners += countOf(shards_[i].err(), "event=fleet_accepted request=fleet-shards");
   EXPECT_EQ(planners, 1u) << logs();
+
+  // skyroute status lists the group's members.
+  const Ran status = runToEnd({SKYROUTE_CLI, "status", "--domain", "132", "--wait", "5"}, "shard_status", 30.0);
+  ASSERT_EQ(status.code, 0) << status.err;
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(countOf(status.out, "service=" + serviceId(i) + " "), 1u) << status.out;
+  }
+  EXPECT_EQ(countOf(status.out, "shard_group=g "), 3u) << status.out;
 }
 
 TEST_F(ShardE2E, AJoiningShardTakesNewRequestsAndLeavesTheFlyingOnesInPlace) {
