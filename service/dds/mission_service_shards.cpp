@@ -125,10 +125,11 @@ void MissionService::applyShardActions(const ShardActions& actions) {
     republish_at_.push_back(Clock::now() + seconds(config().liveliness_lease_s + 0.1));
     std::sort(republish_at_.begin(), republish_at_.end());
   }
-  // Moves from nobody (a daemon settling, a new vehicle) are not moves.
+  // Each daemon logs the moves to or from itself; moves from nobody (a daemon settling, a new
+  // vehicle) are not moves.
   std::vector<const VehicleMove*> moves;
   for (const VehicleMove& m : actions.moves) {
-    if (!m.from.empty()) moves.push_back(&m);
+    if (!m.from.empty() && (m.from == instance_.service_id || m.to == instance_.service_id)) moves.push_back(&m);
   }
   constexpr std::size_t kListed = 8;
   if (moves.size() <= kListed) {

@@ -86,9 +86,9 @@ class ShardE2E : public DaemonFixture {
   }
 
   // A short mission in its own lane, so vehicles never meet.
-  MissionRequestData laneMission(const std::string& vehicle, int lane) const {
+  MissionRequestData laneMission(const std::string& vehicle, int lane, const std::string& prefix = "req-") const {
     MissionRequestData m;
-    m.request_id = "req-" + vehicle;
+    m.request_id = prefix + vehicle;
     m.vehicle_id = vehicle;
     const double north = -2900.0 + 200.0 * lane;
     m.begin = above(-1500, north, 300);
@@ -97,17 +97,24 @@ class ShardE2E : public DaemonFixture {
     return m;
   }
 
-  void sendMissions(const std::vector<std::string>& vehicles, int first_lane) {
+  void sendMissions(const std::vector<std::string>& vehicles, int first_lane, const std::string& prefix = "req-") {
     for (std::size_t i = 0; i < vehicles.size(); ++i) {
-      ASSERT_TRUE(station_->requests->write(laneMission(vehicles[i], first_lane + static_cast<int>(i))).ok());
+      ASSERT_TRUE(station_->requests->write(laneMission(vehicles[i], first_lane + static_cast<int>(i), prefix)).ok());
     }
     std::vector<std::string> ids;
-    for (const std::string& v : vehicles) ids.push_back("req-" + v);
+    for (const std::string& v : vehicles) ids.push_back(prefix + v);
     ASSERT_TRUE(station_->waitTerminal(ids, 180.0)) << logs();
     for (const std::string& id : ids) ASSERT_EQ(station_->terminal(id)->state, PlanState::kSucceeded) << id;
     ASSERT_TRUE(station_->pumpUntil(
-        [&] { return std::all_of(vehicles.begin(), vehicles.end(), [&](const auto& v) { return station_->latest(v); }); },
-        10.0));
+        [&] {
+          return std::all_of(vehicles.begin(), vehicles.end(), [&](const auto& v) {
+            for (const TrajectoryData& t : station_->trajectory_log)
+              if (t.vehicle_id == v && t.request_id == prefix + v) return true;
+            return false;
+          });
+        },
+        10.0))
+        << logs();
   }
 
   // The service ids that wrote a status for the vehicle, and the instances that wrote its trajectories.
@@ -115,6 +122,12 @@ class ShardE2E : public DaemonFixture {
     std::set<std::string> out;
     for (const PlanStatusData& s : station_->status_log)
       if (s.vehicle_id == vehicle) out.insert(s.service_id);
+    return out;
+  }
+  std::set<std::string> statusWritersOf(const std::string& request_id) const {
+    std::set<std::string> out;
+    for (const PlanStatusData& s : station_->status_log)
+      if (s.request_id == request_id) out.insert(s.service_id);
     return out;
   }
   std::set<std::string> trajectoryWriters(const std::string& vehicle, std::size_t from_entry = 0) const {
@@ -293,6 +306,39 @@ TEST_F(ShardE2E, AJoiningShardTakesNewRequestsAndLeavesTheFlyingOnesInPlace) {
   }
   EXPECT_GE(by_joiner, 1u) << "the joined daemon plans some of the new vehicles";
   for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(countOf(shards_[i].err(), "event=vehicle_moved"), 0u) << serviceId(i);
+
+  // New requests for the old vehicles: each goes to the owner of its new request, and a vehicle
+  // that changes hands between two live daemons is let go by the old one (its trajectory instance
+  // unregistered), so the ground station follows the new owner's plan and nobody else's.
+  const std::size_t again_mark = station_->trajectory_log.size();
+  ASSERT_NO_FATAL_FAILURE(sendMissions(before, 0, "again-"));
+  station_->pumpUntil([] { return false; }, 1.0);
+  std::size_t changed_hands = 0;
+  for (const std::string& v : before) {
+    const std::set<std::string> answered = statusWritersOf("again-" + v);
+    ASSERT_EQ(answered.size(), 1u) << v;
+    const std::set<std::string> writers = trajectoryWriters(v, again_mark);
+    EXPECT_EQ(writers.size(), 1u) << v << " written by two daemons after its new request";
+    ASSERT_NE(station_->latest(v), nullptr);
+    // The station holds the new plan (the one with the highest revision may be the old plan's).
+    const TrajectoryData* last = nullptr;
+    for (std::size_t i = again_mark; i < station_->trajectory_log.size(); ++i)
+      if (station_->trajectory_log[i].vehicle_id == v) last = &station_->trajectory_log[i];
+    ASSERT_NE(last, nullptr);
+    EXPECT_EQ(last->request_id, "again-" + v);
+    const std::string old_owner = *statusWritersOf("req-" + v).begin();  // who answered its first request
+    const std::string new_owner = *answered.begin();
+    const std::string moved_line = "event=vehicle_moved vehicle=" + v + " from=" + old_owner + " to=" + new_owner;
+    const std::string& old_log = shards_[static_cast<std::size_t>(old_owner.back() - 'a')].err();
+    if (new_owner != old_owner) {
+      ++changed_hands;
+      EXPECT_EQ(countOf(old_log, moved_line), 1u) << "the old owner logs the move\n" << logs();
+    } else {
+      EXPECT_EQ(countOf(old_log, "event=vehicle_moved vehicle=" + v + " "), 0u) << v;
+    }
+  }
+  std::cout << "[ shard ] " << changed_hands << " of " << before.size() << " vehicles changed hands with their new request\n";
+  EXPECT_GE(changed_hands, 1u) << "the test needs a vehicle that changes hands";
 }
 
 }  // namespace
