@@ -134,6 +134,10 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
        "folder of the state journal (journal.sqlite, docs/journal.md): accepted missions, current trajectories, "
        "obstacles and no-fly zones survive a crash and a restart; \"\" = kept in memory only",
        &c.state_dir},
+      {"service", "shard_group",
+       "daemons on one domain with the same non-empty shard group split the vehicles between them, each with its own "
+       "dds.service_id (docs/dds.md \"Shards\"); not with role standby; \"\" = not sharded: this daemon plans every request",
+       &c.shard_group},
       {"security", "dir",
        "DDS Security: the folder of this daemon's identity, certificates and signed permissions (scripts/make-pki.sh "
        "makes DIR/daemon; docs/dds.md); \"\" = unsecured",
@@ -352,6 +356,15 @@ std::int32_t ownershipStrength(const DaemonConfig& config) {
 Status validateDaemonConfig(const DaemonConfig& config) {
   if (config.role != "primary" && config.role != "standby") {
     return make_error(ErrorCode::kInvalidArgument, "service.role", "'" + config.role + "' is not one of primary, standby");
+  }
+  if (config.shard_group.find_first_of(";=") != std::string::npos) {
+    return make_error(ErrorCode::kInvalidArgument, "service.shard_group",
+                      "'" + config.shard_group + "' has a ';' or '=' (the group travels in the daemon's USER_DATA)");
+  }
+  if (!config.shard_group.empty() && config.role == "standby") {
+    return make_error(ErrorCode::kInvalidArgument, "service.shard_group",
+                      "'" + config.shard_group + "' with service.role standby: a shard has no hot standby (its vehicles "
+                      "move to the other shards when it dies); run shards as primaries");
   }
   if (config.primary_strength <= config.standby_strength) {
     return make_error(ErrorCode::kInvalidArgument, "dds.primary_strength",

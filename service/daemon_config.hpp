@@ -30,6 +30,9 @@ struct DaemonConfig {
   // [service]
   std::string role = "primary";         // primary or standby (hot standby of the primary's service_id)
   std::string state_dir;                // the state journal's folder (state_journal.hpp); "" = none
+  // Daemons with one non-empty shard group on a domain split the vehicles (shard_router.hpp);
+  // "" = not sharded.
+  std::string shard_group;
   // [security]
   std::string security_dir;             // DDS Security identity folder (scripts/make-pki.sh); "" = unsecured
   // [ros2]
@@ -44,7 +47,8 @@ struct DaemonConfig {
 // The ownership strength of this daemon's owned writers: its role's.
 std::int32_t ownershipStrength(const DaemonConfig& config);
 // The keys that relate to each other: kInvalidArgument naming the key (dds.primary_strength not
-// above dds.standby_strength; service.role neither primary nor standby). parseDaemonConfig checks
+// above dds.standby_strength; service.role neither primary nor standby; service.shard_group with
+// service.role standby). parseDaemonConfig checks
 // these too; the daemon checks again after its command-line overrides (--role).
 Status validateDaemonConfig(const DaemonConfig& config);
 

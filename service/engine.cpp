@@ -497,7 +497,7 @@ void Engine::plan(Job& job) {
   {
     std::lock_guard lock(mutex_);
     if (!job.cancel->load() && !stopping_) {
-      mission->plan_id = r.vehicle_id + "-" + std::to_string(++plan_counter_);
+      mission->plan_id = r.vehicle_id + "-" + (plan_id_tag_.empty() ? "" : plan_id_tag_ + "-") + std::to_string(++plan_counter_);
       if (auto it = missions_.find(r.vehicle_id); it != missions_.end()) replaced = it->second;
       missions_[r.vehicle_id] = mission;
       registered = true;

@@ -142,6 +142,21 @@ class Engine {
   // planned are queued again, and each flying mission's flight is rebuilt from its request on a
   // worker so the replanning loop goes on with it (its next revision follows the journal's).
   void recover(const JournalState& state);
+  // Sharded daemons (engine_handover.cpp). A vehicle this daemon no longer plans: its queued
+  // request is dropped, a plan in progress cancelled, its mission ended, all without a status or a
+  // retraction (the daemon that takes the vehicle answers from now on; its caller stops publishing
+  // for the vehicle before calling this).
+  void release(const std::string& vehicle_id);
+  // The same for a fleet request not yet planned (queued or in progress).
+  void releaseFleet(const std::string& request_id);
+  // A vehicle taken over from another daemon in flight: the flight is rebuilt from its request as
+  // a restart does (recover()), started when `last` started, and goes out at once as revision
+  // last.revision + 1 of last.plan_id, then is replanned as usual. `last` names the trajectory in
+  // force (its samples are not needed). Answers no status: the request was answered.
+  void resumeFlight(const MissionRequestData& request, const TrajectoryData& last, std::int64_t flight_start_utc_ns);
+  // Plan ids become "<vehicle>-<tag>-<n>" (before start()): daemons that plan the same vehicles in
+  // turn (a shard group) never give two plans one id, their counters being their own.
+  void setPlanIdTag(const std::string& tag);
 
   ServiceStatusData status(const std::string& service_id) const;
   std::size_t activeMissions() const;
@@ -207,6 +222,7 @@ class Engine {
   std::atomic<bool> stopping_{false};
   std::atomic<std::uint64_t> replans_{0};
   std::uint64_t plan_counter_ = 0;
+  std::string plan_id_tag_;                                    // "" = "<vehicle>-<n>"
   std::vector<std::thread> workers_;
   std::thread replanner_;
 };

@@ -52,7 +52,7 @@ nlohmann::json toJson(const LiveService& l) {
           {"pid", l.instance.pid},          {"uptime_s", uptimeS(s)},        {"queue_length", s.queue_length},
           {"vehicles", s.vehicles},         {"replans", s.replans},          {"obstacles", s.obstacles},
           {"terrain_loaded", s.terrain_loaded}, {"terrain", s.terrain_name}, {"version", s.service_version},
-          {"heartbeat_period_s", s.heartbeat_period_s}};
+          {"heartbeat_period_s", s.heartbeat_period_s}, {"shard_group", l.instance.shard_group}};
 }
 
 std::string describeLine(const LiveService& l) {
@@ -62,6 +62,8 @@ std::string describeLine(const LiveService& l) {
   return "service=" + s.service_id + " instance=" + s.instance_id +
          (l.instance.role.empty() || l.instance.host.empty() ? "" : " role=" + l.instance.role) +
          (l.instance.host.empty() ? "" : " host=" + l.instance.host + " pid=" + std::to_string(l.instance.pid)) +
+         // The members of a shard group are the services that name the same group.
+         (l.instance.shard_group.empty() ? "" : " shard_group=" + l.instance.shard_group) +
          " uptime_s=" + uptime + " queue=" + std::to_string(s.queue_length) + " vehicles=" + std::to_string(s.vehicles) +
          " replans=" + std::to_string(s.replans) + " obstacles=" + std::to_string(s.obstacles) +
          " terrain=" + (s.terrain_loaded ? s.terrain_name : std::string("(none)")) + " version=" + s.service_version;

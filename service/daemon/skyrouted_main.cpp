@@ -35,6 +35,7 @@ struct Overrides {
   std::optional<std::string> security_dir;
   std::optional<std::string> state_dir;
   std::optional<std::string> role;
+  std::optional<std::string> shard_group;
   std::optional<std::string> log_level;
   std::optional<std::string> log_format;
   std::optional<std::uint64_t> seed;
@@ -50,6 +51,7 @@ skyroute::Result<skyroute::DaemonConfig> buildConfig(const Overrides& o) {
   if (o.security_dir) config.security_dir = *o.security_dir;
   if (o.state_dir) config.state_dir = *o.state_dir;
   if (o.role) config.role = *o.role;
+  if (o.shard_group) config.shard_group = *o.shard_group;
   if (skyroute::Status s = skyroute::validateDaemonConfig(config); !s.ok()) return s.error();
   if (o.log_level) config.log_level = *o.log_level;
   if (o.log_format) config.log_format = *o.log_format;
@@ -98,6 +100,9 @@ int main(int argc, char** argv) {
                  "too, and ground stations take its samples when the primary dies; docs/dds.md (config service.role, "
                  "default primary)")
       ->check(CLI::IsMember({"primary", "standby"}));
+  app.add_option("--shard-group", overrides.shard_group,
+                 "daemons on one domain with the same shard group split the vehicles between them, each with its own "
+                 "dds.service_id; docs/dds.md (config service.shard_group, default \"\": not sharded)");
   app.add_option("--seed", overrides.seed, "Seed of every plan (config planning.seed, default 1)");
   app.add_option("--log-level", overrides.log_level, "trace | debug | info | warn | error (config log.level, default info)");
   app.add_option("--log-format", overrides.log_format, "text | json (config log.format, default text)");
@@ -136,8 +141,9 @@ int main(int argc, char** argv) {
     std::cerr << "skyrouted: " << s.error().describe() << std::endl;
     return 2;
   }
-  spdlog::info("event=starting version={} dem={} domain={} role={} strength={} security={} state_dir={}",
-               SKYROUTE_VERSION, config->dem_path, config->domain, config->role, skyroute::ownershipStrength(*config),
+  spdlog::info("event=starting version={} dem={} domain={} role={} shard_group={} strength={} security={} state_dir={}",
+               SKYROUTE_VERSION, config->dem_path, config->domain, config->role,
+               config->shard_group.empty() ? "none" : config->shard_group, skyroute::ownershipStrength(*config),
                config->security_dir.empty() ? "off" : config->security_dir,
                config->state_dir.empty() ? "none" : config->state_dir);
 

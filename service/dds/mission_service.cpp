@@ -7,9 +7,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include "service/dds/mission_service_edge.hpp"
+#include "service/dds/shard_members.hpp"
 #include "service/journal_schema.hpp"
 #include "service/no_fly_geojson.hpp"
-
 
 namespace skyroute::dds {
 namespace {
@@ -60,7 +61,7 @@ bool terrainChanged(const DaemonConfig& a, const DaemonConfig& b) {
 // ROS 2 mirror (on or off, or the origin of another terrain).
 bool edgeChanged(const DaemonConfig& a, const DaemonConfig& b) {
   return a.domain != b.domain || a.service_id != b.service_id || a.security_dir != b.security_dir ||
-         a.role != b.role || a.primary_strength != b.primary_strength || a.standby_strength != b.standby_strength ||
+         a.role != b.role || a.shard_group != b.shard_group || a.primary_strength != b.primary_strength || a.standby_strength != b.standby_strength ||
          a.liveliness_lease_s != b.liveliness_lease_s ||
          a.ros2_enabled != b.ros2_enabled ||
          (b.ros2_enabled && terrainChanged(a, b));
@@ -68,23 +69,6 @@ bool edgeChanged(const DaemonConfig& a, const DaemonConfig& b) {
 
 }  // namespace
 
-// Members in creation order: the participant first, so it is destroyed last.
-struct MissionService::Edge {
-  int domain = 0;
-  Entity participant;
-  std::optional<Reader<MissionRequestData>> requests;
-  std::optional<Reader<CancelRequestData>> cancels;
-  std::optional<Reader<ObstacleUpdateData>> obstacles;
-  std::optional<Reader<NoFlyZoneData>> zones;
-  std::optional<Writer<TrajectoryData>> trajectories;
-  std::optional<Writer<PlanStatusData>> statuses;
-  std::optional<Writer<ServiceStatusData>> heartbeat;
-  std::optional<Reader<ServiceStatusData>> rivals;  // every daemon's heartbeat, ours included
-  std::optional<Reader<FleetRequestData>> fleet_requests;
-  std::optional<Writer<FleetStatusData>> fleet_statuses;
-  std::unique_ptr<Ros2Mirror> ros2;  // ROS 2 topics of every trajectory (ros2.enabled)
-  std::optional<WaitLoop> loop;
-};
 
 MissionService::MissionService() = default;
 
@@ -111,6 +95,7 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   me.service_id = config.service_id;
   me.heartbeat_period_s = config.heartbeat_period_s;
   me.role = config.role;
+  me.shard_group = config.shard_group;
   const OwnedWriterOptions owned{ownershipStrength(config), config.liveliness_lease_s};
   // A participant's announcement travels in clear even under DDS Security (the specification's
   // SPDP), so a secured daemon names itself only in its heartbeat writer's USER_DATA, which secure
@@ -141,6 +126,10 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   if (auto e = emplaceCreated(edge->rivals, Reader<ServiceStatusData>::create(p))) return *e;
   if (auto e = emplaceCreated(edge->fleet_requests, Reader<FleetRequestData>::create(p))) return *e;
   if (auto e = emplaceCreated(edge->fleet_statuses, Writer<FleetStatusData>::create(p, me.userData(), owned))) return *e;
+  if (!config.shard_group.empty()) {
+    if (auto e = emplaceCreated(edge->members, Reader<ServiceStatusData>::create(p))) return *e;
+    if (auto e = emplaceCreated(edge->published, Reader<TrajectoryData>::create(p))) return *e;
+  }
   if (config.ros2_enabled) edge->ros2 = Ros2Mirror::create(p, world.frame().anchor());
   if (auto e = emplaceCreated(edge->loop, WaitLoop::create(p))) return *e;
 
@@ -148,7 +137,14 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   // logged (rate-limited per reason) and answered where its topic has a reply.
   WaitLoop& l = *edge->loop;
   Status added = l.addWithRejects(
-      *edge->requests, [this](MissionRequestData&& request) { engine_->submit(std::move(request)); },
+      *edge->requests,
+      [this](MissionRequestData&& request) {
+        if (router_) {
+          routeMission(std::move(request));
+        } else {
+          engine_->submit(std::move(request));
+        }
+      },
       [this](const Error& e, const MissionRequestData& identity) {
         ++bad_samples_;
         bad_samples_log_.warn("bad_request:" + e.field,
@@ -158,7 +154,11 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
       });
   if (!added.ok()) return added.error();
   added = l.addWithRejects(
-      *edge->cancels, [this](CancelRequestData&& cancel) { engine_->cancel(cancel); },
+      *edge->cancels,
+      [this](CancelRequestData&& cancel) {
+        // In a shard group only the vehicle's owner answers; every member forgets the mission.
+        if (!router_ || router_->onCancel(cancel)) engine_->cancel(cancel);
+      },
       [this](const Error& e, const CancelRequestData& identity) {
         ++bad_samples_;
         bad_samples_log_.warn("bad_cancel:" + e.field, fmt::format("event=bad_cancel request={} vehicle={} field={} "
@@ -198,7 +198,14 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   });
   if (!added.ok()) return added.error();
   added = l.addWithRejects(
-      *edge->fleet_requests, [this](FleetRequestData&& request) { engine_->submitFleet(std::move(request)); },
+      *edge->fleet_requests,
+      [this](FleetRequestData&& request) {
+        if (router_) {
+          routeFleet(std::move(request));
+        } else {
+          engine_->submitFleet(std::move(request));
+        }
+      },
       [this](const Error& e, const FleetRequestData& identity) {
         ++bad_samples_;
         bad_samples_log_.warn("bad_fleet_request:" + e.field,
@@ -214,6 +221,15 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
         publishFleetStatus(status);
       });
   if (!added.ok()) return added.error();
+  if (edge->members) {
+    // A member that appears, leaves or loses its liveliness (killed): the vehicles are assigned
+    // again. Its samples stay in the reader (read, never taken), so only its statuses wake the loop.
+    added = l.addStatus(edge->members->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS | DDS_LIVELINESS_CHANGED_STATUS,
+                        [this] { scheduleShardCheck(); });
+    if (!added.ok()) return added.error();
+    added = l.add(*edge->published, [this](TrajectoryData&& t) { router_->onTrajectory(t); }, [](const Error&) {});
+    if (!added.ok()) return added.error();
+  }
   return edge;
 }
 
@@ -240,6 +256,13 @@ Status MissionService::configure(const DaemonConfig& config) {
   auto engine = Engine::create(*world, config.engine, journal_sink_ ? static_cast<EngineSink&>(*journal_sink_) : *this);
   if (!engine.ok()) return engine.error();
   instance_ = ServiceInstance::current(config.service_id, config.heartbeat_period_s, config.role);
+  instance_.shard_group = config.shard_group;
+  if (!config.shard_group.empty()) {
+    router_ = std::make_unique<ShardRouter>(ShardMember{config.service_id, instance_.started_utc_ns},
+                                            static_cast<std::int64_t>(kShardJoinMarginS * 1e9));
+    // Shards plan the same vehicles in turn, each counting its own plans: its instance in the plan id.
+    (*engine)->setPlanIdTag(instance_.instance_id.substr(0, 8));
+  }
   if (journal_) {
     predecessor_instance_id_ = recovered_->owner_instance_id;
     if (Status s = journal_->recordOwner(instance_.instance_id); !s.ok()) return s.error();
@@ -322,11 +345,19 @@ Status MissionService::activate() {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   if (recovered_) {
+    if (router_) {
+      // A shard takes its vehicles from the wire and its own copy of the requests (the group may
+      // have moved them while it was down): from the journal only the world and the plan counter.
+      recovered_->missions.clear();
+      recovered_->trajectories.clear();
+      recovered_->fleets.clear();
+    }
     catchUpFromPartner(*recovered_);
     engine_->recover(*recovered_);
     recovered_.reset();
   }
   engine_->start();
+  if (router_) startShard();
   startDdsThread();
   state_ = State::kActive;
   spdlog::info("event=active service_id={} domain={} instance={}", config().service_id, edge_->domain,
@@ -400,6 +431,10 @@ Status MissionService::reload(const DaemonConfig& config) {
                       "the state journal's folder cannot change while the daemon runs (restart it to use " +
                           (config.state_dir.empty() ? std::string("none") : config.state_dir) + ")");
   }
+  if (config.shard_group != old.shard_group || (!old.shard_group.empty() && config.service_id != old.service_id)) {
+    return make_error(ErrorCode::kInvalidArgument, config.shard_group != old.shard_group ? "service.shard_group" : "dds.service_id",
+                      "a shard's group and service id cannot change while the daemon runs (restart it)");
+  }
   std::shared_ptr<WorldModel> world;
   if (terrainChanged(old, config)) {
     if (Status free = engine_->canReplaceWorld(); !free.ok()) return free;  // before loading a large DEM
@@ -458,6 +493,8 @@ Status MissionService::reload(const DaemonConfig& config) {
 }
 
 void MissionService::publishStatus(const PlanStatusData& status) {
+  std::shared_lock ownership(ownership_mutex_);
+  if (router_ && !router_->ownsVehicle(status.vehicle_id)) return;  // its owner answers
   PlanStatusData addressed = status;
   addressed.service_instance = instance_.instance_id;
   addressed.service_id = instance_.service_id;
@@ -468,6 +505,8 @@ void MissionService::publishStatus(const PlanStatusData& status) {
 }
 
 void MissionService::publishTrajectory(const TrajectoryData& trajectory) {
+  std::shared_lock ownership(ownership_mutex_);
+  if (router_ && !router_->ownsVehicle(trajectory.vehicle_id)) return;
   std::shared_lock lock(edge_mutex_);
   if (Status s = edge_->trajectories->write(trajectory); !s.ok()) {
     spdlog::error("event=write_failed topic=trajectory field={} message=\"{}\"", s.error().field, s.error().message);
@@ -476,6 +515,8 @@ void MissionService::publishTrajectory(const TrajectoryData& trajectory) {
 }
 
 void MissionService::retractTrajectory(const std::string& vehicle_id) {
+  std::shared_lock ownership(ownership_mutex_);
+  if (router_ && !router_->ownsVehicle(vehicle_id)) return;
   TrajectoryData key;
   key.vehicle_id = vehicle_id;
   std::shared_lock lock(edge_mutex_);
@@ -486,6 +527,8 @@ void MissionService::retractTrajectory(const std::string& vehicle_id) {
 }
 
 void MissionService::publishFleetStatus(const FleetStatusData& status) {
+  std::shared_lock ownership(ownership_mutex_);
+  if (router_ && !router_->ownsFleet(status.request_id)) return;
   std::shared_lock lock(edge_mutex_);
   if (Status s = edge_->fleet_statuses->write(status); !s.ok()) {
     spdlog::error("event=write_failed topic=fleet_status field={} message=\"{}\"", s.error().field, s.error().message);
@@ -530,9 +573,11 @@ void MissionService::republishDue(Clock::time_point now) {
   republish_at_.erase(republish_at_.begin());
   std::size_t n = 0;
   for (const TrajectoryData& t : engine_->currentTrajectories()) {
+    if (router_ && !taken_vehicles_.contains(t.vehicle_id)) continue;  // only those that just moved here
     publishTrajectory(t);
     ++n;
   }
+  if (republish_at_.empty()) taken_vehicles_.clear();
   spdlog::info("event=takeover_republished trajectories={}", n);
 }
 
@@ -599,14 +644,17 @@ void MissionService::ddsThread() {
   for (;;) {
     const auto now = Clock::now();
     republishDue(now);
+    shardCheckDue(now);
     if (now >= next_heartbeat) {
       publishHeartbeat();
+      scheduleShardCheck();  // a restarted member's first heartbeat makes it live again
       // On the period's grid, so a late heartbeat does not delay every later one.
       const auto period = seconds(config().heartbeat_period_s);
       next_heartbeat = now - next_heartbeat < period ? next_heartbeat + period : now + period;
       bad_samples_log_.flush(now);
     }
-    const auto wake = republish_at_.empty() ? next_heartbeat : std::min(next_heartbeat, republish_at_.front());
+    auto wake = republish_at_.empty() ? next_heartbeat : std::min(next_heartbeat, republish_at_.front());
+    if (!shard_check_at_.empty()) wake = std::min(wake, shard_check_at_.front());
     const double wait_s = std::chrono::duration<double>(wake - Clock::now()).count();
     auto outcome = loop.runOnce(std::max(wait_s, 0.0));
     if (!outcome.ok()) {

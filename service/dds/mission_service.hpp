@@ -27,6 +27,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <shared_mutex>
 #include <thread>
 
@@ -37,6 +38,7 @@
 #include "service/engine.hpp"
 #include "service/journaling_sink.hpp"
 #include "service/log_throttle.hpp"
+#include "service/shard_router.hpp"
 #include "service/state_journal.hpp"
 
 namespace skyroute::dds {
@@ -102,6 +104,21 @@ class MissionService final : public EngineSink {
   // revisions of the same plan are taken from the bus; vehicles it gave a newer plan stay its own.
   void catchUpFromPartner(JournalState& state);
 
+  // Shard groups (service.shard_group, mission_service_shards.cpp). Requests go through the
+  // router: every member keeps a copy, the owner plans. Ownership is evaluated again on the
+  // DDS thread when a heartbeat writer is matched, leaves or loses its liveliness, and at each
+  // heartbeat; vehicles that leave are let go (unregistered) under ownership_mutex_, so no
+  // engine thread writes them after.
+  static constexpr double kShardJoinMarginS = 1.0;  // a member owns requests that arrive this long after its start
+  void startShard();
+  void routeMission(MissionRequestData&& request);
+  void routeFleet(FleetRequestData&& request);
+  void scheduleShardCheck();                              // DDS thread
+  void shardCheckDue(std::chrono::steady_clock::time_point now);  // DDS thread
+  void evaluateShard();                                   // DDS thread
+  // Lets go of what `actions` releases (under ownership_mutex_, taken here), then starts what it plans.
+  void applyShardActions(const ShardActions& actions);
+
   mutable std::mutex config_mutex_;  // config_ (reload writes it, the DDS thread reads it)
   DaemonConfig config_;
   State state_ = State::kUnconfigured;
@@ -125,6 +142,15 @@ class MissionService final : public EngineSink {
   std::vector<std::string> partners_logged_;        // DDS thread only
   std::uint32_t alive_heartbeat_writers_ = 0;       // DDS thread only
   std::vector<std::chrono::steady_clock::time_point> republish_at_;  // DDS thread only, in order
+  std::unique_ptr<ShardRouter> router_;  // null unless sharded
+  // Publishing (engine threads) holds it shared from the ownership check to the write; a change
+  // of ownership holds it exclusive while the released vehicles are unregistered.
+  mutable std::shared_mutex ownership_mutex_;
+  std::chrono::steady_clock::time_point shard_settle_at_{};          // owns nothing before
+  std::vector<std::chrono::steady_clock::time_point> shard_check_at_;  // DDS thread only, in order
+  std::vector<std::string> shard_members_logged_;                    // DDS thread only
+  bool shard_settled_logged_ = false;                                // DDS thread only
+  std::set<std::string> taken_vehicles_;  // DDS thread only: republished with republish_at_
   LogThrottle bad_samples_log_;      // refused samples, rate-limited per reason
   std::atomic<std::uint64_t> bad_samples_{0};
 };

@@ -54,7 +54,8 @@ ServiceInstance ServiceInstance::current(const std::string& service_id, double h
 std::string ServiceInstance::userData() const {
   return std::string(kTag) + ";service_id=" + service_id + ";instance=" + instance_id + ";host=" + host +
          ";pid=" + std::to_string(pid) + ";started_utc_ns=" + std::to_string(started_utc_ns) +
-         ";heartbeat_period_s=" + numberText(heartbeat_period_s, 9) + ";role=" + role;
+         ";heartbeat_period_s=" + numberText(heartbeat_period_s, 9) + ";role=" + role +
+         (shard_group.empty() ? std::string() : ";shard_group=" + shard_group);
 }
 
 std::optional<ServiceInstance> ServiceInstance::fromUserData(std::string_view text) {
@@ -76,6 +77,7 @@ std::optional<ServiceInstance> ServiceInstance::fromUserData(std::string_view te
         if (key == "started_utc_ns") s.started_utc_ns = std::stoll(value);
         if (key == "heartbeat_period_s") s.heartbeat_period_s = std::stod(value);
         if (key == "role" && !value.empty()) s.role = value;
+        if (key == "shard_group") s.shard_group = value;
       } catch (const std::exception&) {
         return std::nullopt;
       }

@@ -70,6 +70,13 @@ class Writer {
   // Tells readers the instance with this message's key is gone (transient-local history drops it).
   Status dispose(const Plain& key_holder) const { return send(dds_dispose, "dds_dispose on ", key_holder); }
 
+  // This writer lets go of the instance with this message's key without disposing it: readers
+  // keep its last sample, and another writer of equal strength can own it at once (a reader hands
+  // an instance between equal writers only when its owner is gone or unregistered).
+  Status unregisterInstance(const Plain& key_holder) const {
+    return send(dds_unregister_instance, "dds_unregister_instance on ", key_holder);
+  }
+
   // Waits until every matched reliable reader acknowledged what was written.
   Status waitForAcks(double timeout_s) const {
     const dds_return_t rc = dds_wait_for_acks(writer_.get(), static_cast<dds_duration_t>(timeout_s * 1e9));

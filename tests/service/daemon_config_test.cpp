@@ -162,5 +162,34 @@ TEST(DaemonConfig, HotStandbyRoleAndStrengthsAreReadAndChecked) {
   EXPECT_TRUE(validateDaemonConfig(overridden).ok());
 }
 
+TEST(DaemonConfig, ShardGroupIsReadPrintedAndRefusedWithAStandby) {
+  EXPECT_EQ(DaemonConfig{}.shard_group, "") << "not sharded unless asked";
+  auto sharded = parseDaemonConfig("[service]\nshard_group = \"east\"\n[dds]\nservice_id = \"shard-1\"\n", "shard.toml");
+  ASSERT_TRUE(sharded.ok()) << sharded.error().describe();
+  EXPECT_EQ(sharded->shard_group, "east");
+  EXPECT_EQ(sharded->service_id, "shard-1");
+  // --print-config shows the key, and what it prints reads back the same.
+  const std::string text = describeDaemonConfig(*sharded);
+  EXPECT_NE(text.find("shard_group = \"east\""), std::string::npos) << text;
+  auto again = parseDaemonConfig(text, "printed.toml");
+  ASSERT_TRUE(again.ok()) << again.error().describe();
+  EXPECT_EQ(again->shard_group, "east");
+
+  const auto refused = [](const std::string& toml) {
+    auto parsed = parseDaemonConfig(toml, "bad.toml");
+    return parsed.ok() ? std::string("(accepted)") : parsed.error().field;
+  };
+  EXPECT_EQ(refused("[service]\nshard_group = \"east\"\nrole = \"standby\"\n"), "service.shard_group");
+  EXPECT_EQ(refused("[service]\nshard_group = \"a;b\"\n"), "service.shard_group");
+  EXPECT_EQ(refused("[service]\nshard_group = 3\n"), "service.shard_group");
+  // The daemon checks again after --shard-group and --role.
+  DaemonConfig overridden;
+  overridden.shard_group = "east";
+  EXPECT_TRUE(validateDaemonConfig(overridden).ok());
+  overridden.role = "standby";
+  ASSERT_FALSE(validateDaemonConfig(overridden).ok());
+  EXPECT_EQ(validateDaemonConfig(overridden).error().field, "service.shard_group");
+}
+
 }  // namespace
 }  // namespace skyroute

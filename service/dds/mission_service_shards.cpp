@@ -1,0 +1,153 @@
+// MissionService in a shard group (service.shard_group, docs/dds.md "Shards"): the router
+// (shard_router.hpp) says who plans what; this file feeds it from the wire and carries out what
+// it decides. Equal ownership strengths: Cyclone's readers settle a tie between two live writers
+// of one instance by their GUIDs, not by who wrote last, so a daemon that hands a vehicle to a
+// live peer must unregister the instance, or readers could go on refusing the new owner's samples.
+// A dead owner needs nothing: its liveliness lease ends its ownership at every reader.
+#include <algorithm>
+#include <chrono>
+
+#include <spdlog/spdlog.h>
+
+#include "service/dds/mission_service.hpp"
+#include "service/dds/mission_service_edge.hpp"
+#include "service/dds/shard_members.hpp"
+
+namespace skyroute::dds {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+Clock::duration seconds(double s) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+}
+
+std::string joined(const std::vector<std::string>& ids) {
+  std::string out;
+  for (const std::string& id : ids) out += (out.empty() ? "" : ",") + id;
+  return out;
+}
+
+}  // namespace
+
+void MissionService::startShard() {
+  // Discovery takes a moment: until one lease has passed, the members this daemon sees may not
+  // be all there are, so it claims nothing (requests that arrive meanwhile are kept).
+  shard_settle_at_ = Clock::now() + seconds(config().liveliness_lease_s);
+  shard_check_at_.push_back(shard_settle_at_);
+}
+
+void MissionService::scheduleShardCheck() {
+  if (!router_) return;
+  const auto now = Clock::now();
+  // At once, and again shortly: a liveliness change may be signalled before the instance states
+  // it changes are readable.
+  shard_check_at_.push_back(now);
+  shard_check_at_.push_back(now + seconds(0.05));
+  std::sort(shard_check_at_.begin(), shard_check_at_.end());
+}
+
+void MissionService::shardCheckDue(Clock::time_point now) {
+  if (!router_ || shard_check_at_.empty() || now < shard_check_at_.front()) return;
+  while (!shard_check_at_.empty() && shard_check_at_.front() <= now) shard_check_at_.erase(shard_check_at_.begin());
+  evaluateShard();
+}
+
+void MissionService::evaluateShard() {
+  std::vector<ShardMember> members;
+  for (const ServiceInstance& i : liveShardMembers(edge_->members->handle(), config().shard_group)) {
+    members.push_back(ShardMember{i.service_id, i.started_utc_ns});
+  }
+  const bool settled = Clock::now() >= shard_settle_at_;
+  ShardActions actions;
+  {
+    std::unique_lock ownership(ownership_mutex_);
+    actions = router_->setMembers(std::move(members), settled, utcNowNs());
+    for (const std::string& vehicle : actions.release_vehicles) {
+      TrajectoryData key;
+      key.vehicle_id = vehicle;
+      (void)edge_->trajectories->unregisterInstance(key);  // an instance never written: nothing to release
+    }
+  }
+  const std::vector<std::string> ids = router_->memberIds();
+  if (ids != shard_members_logged_ || settled != shard_settled_logged_) {
+    shard_members_logged_ = ids;
+    shard_settled_logged_ = settled;
+    spdlog::info("event=shard_members group={} members=[{}] self={} settled={}", config().shard_group, joined(ids),
+                 instance_.service_id, settled);
+  }
+  applyShardActions(actions);
+}
+
+void MissionService::routeMission(MissionRequestData&& request) {
+  ShardActions actions;
+  {
+    std::unique_lock ownership(ownership_mutex_);
+    actions = router_->onMission(request, utcNowNs());
+    for (const std::string& vehicle : actions.release_vehicles) {
+      TrajectoryData key;
+      key.vehicle_id = vehicle;
+      (void)edge_->trajectories->unregisterInstance(key);
+    }
+  }
+  if (actions.plan.empty()) {
+    spdlog::debug("event=request_dormant request={} vehicle={}", request.request_id, request.vehicle_id);
+  }
+  applyShardActions(actions);
+}
+
+void MissionService::routeFleet(FleetRequestData&& request) {
+  ShardActions actions;
+  {
+    std::unique_lock ownership(ownership_mutex_);
+    actions = router_->onFleet(request, utcNowNs());
+    for (const std::string& vehicle : actions.release_vehicles) {
+      TrajectoryData key;
+      key.vehicle_id = vehicle;
+      (void)edge_->trajectories->unregisterInstance(key);
+    }
+  }
+  applyShardActions(actions);
+}
+
+void MissionService::applyShardActions(const ShardActions& actions) {
+  for (const std::string& vehicle : actions.release_vehicles) engine_->release(vehicle);
+  for (const std::string& request_id : actions.release_fleets) engine_->releaseFleet(request_id);
+  for (const MissionRequestData& request : actions.plan) engine_->submit(request);
+  for (const auto& [request, last] : actions.resume) {
+    engine_->resumeFlight(request, last.identity, last.flight_start_utc_ns);
+    taken_vehicles_.insert(request.vehicle_id);
+  }
+  for (const FleetRequestData& fleet : actions.plan_fleets) engine_->submitFleet(fleet);
+  if (!actions.resume.empty()) {
+    // Readers that have not yet noticed the old owner's death refuse this daemon's first revision
+    // when the old writer wins the tie: once more after a lease, when every reader has.
+    republish_at_.push_back(Clock::now() + seconds(config().liveliness_lease_s + 0.1));
+    std::sort(republish_at_.begin(), republish_at_.end());
+  }
+  // Each daemon logs the moves to or from itself; moves from nobody (a daemon settling, a new
+  // vehicle) are not moves.
+  std::vector<const VehicleMove*> moves;
+  for (const VehicleMove& m : actions.moves) {
+    if (!m.from.empty() && (m.from == instance_.service_id || m.to == instance_.service_id)) moves.push_back(&m);
+  }
+  constexpr std::size_t kListed = 8;
+  if (moves.size() <= kListed) {
+    for (const VehicleMove* m : moves) {
+      spdlog::info("event=vehicle_moved vehicle={} from={} to={}", m->vehicle_id, m->from, m->to.empty() ? "-" : m->to);
+    }
+  } else {
+    const auto to_self = std::count_if(moves.begin(), moves.end(),
+                                       [&](const VehicleMove* m) { return m->to == instance_.service_id; });
+    const auto from_self = std::count_if(moves.begin(), moves.end(),
+                                         [&](const VehicleMove* m) { return m->from == instance_.service_id; });
+    spdlog::info("event=vehicles_moved count={} to_self={} from_self={}", moves.size(), to_self, from_self);
+  }
+  if (!actions.resume.empty() || !actions.release_vehicles.empty() || !actions.plan_fleets.empty()) {
+    spdlog::info("event=shard_actions released={} planned={} resumed={} fleets_planned={} owned={}",
+                 actions.release_vehicles.size(), actions.plan.size(), actions.resume.size(),
+                 actions.plan_fleets.size(), router_->ownedVehicles());
+  }
+}
+
+}  // namespace skyroute::dds

@@ -1,0 +1,345 @@
+// Daemons in a shard group (service.shard_group), end to end: three skyrouted processes on one
+// domain split thirty vehicles so that each vehicle is planned and answered by exactly one of them
+// (counted by the PlanStatus writers, service_id, and the trajectory writers, source_instance,
+// per vehicle). One is killed (SIGKILL) while its vehicles fly: each of them gets its next
+// revision from a survivor, of the same plan and numbered right after the last one (no gap, no
+// repeat), and afterwards only that survivor plans it. A fleet request is planned by one daemon
+// for all its vehicles. A daemon that joins takes new requests and leaves the others in place.
+// DDS domains 131-133.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tests/daemon/daemon_fixture.hpp"
+
+namespace skyroute::testing {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::size_t countOf(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+class ShardE2E : public DaemonFixture {
+ protected:
+  void TearDown() override {
+    for (ChildProcess& shard : shards_) {
+      if (shard.running()) {
+        shard.signal(SIGTERM);
+        EXPECT_EQ(shard.wait(10.0), 0) << shard.err();
+      }
+    }
+    for (const std::string& path : config_paths_) std::filesystem::remove(path);
+    DaemonFixture::TearDown();
+  }
+
+  static std::string serviceId(std::size_t i) { return std::string("shard-") + static_cast<char>('a' + i); }
+
+  // Starts shard i on `domain_` (its service id in a configuration file, the group on the command line).
+  void spawnShard(std::size_t i) {
+    const std::string path = e2eTempPath("shard_" + std::to_string(domain_) + "_" + serviceId(i) + ".toml");
+    std::ofstream(path) << "[dds]\nservice_id = \"" << serviceId(i) << "\"\n";
+    config_paths_.push_back(path);
+    if (shards_.size() <= i) shards_.resize(i + 1);
+    shards_[i] = ChildProcess::spawn({SKYROUTED, "--domain", std::to_string(domain_), "--config", path,
+                                      "--shard-group", "g"},
+                                     "skyrouted_" + std::to_string(domain_) + "_" + serviceId(i));
+    ASSERT_TRUE(shards_[i].started());
+  }
+
+  // Waits until shards 0..n-1 all serve and each sees all of them as settled members; then one
+  // join margin more, so every one of them owns the requests that follow.
+  void waitForGroup(std::size_t n) {
+    std::string members;
+    for (std::size_t i = 0; i < n; ++i) members += (i ? "," : "") + serviceId(i);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::string line = "members=[" + members + "] self=" + serviceId(i) + " settled=true";
+      ASSERT_TRUE(station_->pumpUntil(
+          [&] { return shards_[i].err().find(line) != std::string::npos || !shards_[i].running(); }, 60.0))
+          << serviceId(i) << " never saw " << line << "\n" << shards_[i].err();
+      ASSERT_TRUE(shards_[i].running()) << shards_[i].err();
+    }
+    ASSERT_TRUE(station_->requests->waitForReaders(static_cast<std::uint32_t>(n), 20.0).ok());
+    ASSERT_TRUE(station_->trajectories->waitForWriters(static_cast<std::uint32_t>(n), 20.0).ok());
+    ASSERT_TRUE(station_->statuses->waitForWriters(static_cast<std::uint32_t>(n), 20.0).ok());
+    station_->pumpUntil([] { return false; }, 1.1);  // the join margin (MissionService::kShardJoinMarginS)
+  }
+
+  void startGroup(int domain, std::size_t n) {
+    domain_ = domain;
+    for (std::size_t i = 0; i < n; ++i) spawnShard(i);
+    station_ = Station::open(domain);
+    ASSERT_TRUE(station_);
+    waitForGroup(n);
+  }
+
+  // A short mission in its own lane, so vehicles never meet.
+  MissionRequestData laneMission(const std::string& vehicle, int lane, const std::string& prefix = "req-") const {
+    MissionRequestData m;
+    m.request_id = prefix + vehicle;
+    m.vehicle_id = vehicle;
+    const double north = -2900.0 + 200.0 * lane;
+    m.begin = above(-1500, north, 300);
+    m.points = {above(0, north + 80, 300)};
+    m.end = above(1500, north, 300);
+    return m;
+  }
+
+  void sendMissions(const std::vector<std::string>& vehicles, int first_lane, const std::string& prefix = "req-") {
+    for (std::size_t i = 0; i < vehicles.size(); ++i) {
+      ASSERT_TRUE(station_->requests->write(laneMission(vehicles[i], first_lane + static_cast<int>(i), prefix)).ok());
+    }
+    std::vector<std::string> ids;
+    for (const std::string& v : vehicles) ids.push_back(prefix + v);
+    ASSERT_TRUE(station_->waitTerminal(ids, 180.0)) << logs();
+    for (const std::string& id : ids) ASSERT_EQ(station_->terminal(id)->state, PlanState::kSucceeded) << id;
+    ASSERT_TRUE(station_->pumpUntil(
+        [&] {
+          return std::all_of(vehicles.begin(), vehicles.end(), [&](const auto& v) {
+            for (const TrajectoryData& t : station_->trajectory_log)
+              if (t.vehicle_id == v && t.request_id == prefix + v) return true;
+            return false;
+          });
+        },
+        10.0))
+        << logs();
+  }
+
+  // The service ids that wrote a status for the vehicle, and the instances that wrote its trajectories.
+  std::set<std::string> statusWriters(const std::string& vehicle) const {
+    std::set<std::string> out;
+    for (const PlanStatusData& s : station_->status_log)
+      if (s.vehicle_id == vehicle) out.insert(s.service_id);
+    return out;
+  }
+  std::set<std::string> statusWritersOf(const std::string& request_id) const {
+    std::set<std::string> out;
+    for (const PlanStatusData& s : station_->status_log)
+      if (s.request_id == request_id) out.insert(s.service_id);
+    return out;
+  }
+  std::set<std::string> trajectoryWriters(const std::string& vehicle, std::size_t from_entry = 0) const {
+    std::set<std::string> out;
+    for (std::size_t i = from_entry; i < station_->trajectory_log.size(); ++i)
+      if (station_->trajectory_log[i].vehicle_id == vehicle) out.insert(station_->trajectory_log[i].source_instance);
+    return out;
+  }
+  std::string logs() const {
+    std::string out;
+    for (std::size_t i = 0; i < shards_.size(); ++i) out += "--- " + serviceId(i) + ":\n" + shards_[i].err() + "\n";
+    return out + killed_log_;
+  }
+
+  int domain_ = 0;
+  std::vector<ChildProcess> shards_;
+  std::vector<std::string> config_paths_;
+  std::string killed_log_;
+};
+
+TEST_F(ShardE2E, ThreeShardsPlanEachVehicleOnceAndTheSurvivorsResumeAKilledShardsVehicles) {
+  ASSERT_NO_FATAL_FAILURE(startGroup(131, 3));
+  std::vector<std::string> vehicles;
+  for (int i = 0; i < 30; ++i) vehicles.push_back("s-" + std::to_string(100 + i));
+  ASSERT_NO_FATAL_FAILURE(sendMissions(vehicles, 0));
+
+  // Exactly one daemon answers and plans each vehicle, and each daemon has some.
+  std::map<std::string, std::vector<std::string>> vehicles_of;  // service id -> its vehicles
+  std::map<std::string, std::string> instance_of;               // service id -> its instance id
+  for (const std::string& v : vehicles) {
+    const std::set<std::string> writers = statusWriters(v);
+    ASSERT_EQ(writers.size(), 1u) << v << " has statuses from " << writers.size() << " daemons\n" << logs();
+    EXPECT_EQ(trajectoryWriters(v).size(), 1u) << v;
+    vehicles_of[*writers.begin()].push_back(v);
+    for (const PlanStatusData& s : station_->status_log)
+      if (s.vehicle_id == v) instance_of[s.service_id] = s.service_instance;
+  }
+  std::size_t plans = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_GE(vehicles_of[serviceId(i)].size(), 3u) << serviceId(i) << " plans too few of the 30 vehicles";
+    plans += countOf(shards_[i].err(), "event=plan_succeeded");
+  }
+  EXPECT_EQ(plans, vehicles.size()) << "every vehicle planned once in all";
+
+  // Kill the shard with the most vehicles while they fly.
+  const auto victim_it = std::max_element(vehicles_of.begin(), vehicles_of.end(),
+                                          [](const auto& a, const auto& b) { return a.second.size() < b.second.size(); });
+  const std::string victim = victim_it->first;
+  const std::vector<std::string> moved = victim_it->second;
+  const std::size_t victim_index = static_cast<std::size_t>(victim.back() - 'a');
+  std::map<std::string, TrajectoryData> last;  // the revision in force when it died
+  for (const std::string& v : moved) last[v] = *station_->latest(v);
+  const std::size_t log_mark = station_->trajectory_log.size();
+  const auto killed = Clock::now();
+  shards_[victim_index].signal(SIGKILL);
+  ASSERT_EQ(shards_[victim_index].wait(10.0), 128 + SIGKILL);
+  killed_log_ = "--- killed " + victim + ":\n" + shards_[victim_index].err();
+  ChildProcess gone = std::move(shards_[victim_index]);
+
+  // Each of its vehicles: the next revision of the same plan from a survivor.
+  std::map<std::string, double> moved_after_s;
+  auto taken = [&](const std::string& v) {
+    for (std::size_t i = log_mark; i < station_->trajectory_log.size(); ++i) {
+      const TrajectoryData& t = station_->trajectory_log[i];
+      if (t.vehicle_id == v && t.source_instance != instance_of[victim]) {
+        if (!moved_after_s.contains(v)) {
+          moved_after_s[v] = std::chrono::duration<double>(station_->trajectory_times[i] - killed).count();
+        }
+        return true;
+      }
+    }
+    return false;
+  };
+  ASSERT_TRUE(station_->pumpUntil([&] { return std::all_of(moved.begin(), moved.end(), taken); }, 30.0)) << logs();
+  double slowest_s = 0.0;
+  for (const std::string& v : moved) {
+    slowest_s = std::max(slowest_s, moved_after_s[v]);
+    const TrajectoryData* first_new = nullptr;
+    for (std::size_t i = log_mark; i < station_->trajectory_log.size() && !first_new; ++i) {
+      const TrajectoryData& t = station_->trajectory_log[i];
+      if (t.vehicle_id == v && t.source_instance != instance_of[victim]) first_new = &t;
+    }
+    ASSERT_NE(first_new, nullptr);
+    EXPECT_EQ(first_new->plan_id, last[v].plan_id) << v;
+    EXPECT_EQ(first_new->revision, last[v].revision + 1) << v << ": the survivor's first revision";
+    EXPECT_EQ(first_new->request_id, last[v].request_id) << v;
+  }
+  std::cout << "[ shard ] " << moved.size() << " vehicles of " << victim << " moved; the last one's new revision "
+            << slowest_s << " s after the kill\n";
+  EXPECT_LT(slowest_s, 2.0) << "vehicles of a killed shard should move within 2 s\n" << logs();
+
+  // Settled: for two more seconds every vehicle is written by one daemon only, and each moved
+  // vehicle was resumed by one survivor.
+  const std::size_t settled_mark = station_->trajectory_log.size();
+  station_->pumpUntil([] { return false; }, 2.0);
+  std::string survivors_log;
+  for (std::size_t i = 0; i < 3; ++i)
+    if (i != victim_index) survivors_log += shards_[i].err();
+  for (const std::string& v : vehicles) {
+    EXPECT_LE(trajectoryWriters(v, settled_mark).size(), 1u) << v << " written by two daemons after the move";
+    EXPECT_LE(statusWriters(v).size(), 1u) << v;
+  }
+  for (const std::string& v : moved) {
+    EXPECT_EQ(countOf(survivors_log, "event=flight_resumed request=req-" + v + " "), 1u) << v << "\n" << logs();
+    EXPECT_EQ(trajectoryWriters(v, log_mark).size(), 1u) << v;
+  }
+}
+
+TEST_F(ShardE2E, FleetRequestAcrossTheShardsIsPlannedByOneDaemon) {
+  ASSERT_NO_FATAL_FAILURE(startGroup(132, 3));
+  dds::Writer<FleetRequestData> fleets = dds::Writer<FleetRequestData>::create(station_->participant.get()).value();
+  ASSERT_TRUE(fleets.waitForReaders(3, 20.0).ok());
+  FleetRequestData r;
+  r.request_id = "fleet-shards";
+  r.vehicle_ids = {"f-1", "f-2", "f-3", "f-4"};
+  r.begins = {above(-4000, -4000, 100), above(4000, -4000, 100), above(-4000, 4000, 100), above(4000, 4000, 100)};
+  r.ends = r.begins;
+  r.tasks = {above(-2500, -1500, 150), above(-1000, -3000, 150), above(1500, -2500, 150), above(3000, -1000, 150),
+             above(2500, 1500, 150), above(-3000, 1000, 150), above(-1500, 3000, 150), above(0, 0, 150)};
+  ASSERT_TRUE(fleets.write(r).ok());
+  ASSERT_TRUE(station_->pumpUntil(
+      [&] {
+        return std::all_of(r.vehicle_ids.begin(), r.vehicle_ids.end(), [&](const std::string& v) {
+          const TrajectoryData* t = station_->latest(v);
+          return t && t->request_id == r.request_id;
+        });
+      },
+      120.0))
+      << logs();
+  station_->pumpUntil([] { return false; }, 0.5);
+  std::set<std::string> writers;
+  for (const std::string& v : r.vehicle_ids) {
+    const std::set<std::string> of_v = trajectoryWriters(v);
+    writers.insert(of_v.begin(), of_v.end());
+  }
+  EXPECT_EQ(writers.size(), 1u) << "one daemon writes every vehicle of the fleet";
+  std::size_t planners = 0;
+  for (std::size_t i = 0; i < 3; ++i) planners += countOf(shards_[i].err(), "event=fleet_accepted request=fleet-shards");
+  EXPECT_EQ(planners, 1u) << logs();
+
+  // skyroute status lists the group's members.
+  const Ran status = runToEnd({SKYROUTE_CLI, "status", "--domain", "132", "--wait", "5"}, "shard_status", 30.0);
+  ASSERT_EQ(status.code, 0) << status.err;
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(countOf(status.out, "service=" + serviceId(i) + " "), 1u) << status.out;
+  }
+  EXPECT_EQ(countOf(status.out, "shard_group=g "), 3u) << status.out;
+}
+
+TEST_F(ShardE2E, AJoiningShardTakesNewRequestsAndLeavesTheFlyingOnesInPlace) {
+  ASSERT_NO_FATAL_FAILURE(startGroup(133, 2));
+  std::vector<std::string> before;
+  for (int i = 0; i < 8; ++i) before.push_back("j-" + std::to_string(100 + i));
+  ASSERT_NO_FATAL_FAILURE(sendMissions(before, 0));
+  std::map<std::string, std::string> writer_before;
+  for (const std::string& v : before) writer_before[v] = *trajectoryWriters(v).begin();
+
+  ASSERT_NO_FATAL_FAILURE(spawnShard(2));
+  ASSERT_NO_FATAL_FAILURE(waitForGroup(3));
+  std::vector<std::string> after;
+  for (int i = 0; i < 12; ++i) after.push_back("k-" + std::to_string(100 + i));
+  const std::size_t join_mark = station_->trajectory_log.size();
+  ASSERT_NO_FATAL_FAILURE(sendMissions(after, 8));
+  station_->pumpUntil([] { return false; }, 1.0);
+
+  for (const std::string& v : before) {
+    const std::set<std::string> writers = trajectoryWriters(v, join_mark);
+    EXPECT_TRUE(writers.empty() || (writers.size() == 1 && *writers.begin() == writer_before[v]))
+        << v << " changed hands when a daemon joined";
+  }
+  std::size_t by_joiner = 0;
+  for (const std::string& v : after) {
+    ASSERT_EQ(statusWriters(v).size(), 1u) << v << "\n" << logs();
+    EXPECT_EQ(trajectoryWriters(v).size(), 1u) << v;
+    if (*statusWriters(v).begin() == serviceId(2)) ++by_joiner;
+  }
+  EXPECT_GE(by_joiner, 1u) << "the joined daemon plans some of the new vehicles";
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(countOf(shards_[i].err(), "event=vehicle_moved"), 0u) << serviceId(i);
+
+  // New requests for the old vehicles: each goes to the owner of its new request, and a vehicle
+  // that changes hands between two live daemons is let go by the old one (its trajectory instance
+  // unregistered), so the ground station follows the new owner's plan and nobody else's.
+  const std::size_t again_mark = station_->trajectory_log.size();
+  ASSERT_NO_FATAL_FAILURE(sendMissions(before, 0, "again-"));
+  station_->pumpUntil([] { return false; }, 1.0);
+  std::size_t changed_hands = 0;
+  for (const std::string& v : before) {
+    const std::set<std::string> answered = statusWritersOf("again-" + v);
+    ASSERT_EQ(answered.size(), 1u) << v;
+    const std::set<std::string> writers = trajectoryWriters(v, again_mark);
+    EXPECT_EQ(writers.size(), 1u) << v << " written by two daemons after its new request";
+    ASSERT_NE(station_->latest(v), nullptr);
+    // The station holds the new plan (the one with the highest revision may be the old plan's).
+    const TrajectoryData* last = nullptr;
+    for (std::size_t i = again_mark; i < station_->trajectory_log.size(); ++i)
+      if (station_->trajectory_log[i].vehicle_id == v) last = &station_->trajectory_log[i];
+    ASSERT_NE(last, nullptr);
+    EXPECT_EQ(last->request_id, "again-" + v);
+    const std::string old_owner = *statusWritersOf("req-" + v).begin();  // who answered its first request
+    const std::string new_owner = *answered.begin();
+    const std::string moved_line = "event=vehicle_moved vehicle=" + v + " from=" + old_owner + " to=" + new_owner;
+    const std::string& old_log = shards_[static_cast<std::size_t>(old_owner.back() - 'a')].err();
+    if (new_owner != old_owner) {
+      ++changed_hands;
+      EXPECT_EQ(countOf(old_log, moved_line), 1u) << "the old owner logs the move\n" << logs();
+    } else {
+      EXPECT_EQ(countOf(old_log, "event=vehicle_moved vehicle=" + v + " "), 0u) << v;
+    }
+  }
+  std::cout << "[ shard ] " << changed_hands << " of " << before.size() << " vehicles changed hands with their new request\n";
+  EXPECT_GE(changed_hands, 1u) << "the test needs a vehicle that changes hands";
+}
+
+}  // namespace
+}  // namespace skyroute::testing

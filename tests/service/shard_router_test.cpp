@@ -1,0 +1,204 @@
+// One daemon's view of a shard group (ShardRouter), with several routers standing for the
+// daemons: each vehicle has exactly one owner among them, a leaver's flying vehicles are resumed
+// from their last revision and its unplanned ones planned, a joiner takes only requests that
+// arrive after it, a fleet has one owner for all its vehicles, and a cancelled mission is never
+// planned again by the next owner.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "service/shard_assignment.hpp"
+#include "service/shard_router.hpp"
+
+namespace skyroute {
+namespace {
+
+constexpr std::int64_t kSecond = 1'000'000'000;
+constexpr std::int64_t kMargin = kSecond;
+
+MissionRequestData mission(const std::string& vehicle, const std::string& request) {
+  MissionRequestData m;
+  m.vehicle_id = vehicle;
+  m.request_id = request;
+  return m;
+}
+
+TrajectoryData published(const MissionRequestData& m, std::uint32_t revision, std::int64_t start_ns,
+                         std::int64_t end_ns) {
+  TrajectoryData t;
+  t.vehicle_id = m.vehicle_id;
+  t.request_id = m.request_id;
+  t.plan_id = m.vehicle_id + "-7";
+  t.revision = revision;
+  TrajectorySampleData first;
+  first.t_rel_s = 0.0;
+  first.utc_ns = start_ns;
+  TrajectorySampleData last = first;
+  last.t_rel_s = static_cast<double>(end_ns - start_ns) * 1e-9;
+  last.utc_ns = end_ns;
+  t.samples = {first, last};
+  return t;
+}
+
+// Three daemons started at t = 0, 0 and 0; requests from t = 10 s.
+struct Group {
+  std::vector<ShardMember> members{{"shard-a", 0}, {"shard-b", 0}, {"shard-c", 0}};
+  std::map<std::string, std::unique_ptr<ShardRouter>> routers;
+  Group() {
+    for (const ShardMember& m : members) {
+      routers[m.service_id] = std::make_unique<ShardRouter>(m, kMargin);
+      routers[m.service_id]->setMembers(members, true, 5 * kSecond);
+    }
+  }
+  std::vector<std::string> ownersOf(const std::string& vehicle) const {
+    std::vector<std::string> out;
+    for (const auto& [id, r] : routers)
+      if (r->ownsVehicle(vehicle)) out.push_back(id);
+    return out;
+  }
+};
+
+TEST(ShardRouter, EachVehicleHasExactlyOneOwnerWhoAloneIsToldToPlanIt) {
+  Group g;
+  for (int i = 0; i < 60; ++i) {
+    const MissionRequestData m = mission("uav-" + std::to_string(i), "r" + std::to_string(i));
+    int planners = 0;
+    for (auto& [id, r] : g.routers) {
+      const ShardActions a = r->onMission(m, 10 * kSecond);
+      planners += static_cast<int>(a.plan.size());
+    }
+    EXPECT_EQ(planners, 1) << m.vehicle_id;
+    ASSERT_EQ(g.ownersOf(m.vehicle_id).size(), 1u) << m.vehicle_id;
+  }
+  for (auto& [id, r] : g.routers) EXPECT_GT(r->ownedVehicles(), 5u) << id;
+}
+
+TEST(ShardRouter, NothingIsOwnedBeforeTheDaemonSettles) {
+  ShardRouter alone({"shard-a", 0}, kMargin);
+  EXPECT_TRUE(alone.onMission(mission("uav-1", "r1"), 10 * kSecond).plan.empty());
+  EXPECT_FALSE(alone.ownsVehicle("uav-1"));
+  const ShardActions settled = alone.setMembers({}, true, 11 * kSecond);
+  ASSERT_EQ(settled.plan.size(), 1u) << "a single daemon plans everything once settled";
+  EXPECT_EQ(settled.plan[0].request_id, "r1");
+  EXPECT_TRUE(alone.ownsVehicle("uav-1"));
+}
+
+TEST(ShardRouter, ALeaversFlyingVehiclesAreResumedAndItsUnplannedOnesPlanned) {
+  Group g;
+  std::vector<MissionRequestData> missions;
+  for (int i = 0; i < 30; ++i) missions.push_back(mission("uav-" + std::to_string(i), "r" + std::to_string(i)));
+  for (const MissionRequestData& m : missions)
+    for (auto& [id, r] : g.routers) r->onMission(m, 10 * kSecond);
+  std::map<std::string, std::string> owner;
+  for (const MissionRequestData& m : missions) owner[m.vehicle_id] = g.ownersOf(m.vehicle_id).at(0);
+  // Every vehicle of shard-b flies (revision 4) except the first, still being planned.
+  bool first_of_b = true;
+  std::vector<std::string> b_flying, b_planning;
+  for (const MissionRequestData& m : missions) {
+    if (owner[m.vehicle_id] == "shard-b" && first_of_b) {
+      first_of_b = false;
+      b_planning.push_back(m.vehicle_id);
+      continue;
+    }
+    if (owner[m.vehicle_id] == "shard-b") b_flying.push_back(m.vehicle_id);
+    const TrajectoryData t = published(m, 4, 10 * kSecond, 500 * kSecond);
+    for (auto& [id, r] : g.routers) r->onTrajectory(t);
+  }
+  ASSERT_FALSE(b_flying.empty());
+  g.routers.erase("shard-b");
+  const std::vector<ShardMember> left{{"shard-a", 0}, {"shard-c", 0}};
+  std::map<std::string, int> resumed, planned;
+  for (auto& [id, r] : g.routers) {
+    const ShardActions a = r->setMembers(left, true, 20 * kSecond);
+    EXPECT_TRUE(a.release_vehicles.empty()) << id << " let go of a vehicle though its owner stayed";
+    for (const auto& [m, last] : a.resume) {
+      ++resumed[m.vehicle_id];
+      EXPECT_EQ(last.identity.revision, 4u);
+      EXPECT_EQ(last.identity.plan_id, m.vehicle_id + "-7");
+      EXPECT_EQ(last.flight_start_utc_ns, 10 * kSecond);
+    }
+    for (const MissionRequestData& m : a.plan) ++planned[m.vehicle_id];
+  }
+  for (const std::string& v : b_flying) EXPECT_EQ(resumed[v], 1) << v;
+  for (const std::string& v : b_planning) EXPECT_EQ(planned[v], 1) << v;
+  EXPECT_EQ(resumed.size() + planned.size(), b_flying.size() + b_planning.size()) << "only shard-b's vehicles move";
+  for (const MissionRequestData& m : missions) {
+    const auto owners = g.ownersOf(m.vehicle_id);
+    ASSERT_EQ(owners.size(), 1u);
+    if (owner[m.vehicle_id] != "shard-b") {
+      EXPECT_EQ(owners[0], owner[m.vehicle_id]);
+    }
+  }
+}
+
+TEST(ShardRouter, AJoinerTakesOnlyRequestsThatArriveAfterItsMargin) {
+  Group g;
+  for (int i = 0; i < 30; ++i)
+    for (auto& [id, r] : g.routers) r->onMission(mission("old-" + std::to_string(i), "o"), 10 * kSecond);
+  std::map<std::string, std::string> owner;
+  for (int i = 0; i < 30; ++i) owner["old-" + std::to_string(i)] = g.ownersOf("old-" + std::to_string(i)).at(0);
+  // shard-d starts at 20 s; it never saw the old requests.
+  const ShardMember d{"shard-d", 20 * kSecond};
+  g.members.push_back(d);
+  g.routers["shard-d"] = std::make_unique<ShardRouter>(d, kMargin);
+  for (auto& [id, r] : g.routers) {
+    const ShardActions a = r->setMembers(g.members, true, 21 * kSecond);
+    EXPECT_TRUE(a.release_vehicles.empty() && a.plan.empty() && a.resume.empty()) << id;
+  }
+  for (int i = 0; i < 30; ++i) EXPECT_EQ(g.ownersOf("old-" + std::to_string(i)), std::vector<std::string>{owner["old-" + std::to_string(i)]});
+  int by_d = 0;
+  for (int i = 0; i < 40; ++i) {
+    const MissionRequestData m = mission("new-" + std::to_string(i), "n");
+    for (auto& [id, r] : g.routers) r->onMission(m, 22 * kSecond);
+    const auto owners = g.ownersOf(m.vehicle_id);
+    ASSERT_EQ(owners.size(), 1u);
+    by_d += owners[0] == "shard-d";
+  }
+  EXPECT_GT(by_d, 3);
+  // A cancel naming an old vehicle the joiner never heard of, or a vehicle nobody has: one answer.
+  for (const std::string& vehicle : {std::string("old-3"), std::string("nobody")}) {
+    CancelRequestData cancel;
+    cancel.vehicle_id = vehicle;
+    int answering = 0;
+    for (auto& [id, r] : g.routers) answering += r->onCancel(cancel) ? 1 : 0;
+    EXPECT_EQ(answering, 1) << vehicle;
+  }
+}
+
+TEST(ShardRouter, AFleetHasOneOwnerForAllItsVehiclesAndACancelledMissionIsNotPlannedAgain) {
+  Group g;
+  FleetRequestData fleet;
+  fleet.request_id = "fleet-1";
+  fleet.vehicle_ids = {"f-1", "f-2", "f-3", "f-4", "f-5"};
+  int fleet_planners = 0;
+  for (auto& [id, r] : g.routers) fleet_planners += static_cast<int>(r->onFleet(fleet, 10 * kSecond).plan_fleets.size());
+  EXPECT_EQ(fleet_planners, 1);
+  const std::string fleet_owner = rendezvousOwner({"shard-a", "shard-b", "shard-c"}, "fleet:fleet-1");
+  for (const std::string& v : fleet.vehicle_ids) EXPECT_EQ(g.ownersOf(v), std::vector<std::string>{fleet_owner});
+  for (auto& [id, r] : g.routers) EXPECT_EQ(r->ownsFleet("fleet-1"), id == fleet_owner);
+
+  // A cancelled mission whose owner then leaves: nobody plans it again, and one daemon answered the cancel.
+  const MissionRequestData m = mission("c-1", "rc");
+  for (auto& [id, r] : g.routers) r->onMission(m, 10 * kSecond);
+  const std::string owner = g.ownersOf("c-1").at(0);
+  CancelRequestData cancel;
+  cancel.request_id = "rc";  // by request id alone
+  int answering = 0;
+  for (auto& [id, r] : g.routers) answering += r->onCancel(cancel) ? 1 : 0;
+  EXPECT_EQ(answering, 1);
+  g.routers.erase(owner);
+  std::vector<ShardMember> left;
+  for (const ShardMember& member : g.members)
+    if (member.service_id != owner) left.push_back(member);
+  for (auto& [id, r] : g.routers) {
+    const ShardActions a = r->setMembers(left, true, 20 * kSecond);
+    for (const MissionRequestData& p : a.plan) EXPECT_NE(p.vehicle_id, "c-1");
+    EXPECT_TRUE(a.resume.empty());
+  }
+}
+
+}  // namespace
+}  // namespace skyroute
