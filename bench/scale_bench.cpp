@@ -117,12 +117,12 @@ struct RunResult {
   std::string failure;             // why the run stopped short ("" = it did not)
 };
 
-std::string writeConfig(const Settings& s, int daemons, int k) {
+std::string writeConfig(const Settings& s, int k) {
   const std::string path = testing::tempPath("scale_bench", "shard" + std::to_string(k) + ".toml");
   std::ofstream out(path);
   out << "[dds]\nservice_id = \"scale-" << k << "\"\n";
   out << "[service]\n";
-  if (daemons > 1) out << "shard_group = \"scale\"\n";
+  out << "shard_group = \"scale\"\n";  // one daemon too: the same code path
   out << "[ros2]\nenabled = false\n";
   out << "[planning]\nthreads = " << s.threads << "\nmax_queue = " << s.vehicles + 16
       << "\nmax_stored_results = " << s.vehicles + 16 << "\nseed = " << s.seed << "\n";
@@ -135,7 +135,7 @@ RunResult run(const Settings& s, const Heightfield& terrain, int daemons, int do
   std::vector<testing::ChildProcess> procs;
   for (int k = 0; k < daemons; ++k) {
     procs.push_back(testing::ChildProcess::spawn({SKYROUTED, "--domain", std::to_string(domain), "--dem", s.dem,
-                                                  "--log-level", s.log_level, "--config", writeConfig(s, daemons, k)},
+                                                  "--log-level", s.log_level, "--config", writeConfig(s, k)},
                                                  "scale_daemon" + std::to_string(k)));
   }
   auto station = testing::Station::open(domain);
