@@ -207,7 +207,8 @@ bool FleetReplanner::taskCovered(std::uint32_t task, double from_s, double to_s)
 std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::size_t i,
                                                                          const std::vector<std::uint32_t>& tasks,
                                                                          double now_s, double takeover_s,
-                                                                         double wait_s) const {
+                                                                         double wait_s,
+                                                                         const TerminationCondition& stop) const {
   const FleetVehicleFlight& v = vehicles_[i];
   const GridLayer& grid = *grid_;
   const double from_s = std::max(now_s, v.start_world_s);
@@ -290,6 +291,14 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
       reserveAround(agent, a_band, b_band, extent_m + obstacle_room_m, s);
     }
   }
+  // A task under an obstacle that does not move stays covered for as long as the world knows.
+  const double room_m = world_->options().vehicle_radius_m + options_.margin_m;
+  for (std::uint32_t j : tasks) {
+    const Eigen::Vector3d over(tasks_m_[j].x(), tasks_m_[j].y(), cruise_m_);
+    for (const Obstacle& o : obstacles) {
+      if (!o.moving() && o.contains(over, new_start_s, room_m)) return std::nullopt;
+    }
+  }
   std::vector<GridCell> goals;
   for (std::uint32_t j : tasks) goals.push_back(*grid.cellAt(tasks_m_[j].head<2>()));
   goals.push_back(*grid.cellAt(begins_m_[i].head<2>()));
@@ -310,7 +319,7 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
     q.goal = goals[g];
     q.park_at_goal = false;
     q.max_expansions = options_.max_expansions;
-    const SpaceTimePath path = planSpaceTime(grid, reservations, q);
+    const SpaceTimePath path = planSpaceTime(grid, reservations, q, stop);
     if (!path.found()) return std::nullopt;
     for (std::size_t c = 1; c + 1 < path.cells.size(); ++c) polyline.push_back({grid.cellCenter(path.cells[c]), kPlain});
     polyline.push_back({goal_xy, what});
@@ -387,15 +396,14 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
 
 std::optional<FleetReplanner::Candidate> FleetReplanner::replanVehicle(std::size_t i,
                                                                         const std::vector<std::uint32_t>& tasks,
-                                                                        double now_s,
-                                                                        const std::function<bool()>& stopped,
+                                                                        double now_s, const TerminationCondition& stop,
                                                                         std::size_t& built) const {
   const double takeover_s = now_s + options_.lead_s;
   std::vector<double> waits{0.0};
   waits.insert(waits.end(), options_.waits_s.begin(), options_.waits_s.end());
   for (double wait_s : waits) {
-    if (stopped()) return std::nullopt;
-    std::optional<Candidate> c = buildCandidate(i, tasks, now_s, takeover_s, wait_s);
+    if (stop.shouldStop()) return std::nullopt;
+    std::optional<Candidate> c = buildCandidate(i, tasks, now_s, takeover_s, wait_s, stop);
     ++built;
     if (!c) continue;
     if (obstacleHit(c->trajectory, c->start_world_s, c->start_world_s)) continue;
@@ -434,9 +442,10 @@ void FleetReplanner::adopt(std::size_t i, Candidate c) {
 FleetReplanStep FleetReplanner::step(double now_s, const TerminationCondition& outer) {
   const auto started = std::chrono::steady_clock::now();
   FleetReplanStep out;
-  const TerminationCondition budget = TerminationCondition::after(
-      std::chrono::nanoseconds(static_cast<std::int64_t>(options_.budget_s * 1e9)));
-  const std::function<bool()> stopped = [&] { return outer.shouldStop() || budget.shouldStop(); };
+  TerminationCondition stop =
+      TerminationCondition::after(std::chrono::nanoseconds(static_cast<std::int64_t>(options_.budget_s * 1e9)));
+  if (outer.sharedCancelFlag()) stop.withCancelFlag(outer.sharedCancelFlag());
+  auto stopped = [&] { return outer.shouldStop() || stop.shouldStop(); };
 
   for (std::size_t i = 0; i < vehicles_.size(); ++i) {
     if (obstacleHit(vehicles_[i].trajectory, vehicles_[i].start_world_s, now_s)) marked_.insert(i);
@@ -449,23 +458,27 @@ FleetReplanStep FleetReplanner::step(double now_s, const TerminationCondition& o
       out.unfinished = true;
       break;
     }
-    marked_.erase(i);
     const std::vector<std::uint32_t> left = remainingTasks(i, takeover_s);
-    std::optional<Candidate> c = replanVehicle(i, left, now_s, stopped, out.candidates);
+    std::optional<Candidate> c = replanVehicle(i, left, now_s, stop, out.candidates);
     if (!c) {
       // Tasks an obstacle covers go to the pending list first; then every remaining one.
       const double end_s = vehicles_[i].start_world_s + vehicles_[i].trajectory.duration_s() + 600.0;
       std::vector<std::uint32_t> open, covered;
       for (std::uint32_t j : left) (taskCovered(j, takeover_s, end_s) ? covered : open).push_back(j);
       if (!covered.empty()) {
-        c = replanVehicle(i, open, now_s, stopped, out.candidates);
+        c = replanVehicle(i, open, now_s, stop, out.candidates);
         if (c) pending_.insert(covered.begin(), covered.end());
       }
       if (!c && !left.empty()) {
-        c = replanVehicle(i, {}, now_s, stopped, out.candidates);
+        c = replanVehicle(i, {}, now_s, stop, out.candidates);
         if (c) pending_.insert(left.begin(), left.end());
       }
     }
+    if (stopped()) {
+      out.unfinished = true;  // this vehicle again at the next step
+      break;
+    }
+    marked_.erase(i);  // seen: replanned, or nothing passes until the world changes again
     if (c) {
       adopt(i, std::move(*c));
       changed.insert(i);
@@ -508,7 +521,7 @@ FleetReplanStep FleetReplanner::step(double now_s, const TerminationCondition& o
     bool taken = false;
     for (const Offer& offer : offers) {
       if (stopped()) break;
-      std::optional<Candidate> c = replanVehicle(offer.vehicle, offer.tasks, now_s, stopped, out.candidates);
+      std::optional<Candidate> c = replanVehicle(offer.vehicle, offer.tasks, now_s, stop, out.candidates);
       if (!c) continue;
       adopt(offer.vehicle, std::move(*c));
       changed.insert(offer.vehicle);

@@ -33,7 +33,6 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <set>
@@ -118,9 +117,9 @@ class FleetReplanner {
   bool separatedFromOthers(std::size_t i, const Trajectory& t, double start_s, double from_s) const;
   // The first candidate for vehicle i flying `tasks` from the takeover that passes the checks.
   std::optional<Candidate> replanVehicle(std::size_t i, const std::vector<std::uint32_t>& tasks, double now_s,
-                                         const std::function<bool()>& stopped, std::size_t& built) const;
+                                         const TerminationCondition& stop, std::size_t& built) const;
   std::optional<Candidate> buildCandidate(std::size_t i, const std::vector<std::uint32_t>& tasks, double now_s,
-                                          double takeover_s, double wait_s) const;
+                                          double takeover_s, double wait_s, const TerminationCondition& stop) const;
   void adopt(std::size_t i, Candidate candidate);
   // Vehicle i's tasks not yet served at world_s (in order).
   std::vector<std::uint32_t> remainingTasks(std::size_t i, double world_s) const;

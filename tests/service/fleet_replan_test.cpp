@@ -144,6 +144,7 @@ class FleetReplanTest : public testing::DefaultWorldTest {
         const Eigen::Vector3d p = flown.positionAt(v, t);
         for (std::size_t k = 0; k < obstacles.size(); ++k) {
           if (t < static_cast<double>(updates[k].valid_from_utc_ns) * 1e-9) continue;
+          if (updates[k].valid_until_utc_ns != 0 && t >= static_cast<double>(updates[k].valid_until_utc_ns) * 1e-9) continue;
           ASSERT_FALSE(obstacles[k].contains(p, t, radius_m)) << v << " inside obstacle " << k << " at t=" << t;
           closest_obstacle_m = std::min(closest_obstacle_m, (p - obstacles[k].centerAt(t)).head<2>().norm());
         }
@@ -229,7 +230,7 @@ TEST_F(FleetReplanTest, ThreeCrossingObstaclesFiveVehiclesFifteenTasks) {
   const std::size_t published_before = sink_.trajectories.size();
   const std::size_t fleet_before = sink_.fleet.size();
   cycle();
-  // A cycle with nothing new changes nothing.
+  // The next cycle: it goes on with any vehicle the first step's budget did not reach.
   now_ns_ += seconds(0.1);
   cycle();
 
@@ -257,6 +258,74 @@ TEST_F(FleetReplanTest, ThreeCrossingObstaclesFiveVehiclesFifteenTasks) {
   expectNoGridConflicts(r, cell_m, cell_m / r.limits.v_ref_mps);
   std::printf("meeting %zu vehicles, revised %zu, latency %.3f s\n", meeting.size(), revised.size(),
               status.planning_time_s);
+}
+
+// An obstacle far from every vehicle's path: nothing is replanned, nothing published.
+TEST_F(FleetReplanTest, AFarObstacleChangesNothing) {
+  const FleetRequestData r = fiveByFifteen();
+  planFleet(r);
+  const std::vector<TrajectoryData> first = sink_.trajectories;
+  now_ns_ += seconds(60.0);
+  // The grid point farthest from every sample of every trajectory.
+  Eigen::Vector2d farthest = Eigen::Vector2d::Zero();
+  double far_m = 0.0;
+  const Eigen::AlignedBox2d box = heightfield_->boundsEn();
+  for (double e = box.min().x() + 300; e < box.max().x() - 300; e += 200) {
+    for (double n = box.min().y() + 300; n < box.max().y() - 300; n += 200) {
+      double closest = std::numeric_limits<double>::infinity();
+      for (const TrajectoryData& t : first)
+        for (const TrajectorySampleData& x : t.samples) closest = std::min(closest, (x.position_enu_m.head<2>() - Eigen::Vector2d(e, n)).norm());
+      if (closest > far_m) {
+        far_m = closest;
+        farthest = Eigen::Vector2d(e, n);
+      }
+    }
+  }
+  ASSERT_GT(far_m, 600.0);
+  ASSERT_FALSE(engine_->updateObstacle(column(7, farthest.x(), farthest.y(), 0.0, 0.0, 100.0)).has_value());
+  const std::size_t fleet_before = sink_.fleet.size();
+  cycle();
+  EXPECT_EQ(sink_.trajectories.size(), first.size());
+  EXPECT_EQ(sink_.fleet.size(), fleet_before);
+}
+
+// A column parks over a task for 200 s, before its vehicle gets there: no vehicle can serve it
+// meanwhile, so it is dropped from its vehicle's route and the fleet status names it; when the
+// column is gone the task goes to a vehicle still flying, and is served once.
+TEST_F(FleetReplanTest, ATaskAnObstacleCoversIsReallocatedAndServed) {
+  const FleetRequestData r = fiveByFifteen();
+  planFleet(r);
+  const std::vector<TrajectoryData> first = sink_.trajectories;
+  now_ns_ += seconds(60.0);
+  // uav-a's last task: it is still ahead when the column parks on it.
+  const TrajectoryData& a = first.front();
+  ASSERT_EQ(a.vehicle_id, "uav-a");
+  ASSERT_GE(a.visiting_order.size(), 3u);
+  const std::uint32_t task = a.visiting_order[a.visiting_order.size() - 2] - 1;
+  ObstacleUpdateData parked = column(9, r.tasks[task].enu_m.x(), r.tasks[task].enu_m.y(), 0.0, 0.0, 150.0);
+  parked.valid_until_utc_ns = now_ns_ + seconds(200.0);
+  ASSERT_FALSE(engine_->updateObstacle(parked).has_value());
+  const std::size_t published_before = sink_.trajectories.size();
+  cycle();
+  ASSERT_GT(sink_.trajectories.size(), published_before);
+  const FleetStatusData& blocked = sink_.fleet.back();
+  EXPECT_EQ(blocked.state, PlanState::kReplanned);
+  EXPECT_EQ(blocked.field, "tasks[" + std::to_string(task) + "]") << blocked.message;
+  for (const FleetVehicleAllocationData& v : blocked.allocation) {
+    EXPECT_EQ(std::count(v.tasks.begin(), v.tasks.end(), task), 0) << v.vehicle_id;
+  }
+  // The column goes away; the next cycle offers the task again.
+  now_ns_ += seconds(201.0);
+  cycle();
+  const FleetStatusData& taken = sink_.fleet.back();
+  EXPECT_EQ(taken.state, PlanState::kReplanned);
+  EXPECT_TRUE(taken.field.empty()) << taken.message;
+  int holders = 0;
+  for (const FleetVehicleAllocationData& v : taken.allocation) holders += static_cast<int>(std::count(v.tasks.begin(), v.tasks.end(), task));
+  EXPECT_EQ(holders, 1);
+  expectCleanFlight(r, {parked});
+  const double cell_m = 99.0;
+  expectNoGridConflicts(r, cell_m, cell_m / r.limits.v_ref_mps);
 }
 
 }  // namespace
