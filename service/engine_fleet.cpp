@@ -186,8 +186,9 @@ void Engine::replanFleetJob(Job& job) {
     fleet.queued = false;
     fleet.retry = step.unfinished;
     fleet.lands_world_s = lands_world_s;
-    // A new allocation is answered; so is a change in the tasks no vehicle can take.
-    answer = !revisions.empty() || step.pending.size() != fleet.pending_answered;
+    // A new allocation is answered; so is a change in the tasks no vehicle can take, and a vehicle
+    // left meeting an obstacle (once per change of the world: steps run on changes).
+    answer = !revisions.empty() || step.pending.size() != fleet.pending_answered || !step.unresolved.empty();
     fleet.pending_answered = step.pending.size();
     if (finished) {
       fleet.ended = true;

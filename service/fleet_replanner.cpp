@@ -6,6 +6,8 @@
 #include <functional>
 #include <limits>
 
+#include <spdlog/spdlog.h>
+
 #include "planning/grid/space_time_astar.hpp"
 #include "service/fleet_vehicle_route.hpp"
 #include "service/route_planner.hpp"
@@ -73,9 +75,15 @@ std::vector<RoutePoint2> collapse(const std::vector<RoutePoint2>& in) {
 
 }  // namespace
 
+std::nullopt_t FleetReplanner::rejected(std::size_t i, double wait_s, const char* why) const {
+  spdlog::debug("event=fleet_candidate vehicle={} wait_s={:.0f} rejected=\"{}\"", request_.vehicle_ids[i], wait_s, why);
+  return std::nullopt;
+}
+
 struct FleetReplanner::Candidate {
   Trajectory trajectory;             // from now on (the kept part first)
   double start_world_s = 0.0;
+  double kept_until_s = 0.0;         // world time the kept curve of the trajectory in force ends
   std::vector<std::uint32_t> tasks;  // remaining, in order
   std::vector<double> task_times_world_s;
   std::vector<LegBoundaryData> legs;  // the new part's legs, trajectory times
@@ -224,7 +232,7 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
   if (wait_s > 0.0) {
     if (!at_rest) {
       const std::optional<Segment> stop = stopSegment(state, limits_);
-      if (!stop) return std::nullopt;
+      if (!stop) return rejected(i, wait_s, "no stop from the takeover state");
       segments.push_back(*stop);
       new_start_s += stop->duration_s;
       start_m = stop->evaluate(stop->duration_s, Derivative::kPosition);
@@ -236,7 +244,7 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
 
   // The space-time search: other vehicles and obstacles hold cells from the new start on.
   const auto start_cell = grid.cellAt(start_m.head<2>());
-  if (!start_cell) return std::nullopt;
+  if (!start_cell) return rejected(i, wait_s, "off the grid");
   const int n = static_cast<int>(vehicles_.size());
   double last_end_s = new_start_s;
   for (const FleetVehicleFlight& o : vehicles_) last_end_s = std::max(last_end_s, o.start_world_s + o.trajectory.duration_s());
@@ -296,7 +304,7 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
   for (std::uint32_t j : tasks) {
     const Eigen::Vector3d over(tasks_m_[j].x(), tasks_m_[j].y(), cruise_m_);
     for (const Obstacle& o : obstacles) {
-      if (!o.moving() && o.contains(over, new_start_s, room_m)) return std::nullopt;
+      if (!o.moving() && o.contains(over, new_start_s, room_m)) return rejected(i, wait_s, "a task under a fixed obstacle");
     }
   }
   std::vector<GridCell> goals;
@@ -320,7 +328,7 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
     q.park_at_goal = false;
     q.max_expansions = options_.max_expansions;
     const SpaceTimePath path = planSpaceTime(grid, reservations, q, stop);
-    if (!path.found()) return std::nullopt;
+    if (!path.found()) return rejected(i, wait_s, "no space-time path");
     for (std::size_t c = 1; c + 1 < path.cells.size(); ++c) polyline.push_back({grid.cellCenter(path.cells[c]), kPlain});
     polyline.push_back({goal_xy, what});
     at = goals[g];
@@ -347,16 +355,16 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
   }
   const Eigen::Vector3d& end = ends_m_[i];
   const Eigen::Vector3d over_end(end.x(), end.y(), cruise_m_);
-  if (!world_->isStaticSegmentValid(leg_paths.back().back(), over_end)) return std::nullopt;
+  if (!world_->isStaticSegmentValid(leg_paths.back().back(), over_end)) return rejected(i, wait_s, "the way to over the end is blocked");
   add(over_end);
   add(end);
   points.push_back(end);
   order.push_back(static_cast<std::uint32_t>(request_.tasks.size() + 1));
-  if (points.size() != tasks.size() + 2) return std::nullopt;  // a task folded into another point
+  if (points.size() != tasks.size() + 2) return rejected(i, wait_s, "a task folded into another point");  // a task folded into another point
 
   PlannedRoute route;
   for (std::size_t l = 0; l < leg_paths.size(); ++l) {
-    if (leg_paths[l].size() < 2) return std::nullopt;
+    if (leg_paths[l].size() < 2) return rejected(i, wait_s, "an empty leg");
     RouteLeg leg;
     leg.from_point = l;
     leg.to_point = l + 1;
@@ -374,8 +382,8 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
     ro.trajectory.boundary.start.acceleration_mps2 = state.acceleration_mps2;
     ro.trajectory.boundary.start.jerk_mps3 = state.jerk_mps3;
   }
-  if (!buildRouteTrajectory(world_, points, limits_, ro, route).ok()) return std::nullopt;
-  if (route.built.report.status == TrajectoryStatus::kInfeasible) return std::nullopt;
+  if (!buildRouteTrajectory(world_, points, limits_, ro, route).ok()) return rejected(i, wait_s, "the trajectory stage failed");
+  if (route.built.report.status == TrajectoryStatus::kInfeasible) return rejected(i, wait_s, "the trajectory is infeasible");
 
   Candidate c;
   double kept_s = 0.0;
@@ -384,6 +392,7 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
   segments.insert(segments.end(), planned.begin(), planned.end());
   c.trajectory = Trajectory(std::move(segments));
   c.start_world_s = from_s;
+  c.kept_until_s = takeover_s;
   c.tasks = tasks;
   c.order = order;
   for (const RouteLeg& leg : route.legs) {
@@ -406,8 +415,16 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::replanVehicle(std::size
     std::optional<Candidate> c = buildCandidate(i, tasks, now_s, takeover_s, wait_s, stop);
     ++built;
     if (!c) continue;
-    if (obstacleHit(c->trajectory, c->start_world_s, c->start_world_s)) continue;
-    if (!separatedFromOthers(i, c->trajectory, c->start_world_s, c->start_world_s)) continue;
+    if (auto hit = obstacleHit(c->trajectory, c->start_world_s, c->start_world_s)) {
+      spdlog::debug("event=fleet_candidate vehicle={} wait_s={:.0f} rejected=\"meets an obstacle {:.1f} s ahead\"",
+                    request_.vehicle_ids[i], wait_s, *hit - now_s);
+      continue;
+    }
+    if (!separatedFromOthers(i, c->trajectory, c->start_world_s, c->start_world_s)) {
+      spdlog::debug("event=fleet_candidate vehicle={} wait_s={:.0f} rejected=\"too close to another vehicle\"",
+                    request_.vehicle_ids[i], wait_s);
+      continue;
+    }
     return c;
   }
   return std::nullopt;
@@ -415,15 +432,30 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::replanVehicle(std::size
 
 void FleetReplanner::adopt(std::size_t i, Candidate c) {
   FleetVehicleFlight& v = vehicles_[i];
-  // Tasks served before the new trajectory starts stay with their times.
+  // Tasks served before the takeover stay with their times; those on the kept curve (after the
+  // new revision starts) are legs of the new revision too.
   std::vector<std::uint32_t> tasks;
   std::vector<double> times;
+  std::vector<std::uint32_t> order{0};
+  std::vector<LegBoundaryData> legs;
+  double leg_start_s = 0.0;
   for (std::size_t k = 0; k < v.tasks.size(); ++k) {
-    if (v.task_times_world_s[k] <= c.start_world_s) {
-      tasks.push_back(v.tasks[k]);
-      times.push_back(v.task_times_world_s[k]);
+    const double at = v.task_times_world_s[k];
+    if (at > c.kept_until_s) continue;
+    tasks.push_back(v.tasks[k]);
+    times.push_back(at);
+    if (at > c.start_world_s) {
+      legs.push_back(LegBoundaryData{order.back(), v.tasks[k] + 1, leg_start_s, at - c.start_world_s});
+      order.push_back(v.tasks[k] + 1);
+      leg_start_s = at - c.start_world_s;
     }
   }
+  if (!c.legs.empty()) {
+    c.legs.front().from_point = order.back();
+    c.legs.front().start_s = leg_start_s;
+  }
+  order.insert(order.end(), c.order.begin() + 1, c.order.end());
+  legs.insert(legs.end(), c.legs.begin(), c.legs.end());
   tasks.insert(tasks.end(), c.tasks.begin(), c.tasks.end());
   times.insert(times.end(), c.task_times_world_s.begin(), c.task_times_world_s.end());
   v.tasks = std::move(tasks);
@@ -434,8 +466,8 @@ void FleetReplanner::adopt(std::size_t i, Candidate c) {
   const TrajectoryIdentity id{request_.vehicle_ids[i], v.data.plan_id, v.revision, request_.request_id};
   TrajectoryData data = toTrajectoryData(v.trajectory, world_model_->frame(), mission_options_.sample_dt_s,
                                          static_cast<std::int64_t>(std::llround(v.start_world_s * 1e9)), id);
-  data.visiting_order = std::move(c.order);
-  data.legs = std::move(c.legs);
+  data.visiting_order = std::move(order);
+  data.legs = std::move(legs);
   v.data = std::move(data);
 }
 
@@ -482,6 +514,9 @@ FleetReplanStep FleetReplanner::step(double now_s, const TerminationCondition& o
     if (c) {
       adopt(i, std::move(*c));
       changed.insert(i);
+      unresolved_.erase(i);
+    } else {
+      unresolved_.insert(i);
     }
   }
 
@@ -534,6 +569,11 @@ FleetReplanStep FleetReplanner::step(double now_s, const TerminationCondition& o
   if (stopped() && !marked_.empty()) out.unfinished = true;
   out.changed.assign(changed.begin(), changed.end());
   out.pending.assign(pending_.begin(), pending_.end());
+  for (std::size_t i : unresolved_) {
+    // Resolved meanwhile when its trajectory in force (another step's) no longer meets anything.
+    if (obstacleHit(vehicles_[i].trajectory, vehicles_[i].start_world_s, now_s)) out.unresolved.push_back(i);
+  }
+  unresolved_ = std::set<std::size_t>(out.unresolved.begin(), out.unresolved.end());
   out.latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   return out;
 }
@@ -556,7 +596,14 @@ FleetStatusData FleetReplanner::status(double latency_s) const {
     s.allocation.push_back(std::move(a));
     s.makespan_s = std::max(s.makespan_s, v.start_world_s + v.trajectory.duration_s() - start_world_s_);
   }
-  if (!pending_.empty()) {
+  if (!unresolved_.empty()) {
+    const std::size_t i = *unresolved_.begin();
+    s.error_code = PlanErrorCode::kUnreachable;
+    s.field = "vehicle_ids[" + std::to_string(i) + "]";
+    s.message = s.field + ": " + request_.vehicle_ids[i] +
+                " meets an obstacle and no revision clear of it and of the other vehicles was found (a vehicle can "
+                "only turn away on the flight band, not while it climbs or descends); its revision in force stays";
+  } else if (!pending_.empty()) {
     s.error_code = PlanErrorCode::kUnreachable;
     s.field = "tasks[" + std::to_string(*pending_.begin()) + "]";
     s.message = s.field + ": " + std::to_string(pending_.size()) +

@@ -27,6 +27,9 @@
 //   insertion a candidate that must pass the same checks. A task no vehicle can take stays
 //   pending; it is offered again at the next step that follows a change of the world.
 // - Only the vehicles whose trajectory changed get a new revision (revision + 1, same plan id).
+//   A vehicle for which no candidate passes keeps its revision and is reported (unresolved): the
+//   candidates turn away on the flight band only, so a vehicle still climbing over its begin (or
+//   descending onto its end) where an obstacle passes cannot dodge it.
 // - Work is bounded by budget_s per step: the vehicles not reached stay marked and the next step
 //   goes on with them.
 // DDS-free: the engine drives it on a planning worker; the tests drive it with a world clock.
@@ -74,6 +77,7 @@ struct FleetReplanStep {
   std::vector<std::size_t> affected;     // vehicles found meeting an obstacle
   std::vector<std::uint32_t> reallocated;  // tasks that moved to another vehicle
   std::vector<std::uint32_t> pending;    // tasks no vehicle serves now
+  std::vector<std::size_t> unresolved;   // vehicles still meeting an obstacle (no candidate passed)
   bool unfinished = false;               // the budget ran out before every affected vehicle was seen
   std::size_t candidates = 0;            // trajectories built and checked
   double latency_ms = 0.0;
@@ -100,7 +104,9 @@ class FleetReplanner {
   const std::set<std::uint32_t>& pendingTasks() const { return pending_; }
   Eigen::Vector3d positionAt(std::size_t i, double world_s) const;
   // The status after a step: state replanned, the allocation in force (every task a vehicle
-  // serves, served or not), the delays of the first plan, makespan and separation kept.
+  // serves, served or not), the delays of the first plan, makespan and separation kept; an
+  // unresolved vehicle (kUnreachable, "vehicle_ids[i]") or else a pending task ("tasks[j]") is
+  // named in the error fields.
   FleetStatusData status(double latency_s) const;
   double startWorldS() const { return start_world_s_; }  // the mission start (delay 0)
   double separationM() const { return separation_m_; }
@@ -121,6 +127,7 @@ class FleetReplanner {
   std::optional<Candidate> buildCandidate(std::size_t i, const std::vector<std::uint32_t>& tasks, double now_s,
                                           double takeover_s, double wait_s, const TerminationCondition& stop) const;
   void adopt(std::size_t i, Candidate candidate);
+  std::nullopt_t rejected(std::size_t i, double wait_s, const char* why) const;  // logged (debug)
   // Vehicle i's tasks not yet served at world_s (in order).
   std::vector<std::uint32_t> remainingTasks(std::size_t i, double world_s) const;
   bool taskCovered(std::uint32_t task, double from_s, double to_s) const;  // an obstacle over it meanwhile
@@ -137,6 +144,7 @@ class FleetReplanner {
   std::vector<double> delays_s_;
   std::set<std::uint32_t> pending_;
   std::set<std::size_t> marked_;   // affected vehicles a step has not reached yet
+  std::set<std::size_t> unresolved_;  // affected vehicles no candidate could be found for
   double start_world_s_ = 0.0;
   double separation_m_ = 0.0;
   double cruise_m_ = 0.0;

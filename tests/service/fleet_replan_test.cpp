@@ -7,12 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <set>
 
 #include "planning/fleet/fleet_conflict_checker.hpp"
 #include "service/engine.hpp"
 #include "tests/service/default_world_fixture.hpp"
+#include "tests/service/fleet_flown.hpp"
 #include "tests/service/recording_sink.hpp"
 
 namespace skyroute {
@@ -22,57 +22,10 @@ constexpr std::int64_t kStartNs = 1'800'000'000'000'000'000LL;
 constexpr double kSeparationM = 150.0;  // above the grid cell's diagonal: one vehicle per cell
 using testing::RecordingSink;
 
-// Linear between published samples (0.2 s apart): what a follower of the trajectory flies.
-Eigen::Vector3d sampledAt(const TrajectoryData& t, double world_s) {
-  const auto& s = t.samples;
-  const double rel = world_s - static_cast<double>(s.front().utc_ns) * 1e-9;
-  if (rel <= 0.0) return s.front().position_enu_m;
-  if (rel >= s.back().t_rel_s) return s.back().position_enu_m;
-  const auto after = std::upper_bound(s.begin(), s.end(), rel,
-                                      [](double r, const TrajectorySampleData& x) { return r < x.t_rel_s; });
-  const auto& b = *after;
-  const auto& a = *(after - 1);
-  const double w = (rel - a.t_rel_s) / std::max(1e-9, b.t_rel_s - a.t_rel_s);
-  return (1.0 - w) * a.position_enu_m + w * b.position_enu_m;
-}
-
-double startS(const TrajectoryData& t) { return static_cast<double>(t.samples.front().utc_ns) * 1e-9; }
-double endS(const TrajectoryData& t) { return startS(t) + t.samples.back().t_rel_s; }
-
-// Every vehicle's revisions in publish order; revision r holds from its start to the next one's.
-struct Flown {
-  std::map<std::string, std::vector<TrajectoryData>> revisions;
-
-  explicit Flown(const std::vector<TrajectoryData>& published) {
-    for (const TrajectoryData& t : published) revisions[t.vehicle_id].push_back(t);
-  }
-  const TrajectoryData& inForce(const std::string& vehicle, double world_s) const {
-    const auto& list = revisions.at(vehicle);
-    std::size_t k = 0;
-    while (k + 1 < list.size() && startS(list[k + 1]) <= world_s) ++k;
-    return list[k];
-  }
-  Eigen::Vector3d positionAt(const std::string& vehicle, double world_s) const {
-    return sampledAt(inForce(vehicle, world_s), world_s);
-  }
-  double endOf(const std::string& vehicle) const { return endS(revisions.at(vehicle).back()); }
-  double beginOf(const std::string& vehicle) const { return startS(revisions.at(vehicle).front()); }
-  // Task j served by the revisions in force: a leg ending at it, inside that revision's window.
-  std::vector<std::pair<std::string, double>> servings(std::uint32_t task) const {
-    std::vector<std::pair<std::string, double>> out;
-    for (const auto& [vehicle, list] : revisions) {
-      for (std::size_t k = 0; k < list.size(); ++k) {
-        const double from = startS(list[k]);
-        const double to = k + 1 < list.size() ? startS(list[k + 1]) : std::numeric_limits<double>::infinity();
-        for (const LegBoundaryData& leg : list[k].legs) {
-          const double at = from + leg.end_s;
-          if (leg.to_point == task + 1 && at >= from && at < to) out.emplace_back(vehicle, at);
-        }
-      }
-    }
-    return out;
-  }
-};
+using testing::endS;
+using testing::FleetFlown;
+using testing::sampledAt;
+using testing::startS;
 
 class FleetReplanTest : public testing::DefaultWorldTest {
  protected:
@@ -128,7 +81,7 @@ class FleetReplanTest : public testing::DefaultWorldTest {
   // The independent checks of everything published: every task served exactly once, no vehicle
   // inside an obstacle (its actual motion) while flying, the separation kept between every pair.
   void expectCleanFlight(const FleetRequestData& r, const std::vector<ObstacleUpdateData>& updates) const {
-    const Flown flown(sink_.trajectories);
+    const FleetFlown flown(sink_.trajectories, r.request_id);
     for (std::uint32_t j = 0; j < r.tasks.size(); ++j) {
       const auto served = flown.servings(j);
       ASSERT_EQ(served.size(), 1u) << "task " << j;
@@ -165,7 +118,7 @@ class FleetReplanTest : public testing::DefaultWorldTest {
 
   // The grid checker on the cells the vehicles occupy in the flight band, one sample per grid step.
   void expectNoGridConflicts(const FleetRequestData& r, double cell_m, double step_s) const {
-    const Flown flown(sink_.trajectories);
+    const FleetFlown flown(sink_.trajectories, r.request_id);
     const GridLayer grid(static_cast<int>(std::ceil(heightfield_->boundsEn().sizes().x() / cell_m)) + 2,
                          static_cast<int>(std::ceil(heightfield_->boundsEn().sizes().y() / cell_m)) + 2, cell_m,
                          heightfield_->boundsEn().min() - Eigen::Vector2d(cell_m, cell_m));
