@@ -5,7 +5,10 @@
 // after the update, and one step of the replanner is timed (wall clock, budget included). The
 // revisions are then checked by sampling (every 0.05 s, from the update to each vehicle's end)
 // against the columns' actual motion: "hits" counts vehicles found inside a column (grown by the
-// vehicle radius). Seeded: the same --seed gives the same columns.
+// vehicle radius). A step the budget cut short is followed by another (0.1 s later), as the engine
+// does; "first step" is the first one's latency, "all steps" the sum. "unresolved": vehicles still
+// meeting a column after the last step (no candidate passed). Seeded: the same --seed gives the
+// same columns.
 // Usage: fleet_replan_bench [--rounds N] [--seed S] [--budget-s B]
 #include <chrono>
 #include <cmath>
@@ -67,8 +70,8 @@ int main(int argc, char** argv) {
 
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  bench::Sample latency_ms, candidates;
-  int affected = 0, changed = 0, unfinished = 0, pending = 0, hits = 0;
+  bench::Sample latency_ms, total_latency_ms, candidates;
+  int affected = 0, changed = 0, unfinished = 0, pending = 0, hits = 0, unresolved = 0;
   const double now_s = start_s + 60.0;
   for (int round = 0; round < rounds; ++round) {
     auto replanner = FleetReplanner::create(r, plan, *world, mission, options, start_s);
@@ -93,13 +96,29 @@ int main(int argc, char** argv) {
       (*world)->apply(u);
       updates.push_back(u);
     }
-    const auto t0 = std::chrono::steady_clock::now();
-    const FleetReplanStep step = (*replanner)->step(now_s);
-    latency_ms.add(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    candidates.add(static_cast<double>(step.candidates));
-    affected += static_cast<int>(step.affected.size());
-    changed += static_cast<int>(step.changed.size());
-    unfinished += step.unfinished ? 1 : 0;
+    // Steps as the engine runs them: another one a cycle later while the budget cut one short.
+    std::set<std::size_t> met, revised;
+    double total_ms = 0.0;
+    int steps = 0;
+    std::size_t built = 0;
+    FleetReplanStep step;
+    do {
+      const auto t0 = std::chrono::steady_clock::now();
+      step = (*replanner)->step(now_s + 0.1 * steps);
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      if (steps == 0) latency_ms.add(ms);
+      total_ms += ms;
+      built += step.candidates;
+      met.insert(step.affected.begin(), step.affected.end());
+      revised.insert(step.changed.begin(), step.changed.end());
+      unfinished += step.unfinished ? 1 : 0;
+      ++steps;
+    } while (step.unfinished && steps < 10);
+    total_latency_ms.add(total_ms);
+    candidates.add(static_cast<double>(built));
+    affected += static_cast<int>(met.size());
+    changed += static_cast<int>(revised.size());
+    unresolved += static_cast<int>(step.unresolved.size());
     pending += static_cast<int>(step.pending.size());
     for (std::size_t v = 0; v < r.vehicle_ids.size(); ++v) {
       const FleetVehicleFlight& f = (*replanner)->vehicle(v);
@@ -117,10 +136,12 @@ int main(int argc, char** argv) {
   }
   std::printf("fleet replan, 5 vehicles / 15 tasks, 3 crossing columns, %d rounds, seed %llu, budget %.2f s\n", rounds,
               static_cast<unsigned long long>(seed), budget_s);
-  std::printf("| latency p50 ms | p99 ms | max ms | candidates mean | affected | changed | budget cut | pending | hits |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|\n");
-  std::printf("| %.0f | %.0f | %.0f | %.1f | %d | %d | %d | %d | %d |\n", bench::quantile(latency_ms.v, 0.5),
-              bench::quantile(latency_ms.v, 0.99), bench::quantile(latency_ms.v, 1.0), candidates.mean(), affected,
-              changed, unfinished, pending, hits);
+  std::printf("| first step p50 ms | p99 ms | all steps p50 ms | p99 ms | candidates mean | affected | revised | "
+              "budget cuts | unresolved | pending | hits |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| %.0f | %.0f | %.0f | %.0f | %.1f | %d | %d | %d | %d | %d | %d |\n", bench::quantile(latency_ms.v, 0.5),
+              bench::quantile(latency_ms.v, 0.99), bench::quantile(total_latency_ms.v, 0.5),
+              bench::quantile(total_latency_ms.v, 0.99), candidates.mean(), affected, changed, unfinished, unresolved,
+              pending, hits);
   return 0;
 }
