@@ -175,7 +175,7 @@ std::shared_ptr<WorldModel> Engine::world() const {
 
 Status Engine::canReplaceWorld() const {
   std::lock_guard lock(mutex_);
-  const std::size_t busy = missions_.size() + queue_.size() + in_flight_.size();
+  const std::size_t busy = missions_.size() + fleets_.size() + queue_.size() + in_flight_.size();
   if (busy == 0) return Status::success();
   return make_error(ErrorCode::kInvalidArgument, "terrain.dem",
                     "a terrain change is refused while missions are active or requests are waiting (" +
@@ -190,7 +190,7 @@ Status Engine::replaceWorld(std::shared_ptr<WorldModel> world) {
   // Under the lock that obstacle updates and new missions take: none is lost or planned on the
   // old terrain between the check and the swap.
   std::lock_guard lock(mutex_);
-  if (!missions_.empty() || !queue_.empty() || !in_flight_.empty()) {
+  if (!missions_.empty() || !fleets_.empty() || !queue_.empty() || !in_flight_.empty()) {
     return make_error(ErrorCode::kInvalidArgument, "terrain.dem", "a request arrived during the terrain change; retry");
   }
   world->adoptObstacles(*world_);
@@ -427,6 +427,10 @@ std::vector<TrajectoryData> Engine::currentTrajectories() const {
 }
 
 void Engine::plan(Job& job) {
+  if (job.fleet_replan) {
+    replanFleetJob(job);
+    return;
+  }
   if (job.fleet) {
     planFleetJob(job);
     return;

@@ -103,9 +103,13 @@ class Engine {
   std::optional<PlanError> submit(MissionRequestData request);
   // A fleet (fleet_mission.hpp): checked at once (a failed fleet status names the field), queued
   // with the missions and planned on the same workers; answered with one trajectory per vehicle and
-  // a fleet status. Fleet vehicles are not replanned: the plan's separation holds only while every
-  // vehicle flies its own trajectory, and replanning one alone would break it (an active mission
-  // of one of the vehicles ends, its trajectory replaced).
+  // a fleet status (an active mission of one of the vehicles ends, its trajectory replaced). The
+  // fleet then flies (pipeline.fleet_replan.enabled): after each change of the obstacles the
+  // replanning loop queues a replan of the fleet on a planning worker (fleet_replanner.hpp), which
+  // replans the vehicles that would meet an obstacle, keeping the whole fleet separated, moves
+  // tasks a vehicle can no longer reach to others, and publishes new revisions only for the
+  // vehicles that changed, with a replanned fleet status. A newer fleet with one of its vehicles
+  // ends it.
   std::optional<PlanError> submitFleet(FleetRequestData request);
   // Stops a queued or in-flight plan, or ends an active mission; answers with a cancelled status.
   // When nothing matches, answers with a failed status naming what was not found (addressed to
@@ -167,6 +171,7 @@ class Engine {
  private:
   struct Job;
   struct Mission;
+  struct Fleet;
   Engine(std::shared_ptr<WorldModel> world, const EngineOptions& options, EngineSink& sink, Clock clock);
   // Checks a request with `validate` (under the lock: it reads the options), refuses it when the
   // engine stops or the queue is full (kBusy), else queues the job. Returns the refusal.
@@ -179,6 +184,9 @@ class Engine {
   // Plans a taken job and drops it from in_flight_.
   void planTaken(std::unique_ptr<Job> job);
   void planFleetJob(Job& job);
+  void replanFleetJob(Job& job);  // one step of a flying fleet's replanner (engine_fleet.cpp)
+  // The cycle's look at the flying fleets: a fleet whose world changed gets a replan job.
+  void queueFleetReplans(std::uint64_t changes, double now_s);
   void planResumed(Job& job);  // a recovered flying mission's flight (engine_recovery.cpp)
   void status(const MissionRequestData& request, PlanState state, double planning_time_s = 0.0);
   // Publishes a request's final status and records it for duplicates of the request.
@@ -211,6 +219,7 @@ class Engine {
   std::deque<std::unique_ptr<Job>> queue_;
   std::vector<Job*> in_flight_;                                // jobs being planned
   std::map<std::string, std::shared_ptr<Mission>> missions_;   // vehicle id -> active mission
+  std::map<std::string, std::shared_ptr<Fleet>> fleets_;       // request id -> flying fleet
   RequestRegistry registry_;
   LogThrottle throttle_;                                       // repeated warnings
   int running_workers_ = 0;                                    // workers not retired

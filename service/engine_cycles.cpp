@@ -96,6 +96,7 @@ std::size_t Engine::replanCycle() {
                                  step.failure->message));
     }
   }
+  if (!stopping_) queueFleetReplans(changes, now_s);
   spdlog::debug("event=replan_cycle flights={} replanned={} world_version={} ms={:.1f}", missions.size(), published,
                 changes, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count());
   return published;
@@ -194,8 +195,11 @@ void Engine::stop() {
     stopping_ = true;
     for (Job* job : in_flight_) job->cancel->store(true);
     for (const auto& [vehicle, mission] : missions_) mission->cancel->store(true);
+    for (const auto& [id, fleet] : fleets_) fleet->ended = true;
     for (const auto& job : queue_) {
-      if (job->fleet) {
+      if (job->fleet_replan) {
+        continue;  // the fleet flies on with the revisions published
+      } else if (job->fleet) {
         dropped_fleets.push_back(job->fleet->request_id);
       } else if (!job->resume) {  // a recovered flight's request was answered before the restart
         dropped.push_back(job->request);

@@ -22,6 +22,23 @@ struct Engine::Job {
   std::optional<TrajectoryData> resume;
   std::int64_t resume_start_utc_ns = 0;      // when the recovered flight started (its first plan)
   std::shared_ptr<std::atomic<bool>> cancel = std::make_shared<std::atomic<bool>>(false);
+  // A flying fleet's replan (engine_fleet.cpp), queued by the replanning loop.
+  std::shared_ptr<Fleet> fleet_replan;
+};
+
+// A flying fleet: its replanner (fleet_replanner.hpp) and what the replanning loop knows of it.
+struct Engine::Fleet {
+  std::string request_id;
+  std::unique_ptr<FleetReplanner> replanner;
+  std::mutex mutex;                          // the replanner
+  std::atomic<bool> ended{false};            // landed, replaced by a newer fleet or stopped
+  // Under the engine's mutex: a replan job is queued or running; the world changes it checked;
+  // the last step ran out of budget (the next cycle queues another).
+  bool queued = false;
+  std::uint64_t changes_checked = 0;
+  bool retry = false;
+  double lands_world_s = 0.0;                // after this the fleet is landed: a job drops it
+  std::size_t pending_answered = 0;          // pending tasks in the last fleet status published
 };
 
 struct Engine::Mission {

@@ -474,6 +474,8 @@ std::optional<PlanError> planInto(const FleetRequestData& r, WorldModel& world_m
   auto repair = separateVehicles(r, o, separation_m, stop, out);
   if (!repair.ok()) return repair.error();
   sampleDelayedTrajectories(r, frame, o, start_utc_ns, repair->delays_s, out);
+  out.grid_paths = plan->paths.vehicles;
+  out.grid = std::make_shared<const GridLayer>(std::move(*grid));
   return std::nullopt;
 }
 

@@ -34,12 +34,14 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "planning/core/termination.hpp"
+#include "planning/fleet/fleet_paths.hpp"
 #include "service/mission_types.hpp"
 #include "service/route_planner.hpp"
 #include "service/world_model.hpp"
@@ -75,6 +77,10 @@ struct FleetPlanOutput {
   std::vector<Eigen::Vector3d> ends_m;
   double cell_size_m = 0.0;
   double cruise_altitude_m = 0.0;
+  // What a replanner of the flying fleet needs (fleet_replanner.hpp): the flight band's grid, each
+  // vehicle's space-time grid path (request order) and the separation certified.
+  std::shared_ptr<const GridLayer> grid;
+  std::vector<VehiclePlan> grid_paths;
   bool ok() const { return status.state == PlanState::kSucceeded; }
 
   // Vehicle i's position at `t_s` after the mission start (holding at begin before, end after).

@@ -34,7 +34,10 @@ void JournalingSink::retractTrajectory(const std::string& vehicle_id) {
 }
 
 void JournalingSink::publishFleetStatus(const FleetStatusData& status) {
-  if (status.state == PlanState::kSucceeded) logFailed("fleet", journal_->recordFleet(status));
+  // A replanned fleet's allocation replaces the first one: a restart republishes what is in force.
+  if (status.state == PlanState::kSucceeded || status.state == PlanState::kReplanned) {
+    logFailed("fleet", journal_->recordFleet(status));
+  }
   next_.publishFleetStatus(status);
 }
 

@@ -28,6 +28,7 @@
 
 #include "planning/core/termination.hpp"
 #include "service/fleet_mission.hpp"
+#include "service/fleet_replanner.hpp"
 #include "service/flight_replanner.hpp"
 #include "service/grid_leg_planner.hpp"
 #include "service/mission_order.hpp"
@@ -57,6 +58,7 @@ struct PipelineOptions {
   GridLegOptions grid_legs;               // the grid planners' flight-band grid
   ReplanOptions replan = defaultReplanOptions();  // replan.route: corridor, LOSPO, trajectory stage
   FleetMissionOptions fleet;              // fleet requests (their trajectory stage is replan.route's)
+  FleetReplanOptions fleet_replan;        // flying fleets kept clear of obstacles (fleet_replanner.hpp)
   MissionReorderOptions reorder;          // live re-ordering of flying missions (mission_reorder.hpp)
 
   // The first plan's leg pipeline is RRT* on an iteration budget; a replan must come back within
