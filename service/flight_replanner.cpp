@@ -75,7 +75,7 @@ Result<std::unique_ptr<FlightReplanner>> FlightReplanner::startWithRoute(std::sh
 RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>& points, double at_world_s,
                                              const TrajectoryState* state, int attempt, int variant,
                                              double conflict_in_s, const std::optional<Rejoin>& rejoin) const {
-  RouteOptions route = options_.route;
+  RouteOptions route = withVehiclePathAngles(options_.route, limits_);
   // A cycle after a failed one draws other paths (the same seeds would repeat its failure).
   route.seed = options_.route.seed + 1000ULL * revision_ + 100ULL * static_cast<std::uint64_t>(failed_cycles_) +
                static_cast<std::uint64_t>(attempt);

@@ -58,6 +58,7 @@ struct PipelineOptions {
   ReplanOptions replan = defaultReplanOptions();  // replan.route: corridor, LOSPO, trajectory stage
   FleetMissionOptions fleet;              // fleet requests (their trajectory stage is replan.route's)
   MissionReorderOptions reorder;          // live re-ordering of flying missions (mission_reorder.hpp)
+  VehicleModelDefaults vehicle;           // the model of requests that leave it to the service
 
   // The first plan's leg pipeline is RRT* on an iteration budget; a replan must come back within
   // a cycle, so its RRT* gets fewer iterations per leg (informed sampling around the current path
