@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/mission_json.hpp"
+#include "terrain/heightfield.hpp"
 #include "tests/cli_run.hpp"
 #include "tests/fixed_wing_sampler.hpp"
 #include "tests/terrain_data.hpp"
