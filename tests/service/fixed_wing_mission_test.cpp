@@ -112,6 +112,11 @@ TEST_F(FixedWingMissionTest, AMultirotorOnTheSamePointsStillHovers) {
   ASSERT_FALSE(t.samples.empty());
   EXPECT_NEAR(t.samples.front().velocity_enu_mps.norm(), 0.0, 1e-6);
   EXPECT_NEAR(t.samples.back().velocity_enu_mps.norm(), 0.0, 1e-6);
+  // The sampler is no formality: the hovering trajectory breaks the fixed wing's envelope.
+  const testing::FixedWingFlight f = testing::sampleFixedWing(t, testing::envelopeOf(fixedWingLimits()),
+                                                              [&](double e, double n) { return ground(e, n); });
+  ASSERT_FALSE(f.violations.empty());
+  EXPECT_EQ(f.violations.front().rfind("below_min_airspeed", 0), 0u) << testing::joined(f.violations);
 }
 
 TEST_F(FixedWingMissionTest, BadFixedWingValuesAreRefusedByName) {
