@@ -40,6 +40,7 @@ struct IntegerShadow {
   std::string mission_point_mode;
   std::int64_t tree_reuse_nodes;
   std::int64_t reorder_threads;
+  std::string vehicle_model;
 };
 
 IntegerShadow shadowOf(const DaemonConfig& c) {
@@ -62,7 +63,8 @@ IntegerShadow shadowOf(const DaemonConfig& c) {
                        static_cast<std::int64_t>(c.engine.obstacles.max_obstacles),
                        std::string(to_string(p.replan.route.trajectory.fixed_waypoint_mode)),
                        static_cast<std::int64_t>(p.replan.route.tree_reuse.max_nodes),
-                       static_cast<std::int64_t>(p.reorder.repair_threads)};
+                       static_cast<std::int64_t>(p.reorder.repair_threads),
+                       std::string(to_string(p.vehicle.model))};
 }
 
 void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
@@ -88,6 +90,7 @@ void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
   // The key's choices are the parser's names.
   p.replan.route.trajectory.fixed_waypoint_mode =
       parseFixedWaypointMode(s.mission_point_mode).value_or(p.replan.route.trajectory.fixed_waypoint_mode);
+  p.vehicle.model = parseVehicleModel(s.vehicle_model).value_or(p.vehicle.model);
 }
 
 std::vector<std::string> plannerChoices() {
@@ -198,6 +201,27 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
        "with rrt_tree_reuse: RRT* nodes kept per vehicle at most (the cheapest from the root), and re-rooted at "
        "most per replan (one motion check each)",
        &s.tree_reuse_nodes, 1, 1000000},
+      {"vehicle", "model",
+       "vehicle model of the requests that leave it to the service (VehicleLimits.model DEFAULT, no \"model\" in a "
+       "mission file): multirotor (may hover), or fixed_wing (never under its minimum airspeed, banks at most "
+       "max_bank_deg, climbs and descends at most at its path angles, never stops; docs/dds.md)",
+       &s.vehicle_model, -kInf, kInf, {"multirotor", "fixed_wing"}},
+      {"vehicle", "stall_speed_mps",
+       "fixed wing: stall speed of the requests that give 0; 0 = none (such a request is refused naming "
+       "limits.stall_speed_mps), m/s",
+       &p.vehicle.stall_speed_mps, 0, 1000},
+      {"vehicle", "stall_margin", "fixed wing: minimum airspeed = stall speed x this, for the requests that give 0",
+       &p.vehicle.stall_margin, 1, 3},
+      {"vehicle", "max_bank_deg",
+       "fixed wing: largest bank angle, for the requests that give 0 (turn radius V^2 / (g tan(bank)), load factor "
+       "1 / cos(bank)), degrees",
+       &p.vehicle.max_bank_deg, 1, 79},
+      {"vehicle", "max_climb_angle_deg",
+       "fixed wing: largest flight path angle above the horizontal, for the requests that give 0, degrees",
+       &p.vehicle.max_climb_angle_deg, 1, 60},
+      {"vehicle", "max_descent_angle_deg",
+       "fixed wing: largest flight path angle below the horizontal, for the requests that give 0, degrees",
+       &p.vehicle.max_descent_angle_deg, 1, 60},
       {"replanning", "enabled", "replan active missions when obstacles will meet them (skyrouted)", &c.engine.replanning},
       {"replanning", "period_s", "replanning cycle t_ref, seconds", &p.replan.period_s, 0.01, 10},
       {"replanning", "horizon_s", "how far ahead conflicts are looked for, seconds", &p.replan.horizon_s, 1, 3600},
@@ -325,7 +349,7 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
         std::any_of(keys.begin(), keys.end(), [&](const Key& k) { return section == k.section; });
     if (!known_section) {
       return make_error(ErrorCode::kInvalidArgument, section,
-                        "unknown section [" + section + "] (known: terrain, dds, service, security, ros2, planning, replanning, bounds, obstacles, log)");
+                        "unknown section [" + section + "] (known: terrain, dds, service, security, ros2, planning, vehicle, replanning, bounds, obstacles, log)");
     }
     if (!table) return make_error(ErrorCode::kInvalidArgument, section, "must be a table [" + section + "]");
     for (const auto& [key_name, node] : *table) {

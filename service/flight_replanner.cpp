@@ -75,7 +75,7 @@ Result<std::unique_ptr<FlightReplanner>> FlightReplanner::startWithRoute(std::sh
 RouteOptions FlightReplanner::attemptOptions(const std::vector<Eigen::Vector3d>& points, double at_world_s,
                                              const TrajectoryState* state, int attempt, int variant,
                                              double conflict_in_s, const std::optional<Rejoin>& rejoin) const {
-  RouteOptions route = options_.route;
+  RouteOptions route = withVehiclePathAngles(options_.route, limits_);
   // A cycle after a failed one draws other paths (the same seeds would repeat its failure).
   route.seed = options_.route.seed + 1000ULL * revision_ + 100ULL * static_cast<std::uint64_t>(failed_cycles_) +
                static_cast<std::uint64_t>(attempt);
@@ -281,6 +281,8 @@ std::optional<FlightReplanner::AttemptPlan> FlightReplanner::localPlan(const std
                                           {2, 1.0, 1.0}, {3, 3.0, 1.0}};
   const Variant v = kVariants[std::min<std::size_t>(static_cast<std::size_t>(attempt), std::size(kVariants) - 1)];
   if (v.speed_factor < 1.0 && !options_.local_retime) return std::nullopt;
+  // A fixed wing cannot wait for an obstacle by flying slower than its minimum airspeed.
+  if (v.speed_factor < 1.0 && limits_.v_ref_mps * v.speed_factor < limits_.minAirspeedMps()) return std::nullopt;
   const auto& knots = route_.built.knots;
   const auto& times = route_.built.trajectory.knotTimes();
   if (knots.size() != times.size() || knots.size() < 2) return std::nullopt;

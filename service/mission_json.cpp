@@ -79,11 +79,17 @@ std::vector<std::pair<const char*, double VehicleLimitsData::*>> limitFields() {
           {"max_descent_rate_mps", &VehicleLimitsData::max_descent_rate_mps},
           {"min_turn_radius_m", &VehicleLimitsData::min_turn_radius_m},
           {"min_clearance_agl_m", &VehicleLimitsData::min_clearance_agl_m},
-          {"ceiling_amsl_m", &VehicleLimitsData::ceiling_amsl_m}};
+          {"ceiling_amsl_m", &VehicleLimitsData::ceiling_amsl_m},
+          {"stall_speed_mps", &VehicleLimitsData::stall_speed_mps},
+          {"stall_margin", &VehicleLimitsData::stall_margin},
+          {"max_bank_deg", &VehicleLimitsData::max_bank_deg},
+          {"max_climb_angle_deg", &VehicleLimitsData::max_climb_angle_deg},
+          {"max_descent_angle_deg", &VehicleLimitsData::max_descent_angle_deg}};
 }
 
 json limitsToJson(const VehicleLimitsData& limits) {
   json j = json::object();
+  if (limits.model) j["model"] = std::string(to_string(*limits.model));
   for (const auto& [key, field] : limitFields()) j[key] = limits.*field;
   return j;
 }
@@ -93,6 +99,12 @@ std::optional<Error> limitsFromJson(const json& j, VehicleLimitsData& limits) {
   auto it = j.find("limits");
   if (it == j.end()) return std::nullopt;
   if (!it->is_object()) return invalid("limits", "must be an object");
+  if (it->contains("model")) {
+    auto name = text(*it, "model", "limits", "");
+    if (!name) return name.error();
+    limits.model = parseVehicleModel(*name);
+    if (!limits.model) return invalid("limits.model", "'" + *name + "' is not one of multirotor, fixed_wing");
+  }
   for (const auto& [key, field] : limitFields()) {
     auto v = number(*it, key, "limits", limits.*field);
     if (!v) return v.error();

@@ -143,7 +143,7 @@ Result<OrderedMission, PlanError> MissionPipeline::order(const MissionRequestDat
     return stageError(PlanErrorCode::kLimitsOutOfRange, world.error().field, world.error().message, PlanStage::kValidate);
   }
   out.world = *world;
-  out.limits = toVehicleLimits(r.limits);
+  out.limits = toVehicleLimits(withVehicleDefaults(r.limits, options_.vehicle));
   if (Status ok = out.limits.validate(); !ok.ok()) {
     return stageError(PlanErrorCode::kLimitsOutOfRange, requestLimitField(ok.error().field), ok.error().message,
                       PlanStage::kValidate);

@@ -60,6 +60,7 @@ struct PipelineOptions {
   FleetMissionOptions fleet;              // fleet requests (their trajectory stage is replan.route's)
   FleetReplanOptions fleet_replan;        // flying fleets kept clear of obstacles (fleet_replanner.hpp)
   MissionReorderOptions reorder;          // live re-ordering of flying missions (mission_reorder.hpp)
+  VehicleModelDefaults vehicle;           // the model of requests that leave it to the service
 
   // The first plan's leg pipeline is RRT* on an iteration budget; a replan must come back within
   // a cycle, so its RRT* gets fewer iterations per leg (informed sampling around the current path

@@ -92,6 +92,25 @@ VehicleLimits toVehicleLimits(const VehicleLimitsData& d) {
   l.max_climb_mps = d.max_climb_rate_mps;
   l.max_descent_mps = d.max_descent_rate_mps;
   l.min_turn_radius_m = d.min_turn_radius_m;
+  l.model = d.model.value_or(VehicleModel::kMultirotor);
+  l.stall_speed_mps = d.stall_speed_mps;
+  l.stall_margin = d.stall_margin;
+  l.max_bank_deg = d.max_bank_deg;
+  l.max_climb_angle_deg = d.max_climb_angle_deg;
+  l.max_descent_angle_deg = d.max_descent_angle_deg;
+  return l;
+}
+
+VehicleLimitsData withVehicleDefaults(VehicleLimitsData l, const VehicleModelDefaults& d) {
+  if (!l.model) l.model = d.model;
+  const std::pair<double VehicleLimitsData::*, double> given[] = {
+      {&VehicleLimitsData::stall_speed_mps, d.stall_speed_mps},
+      {&VehicleLimitsData::stall_margin, d.stall_margin},
+      {&VehicleLimitsData::max_bank_deg, d.max_bank_deg},
+      {&VehicleLimitsData::max_climb_angle_deg, d.max_climb_angle_deg},
+      {&VehicleLimitsData::max_descent_angle_deg, d.max_descent_angle_deg}};
+  for (const auto& [field, fallback] : given)
+    if (l.*field == 0.0) l.*field = fallback;
   return l;
 }
 
@@ -193,6 +212,14 @@ std::optional<PlanError> checkVehicleLimits(const VehicleLimitsData& l, const Ve
   if (auto e = checkRange(l.min_turn_radius_m, 0.0, b.max_turn_radius_m, false, "limits.min_turn_radius_m")) return e;
   if (auto e = checkRange(l.min_clearance_agl_m, 0.0, b.max_clearance_m, false, "limits.min_clearance_agl_m")) return e;
   if (auto e = checkRange(l.ceiling_amsl_m, -500.0, b.max_ceiling_amsl_m, true, "limits.ceiling_amsl_m")) return e;
+  // The fixed-wing values (0 = the service's): each within its range; the whole model (v_ref_mps
+  // above the minimum airspeed) once the service's values are in (VehicleLimits::validate).
+  if (auto e = checkRange(l.stall_speed_mps, 0.0, b.max_speed_mps, false, "limits.stall_speed_mps")) return e;
+  if (l.stall_margin != 0.0)
+    if (auto e = checkRange(l.stall_margin, 1.0, 3.0, false, "limits.stall_margin")) return e;
+  if (auto e = checkRange(l.max_bank_deg, 0.0, 79.9, false, "limits.max_bank_deg")) return e;
+  if (auto e = checkRange(l.max_climb_angle_deg, 0.0, 60.0, false, "limits.max_climb_angle_deg")) return e;
+  if (auto e = checkRange(l.max_descent_angle_deg, 0.0, 60.0, false, "limits.max_descent_angle_deg")) return e;
   return std::nullopt;
 }
 

@@ -45,9 +45,32 @@ struct VehicleLimitsData {
   double min_turn_radius_m = 0.0;     // 0 = no limit (a multirotor); a fixed wing sets its own
   double min_clearance_agl_m = 30.0;   // minimum height above ground
   double ceiling_amsl_m = 5000.0;      // maximum altitude AMSL
+  // The vehicle model (trajectory/vehicle_limits.hpp); nullopt = the service's vehicle.model.
+  std::optional<VehicleModel> model = std::nullopt;
+  // Fixed wing only; 0 = the service's [vehicle] value (VehicleModelDefaults).
+  double stall_speed_mps = 0.0;
+  double stall_margin = 0.0;           // minimum airspeed = stall_speed_mps x stall_margin
+  double max_bank_deg = 0.0;
+  double max_climb_angle_deg = 0.0;    // flight path angle above the horizontal
+  double max_descent_angle_deg = 0.0;  // below the horizontal (positive number)
 };
 
-// The trajectory stage's limits for a request's (same values; climb and descent renamed).
+// The service's vehicle model for requests that leave it to the service (the configuration's
+// [vehicle] section): the model, and the fixed-wing values a request gives as 0.
+struct VehicleModelDefaults {
+  VehicleModel model = VehicleModel::kMultirotor;
+  double stall_speed_mps = 0.0;  // none: a fixed-wing request must give its own
+  double stall_margin = 1.3;
+  double max_bank_deg = 30.0;
+  double max_climb_angle_deg = 15.0;
+  double max_descent_angle_deg = 15.0;
+};
+
+// The request's limits with the model and every fixed-wing value it left to the service filled in.
+VehicleLimitsData withVehicleDefaults(VehicleLimitsData limits, const VehicleModelDefaults& defaults);
+
+// The trajectory stage's limits for a request's (same values; climb and descent renamed; no model
+// given: a multirotor).
 VehicleLimits toVehicleLimits(const VehicleLimitsData& limits);
 
 struct MissionRequestData {

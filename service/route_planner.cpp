@@ -25,11 +25,15 @@ std::string violationText(const Violation& v) {
   switch (v.kind) {
     case ViolationKind::kAcceleration: unit = "m/s^2"; break;
     case ViolationKind::kTurnRadius: unit = "m"; break;
+    case ViolationKind::kBankAngle:
+    case ViolationKind::kClimbAngle:
+    case ViolationKind::kDescentAngle: unit = "deg"; break;
+    case ViolationKind::kLoadFactor: unit = "g"; break;
     default: break;
   }
   const std::string at = " at t=" + numberText(v.time_s, 4) + " s";
   if (v.kind == ViolationKind::kCollision) return "the curve collides (terrain or obstacle)" + at;
-  const char* relation = v.kind == ViolationKind::kTurnRadius ? " under the limit " : " over the limit ";
+  const char* relation = underLimitIsViolation(v.kind) ? " under the limit " : " over the limit ";
   return std::string(to_string(v.kind)) + " " + numberText(v.value, 4) + " " + unit + relation +
          numberText(v.limit, 4) + " " + unit + at;
 }
@@ -53,6 +57,12 @@ std::optional<std::vector<Eigen::Vector3d>> clearWayUnderCeiling(const MotionVal
   return way;
 }
 }  // namespace
+
+RouteOptions withVehiclePathAngles(RouteOptions options, const VehicleLimits& limits) {
+  options.max_path_climb_deg = limits.fixedWing() ? kPathAngleShare * limits.max_climb_angle_deg : 0.0;
+  options.max_path_descent_deg = limits.fixedWing() ? kPathAngleShare * limits.max_descent_angle_deg : 0.0;
+  return options;
+}
 
 bool isTrajectoryStageError(const Error& error) {
   return error.field == "trajectory" || error.message.rfind(kNoTrajectory, 0) == 0;
@@ -91,7 +101,7 @@ Result<PlannedRoute> planRoute(std::shared_ptr<const CollisionWorld> world, cons
                                const VehicleLimits& limits, const RouteOptions& options,
                                const TerminationCondition& stop) {
   const auto started = std::chrono::steady_clock::now();
-  auto route = planRoutePaths(world, points_m, options, stop);
+  auto route = planRoutePaths(world, points_m, withVehiclePathAngles(options, limits), stop);
   if (!route.ok()) return route.error();
   Status built = buildRouteTrajectory(world, points_m, limits, options, *route);
   if (!built.ok()) return built.error();
@@ -146,6 +156,10 @@ Result<PlannedRoute> planRoutePaths(std::shared_ptr<const CollisionWorld> world,
     bool first_region = true;
     while (auto region = regions.next()) {
       validator.emplace(world, *region, options.snapshot);
+      if (options.max_path_climb_deg > 0.0 || options.max_path_descent_deg > 0.0) {
+        validator->limitPathAngles(options.max_path_climb_deg > 0.0 ? options.max_path_climb_deg : 90.0,
+                                   options.max_path_descent_deg > 0.0 ? options.max_path_descent_deg : 90.0);
+      }
       // The reused tree joins the leg's first region (its corridor) only: beyond it the leg
       // searches wide regions the tree was not grown for.
       // A straight first leg needs no tree (RRT* returns the motion at once): the kept tree is then

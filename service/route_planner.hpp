@@ -59,7 +59,18 @@ struct RouteOptions {
   // RouteLeg::tree, for a later replan's first_leg_tree. Not when first_leg_tree is given and the
   // straight first leg is valid: no tree is grown then, and the caller keeps the one it has.
   bool keep_first_leg_tree = false;
+  // A fixed wing's legs climb and descend at most this steeply (degrees; 0 = any slope):
+  // withVehiclePathAngles sets them from the vehicle's limits.
+  double max_path_climb_deg = 0.0;
+  double max_path_descent_deg = 0.0;
 };
+
+// Share of a fixed wing's path angle limits its legs' straight pieces may use: the curve through
+// them steepens a little where it bends from one slope to the next.
+inline constexpr double kPathAngleShare = 0.9;
+
+// The options with the legs' path angles of this vehicle (a fixed wing's; a multirotor's: any).
+RouteOptions withVehiclePathAngles(RouteOptions options, const VehicleLimits& limits);
 
 // Share of a leg's iteration budget a search from a reused tree still draws, however many nodes
 // it kept: the kept nodes were sampled for another start and goal.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <optional>
 
 namespace skyroute {
@@ -15,8 +16,35 @@ std::string_view to_string(ViolationKind kind) {
     case ViolationKind::kDescentRate: return "descent_rate";
     case ViolationKind::kTurnRadius: return "turn_radius";
     case ViolationKind::kCollision: return "collision";
+    case ViolationKind::kBelowMinAirspeed: return "below_min_airspeed";
+    case ViolationKind::kBankAngle: return "bank_angle";
+    case ViolationKind::kLoadFactor: return "load_factor";
+    case ViolationKind::kClimbAngle: return "climb_angle";
+    case ViolationKind::kDescentAngle: return "descent_angle";
   }
   return "unknown";
+}
+
+bool underLimitIsViolation(ViolationKind kind) {
+  return kind == ViolationKind::kTurnRadius || kind == ViolationKind::kBelowMinAirspeed;
+}
+
+FixedWingState fixedWingState(const Eigen::Vector3d& v, const Eigen::Vector3d& a) {
+  constexpr double kDeg = 180.0 / std::numbers::pi;
+  FixedWingState state;
+  const double horizontal = v.head<2>().norm();
+  const double speed = v.norm();
+  if (horizontal > 1e-9) {
+    const double lateral = std::abs(v.x() * a.y() - v.y() * a.x()) / horizontal;
+    state.bank_deg = std::atan(lateral / kStandardGravityMps2) * kDeg;
+  }
+  state.path_angle_deg = std::atan2(v.z(), horizontal) * kDeg;
+  if (speed > 1e-9) {
+    const Eigen::Vector3d along = v / speed;
+    const Eigen::Vector3d lift = a + Eigen::Vector3d(0.0, 0.0, kStandardGravityMps2);
+    state.load_factor = (lift - lift.dot(along) * along).norm() / kStandardGravityMps2;
+  }
+  return state;
 }
 
 bool FeasibilityReport::has(ViolationKind kind) const {
@@ -30,7 +58,10 @@ FeasibilityReport checkFeasibility(const Trajectory& trajectory, const VehicleLi
   const double slack = 1.0 + options.relative_tolerance;
   const auto& segments = trajectory.segments();
   const auto& knot_times = trajectory.knotTimes();
-  constexpr std::size_t kKinds = 6;
+  constexpr std::size_t kKinds = kViolationKinds;
+  const double turn_radius_limit_m = limits.effectiveMinTurnRadiusM();
+  const double min_airspeed_mps = limits.minAirspeedMps();
+  const double max_load_factor = limits.maxLoadFactor();
 
   for (std::size_t s = 0; s < segments.size(); ++s) {
     if (options.stop_requested && options.stop_requested()) {
@@ -78,8 +109,26 @@ FeasibilityReport checkFeasibility(const Trajectory& trajectory, const VehicleLi
         const double cross = v.cross(a).norm();
         const double radius = cross > 0.0 ? speed * speed * speed / cross : std::numeric_limits<double>::infinity();
         report.min_turn_radius_m = std::min(report.min_turn_radius_m, radius);
-        if (limits.min_turn_radius_m > 0.0 && radius * slack < limits.min_turn_radius_m)
-          record(ViolationKind::kTurnRadius, t, radius, limits.min_turn_radius_m, true);
+        if (turn_radius_limit_m > 0.0 && radius * slack < turn_radius_limit_m)
+          record(ViolationKind::kTurnRadius, t, radius, turn_radius_limit_m, true);
+      }
+      if (limits.fixedWing()) {
+        const FixedWingState state = fixedWingState(v, a);
+        report.min_speed_mps = std::min(report.min_speed_mps, speed);
+        report.max_bank_deg = std::max(report.max_bank_deg, state.bank_deg);
+        report.max_load_factor = std::max(report.max_load_factor, state.load_factor);
+        report.max_climb_angle_deg = std::max(report.max_climb_angle_deg, state.path_angle_deg);
+        report.max_descent_angle_deg = std::max(report.max_descent_angle_deg, -state.path_angle_deg);
+        if (speed * slack < min_airspeed_mps)
+          record(ViolationKind::kBelowMinAirspeed, t, speed, min_airspeed_mps, true);
+        if (state.bank_deg > limits.max_bank_deg * slack)
+          record(ViolationKind::kBankAngle, t, state.bank_deg, limits.max_bank_deg, false);
+        if (state.load_factor > max_load_factor * slack)
+          record(ViolationKind::kLoadFactor, t, state.load_factor, max_load_factor, false);
+        if (state.path_angle_deg > limits.max_climb_angle_deg * slack)
+          record(ViolationKind::kClimbAngle, t, state.path_angle_deg, limits.max_climb_angle_deg, false);
+        if (-state.path_angle_deg > limits.max_descent_angle_deg * slack)
+          record(ViolationKind::kDescentAngle, t, -state.path_angle_deg, limits.max_descent_angle_deg, false);
       }
       if (collision && k > 0 && !collision_found) {
         ++report.motions_checked;

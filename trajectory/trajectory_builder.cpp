@@ -45,8 +45,14 @@ double stretchFactor(const Violation& v) {
     case ViolationKind::kClimbRate:
     case ViolationKind::kDescentRate: return v.value / v.limit;
     case ViolationKind::kAcceleration: return std::sqrt(v.value / v.limit);
+    // The lift beyond the weight scales with the acceleration, as 1/k^2.
+    case ViolationKind::kLoadFactor: return v.limit > 1.0 ? std::sqrt((v.value - 1.0) / (v.limit - 1.0)) : 0.0;
     case ViolationKind::kTurnRadius:
-    case ViolationKind::kCollision: return 0.0;
+    case ViolationKind::kCollision:
+    case ViolationKind::kBelowMinAirspeed:
+    case ViolationKind::kBankAngle:
+    case ViolationKind::kClimbAngle:
+    case ViolationKind::kDescentAngle: return 0.0;
   }
   return 0.0;
 }
@@ -107,6 +113,27 @@ struct CornerRecord {
 };
 
 constexpr double kTurningRad = 1e-6;  // a vertex turning less is straight
+
+// Turns the vehicle cannot fly: too tight for its radius, or (a fixed wing) for its bank.
+bool isTurnViolation(ViolationKind kind) {
+  return kind == ViolationKind::kTurnRadius || kind == ViolationKind::kBankAngle;
+}
+
+// How much wider a corner must be for the violation to go (> 1 when it is too tight).
+double turnShortfall(const Violation& v) {
+  if (v.kind == ViolationKind::kBankAngle) {
+    // At the same speed the bank's tangent scales with the curvature, 1 / radius.
+    const double deg = std::numbers::pi / 180.0;
+    return std::tan(std::min(v.value, 89.0) * deg) / std::tan(v.limit * deg);
+  }
+  return v.limit / std::max(v.value, 1e-9);
+}
+
+// A fixed wing's violations no repair here fixes: the path or the limits must change.
+bool isFixedWingPathViolation(ViolationKind kind) {
+  return kind == ViolationKind::kBelowMinAirspeed || kind == ViolationKind::kClimbAngle ||
+         kind == ViolationKind::kDescentAngle;
+}
 constexpr double kFullShare = 0.9;    // tangent share of a leg whose other end needs none
 constexpr int kMaxWidenings = 3;
 
@@ -223,7 +250,7 @@ class RepairLoop {
   RepairLoop(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits, const TrajectoryOptions& options,
              const MotionCheck* collision, const std::vector<WaypointStop>& stops)
       : limits_(limits), options_(options), collision_(collision), allocation_(options.time_allocation),
-        local_rounds_(options.max_repair_rounds / 2), stops_(stops) {
+        local_rounds_(options.max_repair_rounds / 2), stops_(stops), may_stop_(!limits.fixedWing()) {
     path_.reserve(waypoints.size());
     for (std::size_t i = 0; i < waypoints.size(); ++i)
       path_.push_back(PathVertex{waypoints[i], i == 0 || i + 1 == waypoints.size(), i, -1});
@@ -309,6 +336,7 @@ class RepairLoop {
   int growing_rounds_ = 0;  // stretch rounds in a row whose worst violation grew
   std::vector<WaypointStop> stops_;
   std::optional<Violation> failing_;  // the violation an unrepairable verdict is about
+  const bool may_stop_;               // a fixed wing never comes to rest
 };
 
 Status RepairLoop::run(BuiltTrajectory& built) {
@@ -344,7 +372,7 @@ Status RepairLoop::run(BuiltTrajectory& built) {
 
     // Turns tighter than the vehicle can fly: a different path, so this comes first and the
     // knots and times are laid out again from the new path (time repairs of the old one are moot).
-    if (report.final_check.has(ViolationKind::kTurnRadius)) {
+    if (report.final_check.has(ViolationKind::kTurnRadius) || report.final_check.has(ViolationKind::kBankAngle)) {
       if (std::string unrepairable = repairTurns(violations, t, report); !unrepairable.empty()) {
         report.failure_reason = unrepairable;
         break;
@@ -357,6 +385,18 @@ Status RepairLoop::run(BuiltTrajectory& built) {
       continue;
     }
 
+    // A fixed wing slower than its minimum airspeed or steeper than its path angles: neither
+    // stretching nor splitting helps (a slower curve is worse; the angles are the path's).
+    if (auto path = std::find_if(violations.begin(), violations.end(),
+                                 [](const Violation& v) { return isFixedWingPathViolation(v.kind); });
+        path != violations.end()) {
+      failing_ = *path;
+      report.failure_reason = describe(*path) +
+                              (path->kind == ViolationKind::kBelowMinAirspeed
+                                   ? ": the fixed wing would fly under its minimum airspeed (stall speed x margin)"
+                                   : ": the path is steeper than the fixed wing's path angle limit; it needs replanning");
+      break;
+    }
     SegmentRepairs repairs;
     if (std::string unrepairable = sortSegmentRepairs(violations, t, repairs); !unrepairable.empty()) {
       report.failure_reason = unrepairable;
@@ -385,7 +425,7 @@ std::string RepairLoop::repairTurns(const std::vector<Violation>& violations, co
 std::string RepairLoop::findCornerJobs(const std::vector<Violation>& violations, const std::vector<double>& t,
                                        std::map<std::size_t, CornerJob>& jobs) {
   for (const Violation& v : violations) {
-    if (v.kind != ViolationKind::kTurnRadius) continue;
+    if (!isTurnViolation(v.kind)) continue;
     failing_ = v;  // until it is explained
     if (!options_.round_corners) {
       return describe(v) +
@@ -415,7 +455,7 @@ std::string RepairLoop::findCornerJobs(const std::vector<Violation>& violations,
     CornerRecord& record = corners_[static_cast<std::size_t>(id)];
     std::size_t first = nearest;
     while (first > 0 && path_[first - 1].corner == id) --first;
-    if (record.widenings >= kMaxWidenings && record.original.fixed) {
+    if (record.widenings >= kMaxWidenings && record.original.fixed && may_stop_) {
       jobs[first] = CornerJob{0.0,
                               describe(v) + ": the curve through its rounded corner still turns too tightly after " +
                                   std::to_string(record.widenings) + " widenings",
@@ -427,7 +467,7 @@ std::string RepairLoop::findCornerJobs(const std::vector<Violation>& violations,
              std::to_string(record.original.input_index) + " still turns too tightly after " +
              std::to_string(record.widenings) + " widenings; the path needs replanning";
     }
-    const double wider = record.radius_m * std::max(1.05, 1.05 * v.limit / std::max(v.value, 1e-9));
+    const double wider = record.radius_m * std::max(1.05, 1.05 * turnShortfall(v));
     CornerJob& job = jobs[first];
     if (!job.stop && wider > job.radius_m) job = CornerJob{wider, describe(v), false, v};
   }
@@ -464,7 +504,7 @@ std::string RepairLoop::roundCorners(const std::map<std::size_t, CornerJob>& job
     }
     CornerRepair repair =
         roundPathCorner(path_, at, id, preferred, lowest, vertex_time, options_.corner_rounding, collision_);
-    if (!repair.ok && original.fixed) {
+    if (!repair.ok && original.fixed && may_stop_) {
       // No pass-through fits or is clear: come to rest at the point, which turns any corner.
       stopAt(at, it->second.cause + ": " + repair.line, report);
       continue;
@@ -643,6 +683,27 @@ std::optional<std::size_t> nearestWaypointInTime(const BuiltTrajectory& built,
   return best;
 }
 
+// A fixed wing never hovers: it starts and ends at cruise speed along the path's first and last
+// pieces (unless the caller gives the end's velocity, as a replan does), flies every piece at
+// cruise speed (eq. 3: slowing for a turn or a climb could take it under its minimum airspeed;
+// its climbs are bounded by the path angle instead), and passes every fixed waypoint.
+Result<BuiltTrajectory> buildWithStops(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits,
+                                       const TrajectoryOptions& options, const MotionCheck* collision,
+                                       std::chrono::steady_clock::time_point started);
+
+TrajectoryOptions fixedWingOptions(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits,
+                                   TrajectoryOptions options) {
+  const std::size_t n = waypoints.size();
+  if (options.boundary.start.velocity_mps.isZero(0.0))
+    options.boundary.start.velocity_mps = limits.v_ref_mps * (waypoints[1] - waypoints[0]).normalized();
+  if (options.boundary.end.velocity_mps.isZero(0.0))
+    options.boundary.end.velocity_mps = limits.v_ref_mps * (waypoints[n - 1] - waypoints[n - 2]).normalized();
+  options.time_allocation.method = TimeAllocationMethod::kConstantSpeed;
+  options.fixed_waypoint_mode = FixedWaypointMode::kPass;
+  options.stop_at_corners_as_last_resort = false;
+  return options;
+}
+
 }  // namespace
 
 Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits,
@@ -651,7 +712,19 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
   if (Status s = validateWaypoints(waypoints, options.min_waypoint_separation_m); !s) return s.error();
   if (Status s = limits.validate(); !s) return s.error();
   if (Status s = validateOptions(options, waypoints.size()); !s) return s.error();
+  // The geometry holds the radius of the fixed wing's tightest turn at cruise speed.
+  VehicleLimits effective = limits;
+  effective.min_turn_radius_m = limits.effectiveMinTurnRadiusM();
+  const TrajectoryOptions fixed_wing = limits.fixedWing() ? fixedWingOptions(waypoints, limits, options) : options;
+  const TrajectoryOptions& used = limits.fixedWing() ? fixed_wing : options;
+  return buildWithStops(waypoints, effective, used, collision, started);
+}
 
+namespace {
+
+Result<BuiltTrajectory> buildWithStops(const std::vector<Eigen::Vector3d>& waypoints, const VehicleLimits& limits,
+                                       const TrajectoryOptions& options, const MotionCheck* collision,
+                                       std::chrono::steady_clock::time_point started) {
   std::vector<WaypointStop> stops = modeStops(options, waypoints.size());
   BuiltTrajectory built;
   bool tried_nearest = false;
@@ -665,7 +738,7 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
     stops = loop.stops();
     if (built.report.status != TrajectoryStatus::kInfeasible) break;
     built.report.failure_violation = loop.failingViolation(built.report.final_check);
-    if (!built.report.failure_violation || attempt >= kMaxStopAttempts) break;
+    if (!built.report.failure_violation || attempt >= kMaxStopAttempts || limits.fixedWing()) break;
     // The loop made stops of fixed corners it could not round: build again with them from the
     // start (their rounds were spent on the pass-throughs).
     if (stops.size() > given) continue;
@@ -705,5 +778,7 @@ Result<BuiltTrajectory> buildTrajectory(const std::vector<Eigen::Vector3d>& wayp
   built.report.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   return built;
 }
+
+}  // namespace
 
 }  // namespace skyroute

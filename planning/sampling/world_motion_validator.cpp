@@ -1,6 +1,8 @@
 #include "planning/sampling/world_motion_validator.hpp"
 
+#include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace skyroute {
 
@@ -19,8 +21,17 @@ bool WorldMotionValidator::isStateValid(const Eigen::Vector3d& p_m) const {
 bool WorldMotionValidator::isMotionValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const {
   // The box is convex: a motion between two points inside it stays inside.
   if (!bounds_.contains(a_m) || !bounds_.contains(b_m)) return false;
+  const double rise = b_m.z() - a_m.z();
+  const double run = (b_m - a_m).head<2>().norm();
+  if (rise > max_climb_slope_ * run || -rise > max_descent_slope_ * run) return false;
   if (snapshot_) return world_->isSegmentValid(a_m, b_m, *snapshot_);
   return world_->isSegmentValid(a_m, b_m);
+}
+
+void WorldMotionValidator::limitPathAngles(double max_climb_deg, double max_descent_deg) {
+  constexpr double kRad = std::numbers::pi / 180.0;
+  max_climb_slope_ = std::tan(max_climb_deg * kRad);
+  max_descent_slope_ = std::tan(max_descent_deg * kRad);
 }
 
 Eigen::AlignedBox3d WorldMotionValidator::corridor(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m,

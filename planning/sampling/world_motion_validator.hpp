@@ -5,6 +5,7 @@
 // the samples of a 10 km leg).
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -24,6 +25,10 @@ class WorldMotionValidator : public MotionValidator {
   bool isMotionValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const override;
   Eigen::AlignedBox3d samplingBounds() const override { return bounds_; }
 
+  // A fixed wing climbs and descends at most at these angles above and below the horizontal
+  // (degrees, in (0, 90)); a steeper motion is invalid. Unset (the default): any slope.
+  void limitPathAngles(double max_climb_deg, double max_descent_deg);
+
   const CollisionWorld& world() const { return *world_; }
 
   // The box round a and b, grown by margin_m horizontally, spanning the flyable heights.
@@ -33,6 +38,9 @@ class WorldMotionValidator : public MotionValidator {
   std::shared_ptr<const CollisionWorld> world_;
   Eigen::AlignedBox3d bounds_;
   std::optional<ObstacleSnapshot> snapshot_;
+  // tan of the path angle limits; infinite = none.
+  double max_climb_slope_ = std::numeric_limits<double>::infinity();
+  double max_descent_slope_ = std::numeric_limits<double>::infinity();
 };
 
 }  // namespace skyroute

@@ -129,6 +129,14 @@ void printSummary(const MissionPlan& plan, const TrajectoryData& data) {
               route.built.trajectory.duration_s(), std::string(to_string(report.status)).c_str(),
               report.final_check.max_speed_mps, report.final_check.max_accel_mps2, data.samples.size(),
               plan.planning_time_s);
+  if (plan.mission.limits.fixedWing()) {
+    const FeasibilityReport& c = report.final_check;
+    std::printf("fixed wing: speed %.1f..%.1f m/s (minimum airspeed %.1f), bank up to %.1f deg (limit %.1f), load "
+                "factor up to %.2f (limit %.2f), climb up to %.1f deg, descent up to %.1f deg\n",
+                c.min_speed_mps, c.max_speed_mps, plan.mission.limits.minAirspeedMps(), c.max_bank_deg,
+                plan.mission.limits.max_bank_deg, c.max_load_factor, plan.mission.limits.maxLoadFactor(),
+                c.max_climb_angle_deg, c.max_descent_angle_deg);
+  }
   for (const std::string& repair : report.repairs) std::printf("  repair: %s\n", repair.c_str());
   for (const std::string& note : plan.notes) std::printf("  note: %s\n", note.c_str());
 }

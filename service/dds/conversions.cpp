@@ -55,10 +55,18 @@ void pointsToWire(const std::vector<MissionPointData>& in, dds_sequence_skyroute
   for (std::size_t i = 0; i < in.size(); ++i) pointToWire(in[i], buf[i]);
 }
 
+// The request's model on the wire: DEFAULT when it leaves it to the service.
+std::int32_t modelToWire(const std::optional<VehicleModel>& model) {
+  if (!model) return skyroute_msgs_VEHICLE_MODEL_DEFAULT;
+  return *model == VehicleModel::kFixedWing ? skyroute_msgs_VEHICLE_MODEL_FIXED_WING : skyroute_msgs_VEHICLE_MODEL_MULTIROTOR;
+}
+
 skyroute_msgs_VehicleLimits limitsToWire(const VehicleLimitsData& l) {
   return skyroute_msgs_VehicleLimits{l.v_ref_mps,          l.max_speed_mps,        l.max_accel_mps2,
                                      l.max_climb_rate_mps, l.max_descent_rate_mps, l.min_turn_radius_m,
-                                     l.min_clearance_agl_m, l.ceiling_amsl_m};
+                                     l.min_clearance_agl_m, l.ceiling_amsl_m,      modelToWire(l.model),
+                                     l.stall_speed_mps,    l.stall_margin,         l.max_bank_deg,
+                                     l.max_climb_angle_deg, l.max_descent_angle_deg};
 }
 
 // ---- reading: first problem wins; field names are built only when something is wrong ----
@@ -145,12 +153,32 @@ Result<VehicleLimitsData> limitsFromWire(const skyroute_msgs_VehicleLimits& in, 
       {in.min_turn_radius_m, "min_turn_radius_m"},
       {in.min_clearance_agl_m, "min_clearance_agl_m"},
       {in.ceiling_amsl_m, "ceiling_amsl_m"},
+      {in.stall_speed_mps, "stall_speed_mps"},
+      {in.stall_margin, "stall_margin"},
+      {in.max_bank_deg, "max_bank_deg"},
+      {in.max_climb_angle_deg, "max_climb_angle_deg"},
+      {in.max_descent_angle_deg, "max_descent_angle_deg"},
   };
   for (const auto& [v, name] : values)
     if (auto e = finite(v, field + "." + name)) return *e;
-  return VehicleLimitsData{in.v_ref_mps,          in.max_speed_mps,        in.max_accel_mps2,
-                           in.max_climb_rate_mps, in.max_descent_rate_mps, in.min_turn_radius_m,
-                           in.min_clearance_agl_m, in.ceiling_amsl_m};
+  if (auto e = enumInRange(in.model, skyroute_msgs_VEHICLE_MODEL_FIXED_WING, field + ".model")) return *e;
+  VehicleLimitsData out;
+  out.v_ref_mps = in.v_ref_mps;
+  out.max_speed_mps = in.max_speed_mps;
+  out.max_accel_mps2 = in.max_accel_mps2;
+  out.max_climb_rate_mps = in.max_climb_rate_mps;
+  out.max_descent_rate_mps = in.max_descent_rate_mps;
+  out.min_turn_radius_m = in.min_turn_radius_m;
+  out.min_clearance_agl_m = in.min_clearance_agl_m;
+  out.ceiling_amsl_m = in.ceiling_amsl_m;
+  if (in.model == skyroute_msgs_VEHICLE_MODEL_MULTIROTOR) out.model = VehicleModel::kMultirotor;
+  if (in.model == skyroute_msgs_VEHICLE_MODEL_FIXED_WING) out.model = VehicleModel::kFixedWing;
+  out.stall_speed_mps = in.stall_speed_mps;
+  out.stall_margin = in.stall_margin;
+  out.max_bank_deg = in.max_bank_deg;
+  out.max_climb_angle_deg = in.max_climb_angle_deg;
+  out.max_descent_angle_deg = in.max_descent_angle_deg;
+  return out;
 }
 
 // ---- both directions: each message's plain members are listed once ----

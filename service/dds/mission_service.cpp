@@ -24,7 +24,7 @@ std::optional<Error> emplaceCreated(std::optional<T>& member, Result<T> created)
 }
 
 // The IDL revision of idl/skyroute.idl: bump when a message changes incompatibly.
-constexpr const char* kIdlVersion = "skyroute_msgs/3";
+constexpr const char* kIdlVersion = "skyroute_msgs/4";
 
 using Clock = std::chrono::steady_clock;
 

@@ -88,8 +88,10 @@ void wirePoints(FuzzBytes& in, dds_sequence_skyroute_msgs_MissionPoint& seq) {
 skyroute_msgs_VehicleLimits wireLimits(FuzzBytes& in) {
   skyroute_msgs_VehicleLimits l;
   for (double* v : {&l.v_ref_mps, &l.max_speed_mps, &l.max_accel_mps2, &l.max_climb_rate_mps, &l.max_descent_rate_mps,
-                    &l.min_turn_radius_m, &l.min_clearance_agl_m, &l.ceiling_amsl_m})
+                    &l.min_turn_radius_m, &l.min_clearance_agl_m, &l.ceiling_amsl_m, &l.stall_speed_mps,
+                    &l.stall_margin, &l.max_bank_deg, &l.max_climb_angle_deg, &l.max_descent_angle_deg})
     *v = in.number();
+  l.model = in.raw<std::int32_t>();
   return l;
 }
 

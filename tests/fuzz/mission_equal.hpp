@@ -25,7 +25,9 @@ inline bool sameMission(const MissionRequestData& a, const MissionRequestData& b
   return l.v_ref_mps == m.v_ref_mps && l.max_speed_mps == m.max_speed_mps && l.max_accel_mps2 == m.max_accel_mps2 &&
          l.max_climb_rate_mps == m.max_climb_rate_mps && l.max_descent_rate_mps == m.max_descent_rate_mps &&
          l.min_turn_radius_m == m.min_turn_radius_m && l.min_clearance_agl_m == m.min_clearance_agl_m &&
-         l.ceiling_amsl_m == m.ceiling_amsl_m;
+         l.ceiling_amsl_m == m.ceiling_amsl_m && l.model == m.model && l.stall_speed_mps == m.stall_speed_mps &&
+         l.stall_margin == m.stall_margin && l.max_bank_deg == m.max_bank_deg &&
+         l.max_climb_angle_deg == m.max_climb_angle_deg && l.max_descent_angle_deg == m.max_descent_angle_deg;
 }
 
 }  // namespace skyroute::fuzz
