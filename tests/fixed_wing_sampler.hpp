@@ -87,6 +87,24 @@ inline FixedWingFlight sampleFixedWing(const TrajectoryData& t, const FixedWingE
 }
 
 // The envelope of a request's limits (every fixed-wing value given in the request).
+// The fixed wing of the service and end-to-end tests: 25 m/s cruise, stall 15 m/s x 1.3, bank
+// 35 degrees, path angles 15 degrees.
+inline VehicleLimitsData fixedWingTestLimits() {
+  VehicleLimitsData l;
+  l.model = VehicleModel::kFixedWing;
+  l.v_ref_mps = 25.0;
+  l.max_speed_mps = 35.0;
+  l.max_accel_mps2 = 10.0;
+  l.max_climb_rate_mps = 8.0;
+  l.max_descent_rate_mps = 8.0;
+  l.stall_speed_mps = 15.0;
+  l.stall_margin = 1.3;
+  l.max_bank_deg = 35.0;
+  l.max_climb_angle_deg = 15.0;
+  l.max_descent_angle_deg = 15.0;
+  return l;
+}
+
 inline FixedWingEnvelope envelopeOf(const VehicleLimitsData& l) {
   return FixedWingEnvelope{l.stall_speed_mps * l.stall_margin, l.max_speed_mps,       l.max_bank_deg,
                            l.max_climb_angle_deg,              l.max_descent_angle_deg, l.min_clearance_agl_m};

@@ -23,18 +23,7 @@ class FixedWingE2E : public testing::DaemonFixture {
     m.points = {above(-1500, 1500, 250), above(1500, -1500, 250)};
     m.end = above(4500, 4500, 200);
     m.fixed_order = true;
-    VehicleLimitsData& l = m.limits;
-    l.model = VehicleModel::kFixedWing;
-    l.v_ref_mps = 25.0;
-    l.max_speed_mps = 35.0;
-    l.max_accel_mps2 = 10.0;
-    l.max_climb_rate_mps = 8.0;
-    l.max_descent_rate_mps = 8.0;
-    l.stall_speed_mps = 15.0;
-    l.stall_margin = 1.3;
-    l.max_bank_deg = 35.0;
-    l.max_climb_angle_deg = 15.0;
-    l.max_descent_angle_deg = 15.0;
+    m.limits = testing::fixedWingTestLimits();
     return m;
   }
 

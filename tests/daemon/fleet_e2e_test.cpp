@@ -12,8 +12,7 @@
 #include "service/dds/loopback.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "terrain/terrain_world.hpp"
-#include "tests/daemon/daemon_process.hpp"
-#include "tests/daemon/ground_station.hpp"
+#include "tests/daemon/fleet_daemon_fixture.hpp"
 #include "tests/terrain_data.hpp"
 
 namespace skyroute {
@@ -36,57 +35,15 @@ Eigen::Vector3d positionAt(const TrajectoryData& t, std::int64_t utc_ns) {
   return (1.0 - w) * before->position_enu_m + w * after->position_enu_m;
 }
 
-class FleetE2E : public ::testing::Test {
+class FleetE2E : public testing::FleetDaemonTest {
  protected:
-  static void SetUpTestSuite() {
-    dds::useLoopbackOnly();
-    terrain_ = testing::defaultTerrainHeightfield();
-    ASSERT_TRUE(terrain_) << "data/default_terrain.tif did not load";
-  }
+  void SetUp() override { startDaemon(kDomain, {}, "skyrouted_fleet", 60.0); }
 
-  void SetUp() override {
-    daemon_ = ChildProcess::spawn({SKYROUTED, "--domain", std::to_string(kDomain)}, "skyrouted_fleet");
-    ASSERT_TRUE(daemon_.started());
-    station_ = Station::open(kDomain);
-    ASSERT_TRUE(station_);
-    const dds_entity_t p = station_->participant.get();
-    fleet_requests_.emplace(std::move(dds::Writer<FleetRequestData>::create(p).value()));
-    fleet_statuses_.emplace(std::move(dds::Reader<FleetStatusData>::create(p).value()));
-    ASSERT_TRUE(station_->loop
-                    ->add(*fleet_statuses_, [this](FleetStatusData&& s) { fleet_log_.push_back(std::move(s)); },
-                          [](const Error&) {})
-                    .ok());
-    ASSERT_TRUE(station_->pumpUntil([&] { return station_->heartbeats > 0 || !daemon_.running(); }, 60.0))
-        << daemon_.err();
-    ASSERT_TRUE(daemon_.running()) << daemon_.err();
-    ASSERT_TRUE(fleet_requests_->waitForReaders(1, 20.0).ok());
-    ASSERT_TRUE(fleet_statuses_->waitForWriters(1, 20.0).ok());
-    ASSERT_TRUE(station_->trajectories->waitForWriters(1, 20.0).ok());
-  }
-  void TearDown() override {
-    if (daemon_.running()) {
-      daemon_.signal(SIGTERM);
-      EXPECT_EQ(daemon_.wait(10.0), 0) << daemon_.err();
-    }
-    fleet_statuses_.reset();
-    fleet_requests_.reset();
-  }
-
-  MissionPointData above(double e, double n, double agl_m) const {
-    return MissionPointData::enu(Eigen::Vector3d(e, n, terrain_->heightAt(e, n) + agl_m));
-  }
   std::optional<FleetStatusData> terminal(const std::string& id) const {
     for (const auto& s : fleet_log_)
       if (s.request_id == id && isTerminal(s.state)) return s;
     return std::nullopt;
   }
-
-  static inline std::shared_ptr<const Heightfield> terrain_;
-  ChildProcess daemon_;
-  std::unique_ptr<Station> station_;
-  std::optional<dds::Writer<FleetRequestData>> fleet_requests_;
-  std::optional<dds::Reader<FleetStatusData>> fleet_statuses_;
-  std::vector<FleetStatusData> fleet_log_;
 };
 
 TEST_F(FleetE2E, FleetRequestGetsOneSeparatedTrajectoryPerVehicleAndAStatusWithTheAllocation) {

@@ -14,8 +14,7 @@
 #include "service/dds/loopback.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/world_model.hpp"
-#include "tests/daemon/daemon_process.hpp"
-#include "tests/daemon/ground_station.hpp"
+#include "tests/daemon/fleet_daemon_fixture.hpp"
 #include "tests/service/fleet_flown.hpp"
 #include "tests/terrain_data.hpp"
 
@@ -31,46 +30,10 @@ constexpr int kDomain = 185;
 constexpr double kVehicleRadiusM = 5.0;  // the daemon's default
 constexpr double kMarginM = 30.0;        // fleet.replan_margin_m's default
 
-class FleetReplanE2E : public ::testing::Test {
+class FleetReplanE2E : public testing::FleetDaemonTest {
  protected:
-  static void SetUpTestSuite() {
-    dds::useLoopbackOnly();
-    terrain_ = testing::defaultTerrainHeightfield();
-    ASSERT_TRUE(terrain_) << "data/default_terrain.tif did not load";
-  }
+  void SetUp() override { startDaemon(kDomain, {"--log-level", "debug"}, "skyrouted_fleet_replan", 20.0); }
 
-  void SetUp() override {
-    daemon_ = ChildProcess::spawn({SKYROUTED, "--domain", std::to_string(kDomain), "--log-level", "debug"}, "skyrouted_fleet_replan");
-    ASSERT_TRUE(daemon_.started());
-    station_ = Station::open(kDomain);
-    ASSERT_TRUE(station_);
-    const dds_entity_t p = station_->participant.get();
-    fleet_requests_.emplace(std::move(dds::Writer<FleetRequestData>::create(p).value()));
-    fleet_statuses_.emplace(std::move(dds::Reader<FleetStatusData>::create(p).value()));
-    ASSERT_TRUE(station_->loop
-                    ->add(*fleet_statuses_, [this](FleetStatusData&& s) { fleet_log_.push_back(std::move(s)); },
-                          [](const Error&) {})
-                    .ok());
-    ASSERT_TRUE(station_->pumpUntil([&] { return station_->heartbeats > 0 || !daemon_.running(); }, 20.0))
-        << daemon_.err();
-    ASSERT_TRUE(daemon_.running()) << daemon_.err();
-    ASSERT_TRUE(fleet_requests_->waitForReaders(1, 10.0).ok());
-    ASSERT_TRUE(fleet_statuses_->waitForWriters(1, 10.0).ok());
-    ASSERT_TRUE(station_->trajectories->waitForWriters(1, 10.0).ok());
-    ASSERT_TRUE(station_->obstacles->waitForReaders(1, 10.0).ok());
-  }
-  void TearDown() override {
-    if (daemon_.running()) {
-      daemon_.signal(SIGTERM);
-      EXPECT_EQ(daemon_.wait(10.0), 0) << daemon_.err();
-    }
-    fleet_statuses_.reset();
-    fleet_requests_.reset();
-  }
-
-  MissionPointData above(double e, double n, double agl_m) const {
-    return MissionPointData::enu(Eigen::Vector3d(e, n, terrain_->heightAt(e, n) + agl_m));
-  }
   bool reached(const std::string& id, PlanState state) const {
     return std::any_of(fleet_log_.begin(), fleet_log_.end(),
                        [&](const FleetStatusData& s) { return s.request_id == id && s.state == state; });
@@ -82,13 +45,6 @@ class FleetReplanE2E : public ::testing::Test {
       if (t.request_id == id && t.revision > 0) out.insert(t.vehicle_id);
     return out;
   }
-
-  static inline std::shared_ptr<const Heightfield> terrain_;
-  ChildProcess daemon_;
-  std::unique_ptr<Station> station_;
-  std::optional<dds::Writer<FleetRequestData>> fleet_requests_;
-  std::optional<dds::Reader<FleetStatusData>> fleet_statuses_;
-  std::vector<FleetStatusData> fleet_log_;
 };
 
 TEST_F(FleetReplanE2E, CrossingObstaclesGetOnlyTheVehiclesTheyMeetNewRevisions) {

@@ -24,21 +24,7 @@ using testing::RecordingSink;
 
 constexpr std::int64_t kStartNs = 1'800'000'000'000'000'000LL;
 
-VehicleLimitsData fixedWingLimits() {
-  VehicleLimitsData l;
-  l.model = VehicleModel::kFixedWing;
-  l.v_ref_mps = 25.0;
-  l.max_speed_mps = 35.0;
-  l.max_accel_mps2 = 10.0;
-  l.max_climb_rate_mps = 8.0;
-  l.max_descent_rate_mps = 8.0;
-  l.stall_speed_mps = 15.0;
-  l.stall_margin = 1.3;
-  l.max_bank_deg = 35.0;
-  l.max_climb_angle_deg = 15.0;
-  l.max_descent_angle_deg = 15.0;
-  return l;
-}
+VehicleLimitsData fixedWingLimits() { return testing::fixedWingTestLimits(); }
 
 class FixedWingMissionTest : public testing::DefaultWorldTest {
  protected:
