@@ -116,6 +116,9 @@ class MissionService final : public EngineSink {
   void scheduleShardCheck();                              // DDS thread
   void shardCheckDue(std::chrono::steady_clock::time_point now);  // DDS thread
   void evaluateShard();                                   // DDS thread
+  // Runs `decide` (a router call) under ownership_mutex_ and unregisters the trajectories of the
+  // vehicles it releases before the lock is let go, so no engine thread writes them after.
+  ShardActions decideShard(const std::function<ShardActions()>& decide);
   // Lets go of what `actions` releases (under ownership_mutex_, taken here), then starts what it plans.
   void applyShardActions(const ShardActions& actions);
 

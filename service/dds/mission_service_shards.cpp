@@ -10,6 +10,8 @@
 #include <spdlog/spdlog.h>
 
 #include "service/dds/mission_service.hpp"
+
+#include <functional>
 #include "service/dds/mission_service_edge.hpp"
 #include "service/dds/shard_members.hpp"
 
@@ -53,22 +55,24 @@ void MissionService::shardCheckDue(Clock::time_point now) {
   evaluateShard();
 }
 
+ShardActions MissionService::decideShard(const std::function<ShardActions()>& decide) {
+  std::unique_lock ownership(ownership_mutex_);
+  ShardActions actions = decide();
+  for (const std::string& vehicle : actions.release_vehicles) {
+    TrajectoryData key;
+    key.vehicle_id = vehicle;
+    (void)edge_->trajectories->unregisterInstance(key);  // an instance never written: nothing to release
+  }
+  return actions;
+}
+
 void MissionService::evaluateShard() {
   std::vector<ShardMember> members;
   for (const ServiceInstance& i : liveShardMembers(edge_->members->handle(), config().shard_group)) {
     members.push_back(ShardMember{i.service_id, i.started_utc_ns});
   }
   const bool settled = Clock::now() >= shard_settle_at_;
-  ShardActions actions;
-  {
-    std::unique_lock ownership(ownership_mutex_);
-    actions = router_->setMembers(std::move(members), settled, utcNowNs());
-    for (const std::string& vehicle : actions.release_vehicles) {
-      TrajectoryData key;
-      key.vehicle_id = vehicle;
-      (void)edge_->trajectories->unregisterInstance(key);  // an instance never written: nothing to release
-    }
-  }
+  const ShardActions actions = decideShard([&] { return router_->setMembers(std::move(members), settled, utcNowNs()); });
   const std::vector<std::string> ids = router_->memberIds();
   if (ids != shard_members_logged_ || settled != shard_settled_logged_) {
     shard_members_logged_ = ids;
@@ -80,16 +84,7 @@ void MissionService::evaluateShard() {
 }
 
 void MissionService::routeMission(MissionRequestData&& request) {
-  ShardActions actions;
-  {
-    std::unique_lock ownership(ownership_mutex_);
-    actions = router_->onMission(request, utcNowNs());
-    for (const std::string& vehicle : actions.release_vehicles) {
-      TrajectoryData key;
-      key.vehicle_id = vehicle;
-      (void)edge_->trajectories->unregisterInstance(key);
-    }
-  }
+  const ShardActions actions = decideShard([&] { return router_->onMission(request, utcNowNs()); });
   if (actions.plan.empty()) {
     spdlog::debug("event=request_dormant request={} vehicle={}", request.request_id, request.vehicle_id);
   }
@@ -97,16 +92,7 @@ void MissionService::routeMission(MissionRequestData&& request) {
 }
 
 void MissionService::routeFleet(FleetRequestData&& request) {
-  ShardActions actions;
-  {
-    std::unique_lock ownership(ownership_mutex_);
-    actions = router_->onFleet(request, utcNowNs());
-    for (const std::string& vehicle : actions.release_vehicles) {
-      TrajectoryData key;
-      key.vehicle_id = vehicle;
-      (void)edge_->trajectories->unregisterInstance(key);
-    }
-  }
+  const ShardActions actions = decideShard([&] { return router_->onFleet(request, utcNowNs()); });
   applyShardActions(actions);
 }
 

@@ -66,6 +66,17 @@ class EngineReorderTest : public testing::DefaultWorldTest {
     u.valid_from_utc_ns = now_ns_;
     return u;
   }
+  // The way from begin to point `next` (east, north): its midpoint and the unit vectors along and
+  // across it.
+  struct Approach {
+    Eigen::Vector2d mid, along, across;
+  };
+  Approach approachTo(const MissionRequestData& r, std::uint32_t next) const {
+    const Eigen::Vector2d from = r.begin.enu_m.head<2>();
+    const Eigen::Vector2d to = pointOf(r, next).head<2>();
+    const Eigen::Vector2d along = (to - from).normalized();
+    return {0.5 * (from + to), along, Eigen::Vector2d(-along.y(), along.x())};
+  }
   std::size_t logLines(const std::string& what) const {
     const std::vector<std::string> lines = log_->last_formatted();
     return static_cast<std::size_t>(
@@ -97,13 +108,11 @@ TEST_F(EngineReorderTest, AWallOnTheApproachToTheNextPointGivesAReorderedRevisio
   // 10 s into the flight (the first point is further), a wall 1.5 km wide across the way from
   // begin to the next point, halfway.
   now_ns_ += 10'000'000'000LL;
-  const Eigen::Vector2d from = r.begin.enu_m.head<2>();
-  const Eigen::Vector2d to = pointOf(r, next).head<2>();
   ASSERT_LT(first.legs.front().end_s, first.samples.back().t_rel_s);
   ASSERT_GT(first.legs.front().end_s, 20.0);
-  const Eigen::Vector2d across = Eigen::Vector2d(-(to - from).y(), (to - from).x()).normalized();
+  const Approach way = approachTo(r, next);
   std::vector<ObstacleUpdateData> wall;
-  for (int k = -3; k <= 3; ++k) wall.push_back(cylinderAt(50 + static_cast<std::uint64_t>(k + 3), 0.5 * (from + to) + k * 250.0 * across));
+  for (int k = -3; k <= 3; ++k) wall.push_back(cylinderAt(50 + static_cast<std::uint64_t>(k + 3), way.mid + k * 250.0 * way.across));
   for (const ObstacleUpdateData& u : wall) ASSERT_FALSE(engine_->updateObstacle(u).has_value());
   ASSERT_EQ(engine_->replanCycle(), 1u);
   ASSERT_EQ(sink_.trajectories.size(), 2u);
@@ -170,11 +179,7 @@ TEST_F(EngineReorderTest, ANoFlyZoneOnTheApproachToTheNextPointGivesAReorderedRe
   // 10 s into the flight a zone 1.9 km wide and 400 m deep is published across the way from
   // begin to the next point, halfway (WGS84 ring, heights AMSL, as the DDS edge receives it).
   now_ns_ += 10'000'000'000LL;
-  const Eigen::Vector2d from = r.begin.enu_m.head<2>();
-  const Eigen::Vector2d to = pointOf(r, next).head<2>();
-  const Eigen::Vector2d along = (to - from).normalized();
-  const Eigen::Vector2d across(-along.y(), along.x());
-  const Eigen::Vector2d mid = 0.5 * (from + to);
+  const auto [mid, along, across] = approachTo(r, next);
   NoFlyZoneData zone;
   zone.zone_id = "tfr";
   for (const Eigen::Vector2d& v : {Eigen::Vector2d(mid - 950.0 * across - 200.0 * along), Eigen::Vector2d(mid + 950.0 * across - 200.0 * along),
