@@ -57,6 +57,7 @@ void runGcs(const GcsOptions& o) {
   auto statuses = openReader<PlanStatusData>(tool, participant);
   auto loop = openWaitLoop(tool, participant);
   stopOnSignals(loop.waitsetHandle());
+  if (live) live->announce();
 
   std::map<std::string, TrajectoryData> latest;  // per vehicle
   StatusTransitions printed_statuses;

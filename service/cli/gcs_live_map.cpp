@@ -30,8 +30,9 @@ std::unique_ptr<GcsLiveMap> GcsLiveMap::start(const std::string& tool, const std
     fail(tool, in_use ? kExitServiceUnavailable : kExitUsage, "--serve " + serve + ": " + server.error().message);
   }
   live->server_ = std::move(*server);
-  std::cout << "live map on " << live->server_->url() << std::endl;
   return live;
 }
+
+void GcsLiveMap::announce() const { std::cout << "live map on " << server_->url() << std::endl; }
 
 }  // namespace skyroute::cli

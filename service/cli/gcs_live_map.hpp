@@ -17,6 +17,9 @@ class GcsLiveMap {
   // serve: HOST:PORT as --serve gives it; dem_path: "" for the embedded terrain.
   static std::unique_ptr<GcsLiveMap> start(const std::string& tool, const std::string& serve, const std::string& dem_path);
   GcsMapState& state() { return *state_; }
+  // Prints "live map on URL". The caller says it once Ctrl-C is handled, so that whoever reads the
+  // line (a user, a test) may stop the program cleanly from then on.
+  void announce() const;
 
  private:
   std::shared_ptr<GcsMapState> state_;

@@ -116,6 +116,13 @@ struct Station {
       if (t.vehicle_id == vehicle && (!found || t.revision >= found->revision)) found = &t;
     return found;
   }
+  // The trajectory in force for vehicle: the last one received. Unlike latest(), a new plan's
+  // revision 0 replaces an older plan's revision 7 (one writer per vehicle delivers in order).
+  const TrajectoryData* lastReceived(const std::string& vehicle) const {
+    for (auto t = trajectory_log.rbegin(); t != trajectory_log.rend(); ++t)
+      if (t->vehicle_id == vehicle) return &*t;
+    return nullptr;
+  }
 };
 
 }  // namespace skyroute::testing

@@ -101,13 +101,13 @@ class Soak {
   void renewMissions() {
     const std::int64_t soon_ns = utcNowNs() + 30'000'000'000LL;
     for (int v = 0; v < kVehicles; ++v) {
-      const TrajectoryData* t = station_.latest(name(v));
+      const TrajectoryData* t = station_.lastReceived(name(v));
       if (t && t->samples.back().utc_ns < soon_ns && !waiting_[v]) ask(v);
     }
   }
   void writeUpdate(std::uint64_t k) {
     const int v = static_cast<int>(k % kVehicles);
-    const TrajectoryData* t = station_.latest(name(v));
+    const TrajectoryData* t = station_.lastReceived(name(v));
     if (!t || waiting_[v]) return;
     const ObstacleUpdateData u =
         bench::crossing(*t, utcNowNs(), 1 + static_cast<std::uint64_t>(v), 15.0 + static_cast<double>(k % 4) * 5.0);
@@ -168,7 +168,7 @@ class Soak {
     if (published) *published = count;
     int lost = 0;
     for (int v = 0; v < kVehicles; ++v) {
-      const TrajectoryData* t = station_.latest(name(v));
+      const TrajectoryData* t = station_.lastReceived(name(v));
       if (!t) continue;
       const auto found = newest.find(t->plan_id);
       if (found != newest.end() && found->second > t->revision) lost += static_cast<int>(found->second - t->revision);
@@ -206,7 +206,7 @@ class Soak {
     (void)station_.requests->write(bench::laneMission(terrain_, asked_.back(), v, kVehicles));
   }
   // Keeps each vehicle's last trajectory received (an hour of revisions would not fit in memory;
-  // Station::latest then finds the one in force, even across plans) and no statuses but the
+  // Station::lastReceived is still the one in force) and no statuses but the
   // requests' terminal ones.
   void compactLogs() {
     std::map<std::string, std::size_t> last;
