@@ -87,6 +87,7 @@ Result<MissionOrder> orderMissionPoints(const Heightfield& terrain, const std::v
   mission_options.moves = options.moves;
   mission_options.fresh_plan_fraction = options.fresh_plan_fraction;
   mission_options.defer_goal_maps = options.defer_goal_maps;
+  mission_options.symmetric_pairs = options.symmetric_pairs;
   auto search = std::make_shared<MissionOrderSearch>();
   search->grid = std::make_unique<GridLayer>(std::move(*grid));
   search->cells = cells;

@@ -31,6 +31,10 @@ struct MissionOrderOptions {
   // 0.05 worse (docs/benchmarks.md, bench/mission_reorder_bench --fresh --defer).
   double fresh_plan_fraction = 0.0;
   bool defer_goal_maps = false;
+  // Each pair of points searched in one of its two maps (MmdStarLite::setSymmetricPairs): exact,
+  // and a quarter less repair work at mission scale, a third less at the largest update
+  // (docs/benchmarks.md, bench/mission_reorder_bench --symmetric).
+  bool symmetric_pairs = true;
 };
 
 // The grid and the MMD*L searches an order was chosen with, kept so a flying mission can be

@@ -222,6 +222,7 @@ ReorderCheck MissionReorder::check(std::span<const Obstacle> obstacles, std::spa
     return out;
   }
   out.search.time_ms = plan->search.time_ms;
+  out.tsp_time_ms = plan->tsp_time_ms;
   if (!vehicle) {
     out.failure = make_error(ErrorCode::kOccupied, "vehicle",
                              "the vehicle's position is inside an obstacle's cover on the order grid");

@@ -60,6 +60,7 @@ struct ReorderCheck {
   std::size_t covered_cells = 0;     // cells the obstacles cover now
   SearchStats search;                // the repair (cell expansions, queue operations, time)
   double time_ms = 0.0;              // cover, repair and TSP together
+  double tsp_time_ms = 0.0;          // of which the TSP
   std::vector<int> old_order;        // the vehicle's point (the last reached) first, then the points left as flown
   std::vector<int> new_order;        // the same as the TSP orders them now (empty unless repaired)
   double old_cost_m = 0.0;           // both on the new costs (infinity when cut off)

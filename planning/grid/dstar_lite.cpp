@@ -348,11 +348,7 @@ PlannerStatus dstarSweepInitialize(DStarGoalField& field, std::span<const GridCe
   return status;
 }
 
-void dstarUpdateChangedCells(DStarGoalField& field, std::span<const GridCell> changed,
-                             std::span<DStarQueue* const> queues, SearchStats& stats) {
-  field.table_->update(changed);
-  field.pristine_ = false;
-  const GridLayer& grid = field.grid();
+std::vector<std::uint32_t> dstarTouchedCells(const GridLayer& grid, std::span<const GridCell> changed) {
   std::vector<std::uint32_t> touched;
   touched.reserve(changed.size() * 9);
   for (const GridCell& c : changed) {
@@ -365,6 +361,18 @@ void dstarUpdateChangedCells(DStarGoalField& field, std::span<const GridCell> ch
   }
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  return touched;
+}
+
+void dstarUpdateChangedCells(DStarGoalField& field, std::span<const GridCell> changed,
+                             std::span<DStarQueue* const> queues, SearchStats& stats) {
+  field.table_->update(changed);
+  dstarUpdateTouchedCells(field, dstarTouchedCells(field.grid(), changed), queues, stats);
+}
+
+void dstarUpdateTouchedCells(DStarGoalField& field, std::span<const std::uint32_t> touched,
+                             std::span<DStarQueue* const> queues, SearchStats& stats) {
+  field.pristine_ = false;
   for (const std::uint32_t u : touched) {
     if (u == field.goal_index_) continue;
     const double old_min = field.minCost(u);

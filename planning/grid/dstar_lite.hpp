@@ -134,6 +134,8 @@ class DStarGoalField {
   friend PlannerStatus dstarComputeShortestPath(DStarGoalField&, DStarQueue&, SearchStats&, const TerminationCondition&);
   friend void dstarUpdateChangedCells(DStarGoalField&, std::span<const GridCell>, std::span<DStarQueue* const>,
                                       SearchStats&);
+  friend void dstarUpdateTouchedCells(DStarGoalField&, std::span<const std::uint32_t>, std::span<DStarQueue* const>,
+                                      SearchStats&);
   friend void dstarInitialize(DStarGoalField&, DStarQueue&, SearchStats&);
   friend PlannerStatus dstarSweepInitialize(DStarGoalField&, std::span<const GridCell>, DStarQueue&, SearchStats&,
                                            const TerminationCondition&);
@@ -290,6 +292,12 @@ PlannerStatus dstarComputeShortestPath(DStarGoalField& field, DStarQueue& queue,
 // in its 8-neighbourhood, so those cells' rhs is recomputed and the vertex updated in every queue
 // of `queues` and, when the field logs, recorded for the others (seed lines 63-65).
 void dstarUpdateChangedCells(DStarGoalField& field, std::span<const GridCell> changed,
+                             std::span<DStarQueue* const> queues, SearchStats& stats);
+// The same in two parts, for many fields on one grid (MMD*L's goals): the cells whose rhs a change
+// can alter (each changed cell's 3x3 block, sorted, once), then the repair of one field from that
+// list (the move table must already follow the change).
+std::vector<std::uint32_t> dstarTouchedCells(const GridLayer& grid, std::span<const GridCell> changed);
+void dstarUpdateTouchedCells(DStarGoalField& field, std::span<const std::uint32_t> touched,
                              std::span<DStarQueue* const> queues, SearchStats& stats);
 
 // Loading a start's queue (line 26/69 "load U"): inserts the logged cells it has not seen yet that

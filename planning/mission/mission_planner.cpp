@@ -84,6 +84,7 @@ Result<MissionPlanner> MissionPlanner::create(const GridLayer& grid, GridCell be
     mmd->setFreshPlanFraction(options.fresh_plan_fraction);
     mmd->setSweepMinCells(options.sweep_min_cells);
     mmd->setDeferGoalMaps(options.defer_goal_maps);
+    mmd->setSymmetricPairs(options.symmetric_pairs);
     search = std::move(mmd);
   }
   else

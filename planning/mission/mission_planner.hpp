@@ -41,6 +41,9 @@ struct MissionOptions {
   // its costs taken from the other mission points' maps (moves are symmetric) instead of being
   // planned afresh.
   bool defer_goal_maps = false;
+  // MMD*L only, a deviation from the seed (MmdStarLite::setSymmetricPairs): each pair of goals is
+  // searched in one of its two maps (moves are symmetric), so a map serves about half the starts.
+  bool symmetric_pairs = false;
 };
 
 struct MissionLeg {

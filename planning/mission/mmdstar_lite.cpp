@@ -66,8 +66,32 @@ const DStarGoalField* MmdStarLite::field(int goal_point) const {
   return g && !g->deferred ? g->field.get() : nullptr;
 }
 
+std::vector<int> MmdStarLite::mapStarts(int goal_point) const {
+  if (!splitPairs()) return startsFor(goal_point);
+  std::vector<int> out;
+  if (planned(vehicle_point_, goal_point)) out.push_back(vehicle_point_);
+  // Any two remaining goals need their pair (a mission point to another or to E).
+  for (int p : remainingGoals())
+    if (p != goal_point && hostOf(p, goal_point) == goal_point) out.push_back(p);
+  return out;
+}
+
+MmdStarLite::PairSource MmdStarLite::pairSource(int from_point, int to_point) const {
+  PairSource source;
+  if (!planned(from_point, to_point)) return source;
+  if (from_point == vehicle_point_ || hostOf(from_point, to_point) == to_point) {
+    source.map = slot(to_point);
+    source.start = startCell(from_point);
+  } else {
+    source.map = slot(from_point);
+    source.start = points_[to_point];
+    source.reversed = true;
+  }
+  return source;
+}
+
 PlannerStatus MmdStarLite::preplanGoal(GoalSlot& goal, SearchStats& stats, const TerminationCondition& stop) const {
-  const std::vector<int> starts = startsFor(goal.point);
+  const std::vector<int> starts = mapStarts(goal.point);
   const std::uint64_t expansions_before = stats.expansions;
   // One U carried from start to start (lines 34-38).
   DStarQueue carried(startCell(starts.front()), 0.0);
@@ -104,7 +128,7 @@ PlannerStatus MmdStarLite::preplan(const TerminationCondition& stop) {
   goals_.clear();
   table_ = std::make_shared<GridMoveTable>(*grid_, moves_);
   for (int goal_point : remainingGoals()) {  // line 33
-    if (startsFor(goal_point).empty()) continue;
+    if (mapStarts(goal_point).empty()) continue;
     GoalSlot goal;
     goal.point = goal_point;
     goals_.push_back(std::move(goal));
@@ -119,9 +143,11 @@ PlannerStatus MmdStarLite::preplan(const TerminationCondition& stop) {
   return status;
 }
 
-PlannerStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> changed, SearchStats& stats,
+PlannerStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const std::uint32_t> touched, SearchStats& stats,
                                      const TerminationCondition& stop) {
   if (goal.deferred) return PlannerStatus::kSolved;  // nothing to repair: its costs come from other maps
+  // Split pairs: a map hosting no pair now (E's, between arrivals) is planned afresh when it is needed.
+  if (goal.starts.empty()) return PlannerStatus::kSolved;
   std::vector<DStarQueue*> queues;
   for (StartSlot& st : goal.starts) {
     // Lines 60-61 / 67-68: the vehicle's queue uses its k_m; unreached mission points use 0.
@@ -132,7 +158,7 @@ PlannerStatus MmdStarLite::replanGoal(GoalSlot& goal, std::span<const GridCell> 
   }
   dstarTrimLog(*goal.field, queues);
   // Lines 58-65: rhs repaired once per goal; the insertions reach each queue when it is loaded.
-  dstarUpdateChangedCells(*goal.field, changed, {}, stats);
+  dstarUpdateTouchedCells(*goal.field, touched, {}, stats);
   // The repair's own count, for the fresh-plan rule (setFreshPlanFraction): its iteration budget
   // stops the repair, the caller's `stop` is checked separately.
   SearchStats repair;
@@ -169,8 +195,9 @@ PlannerStatus MmdStarLite::applyChanges(std::span<const GridCell> changed, const
   accumulateKm();  // lines 52-54
   // The shared move table follows the change here, once, before the goals' threads read it.
   if (table_) table_->update(changed);
+  const std::vector<std::uint32_t> touched = dstarTouchedCells(*grid_, changed);
   const PlannerStatus status =
-      forEachGoal([&](GoalSlot& goal, SearchStats& stats) { return replanGoal(goal, changed, stats, stop); });
+      forEachGoal([&](GoalSlot& goal, SearchStats& stats) { return replanGoal(goal, touched, stats, stop); });
   if (isStopped(status)) return status;
   return settleDeferred(stop);
 }
@@ -216,6 +243,10 @@ SearchStats MmdStarLite::routeVehicle(const GoalSlot& goal) const {
 
 double MmdStarLite::cost(int from_point, int to_point) const {
   if (!planned(from_point, to_point)) return kInfiniteCost;
+  if (splitPairs()) {
+    const PairSource source = pairSource(from_point, to_point);
+    return source.map ? source.map->field->costFrom(source.start) : kInfiniteCost;
+  }
   const GoalSlot* g = slot(to_point);
   if (g == nullptr) return kInfiniteCost;
   if (g->deferred) {
@@ -229,6 +260,13 @@ double MmdStarLite::cost(int from_point, int to_point) const {
 
 std::vector<GridCell> MmdStarLite::path(int from_point, int to_point) const {
   if (!planned(from_point, to_point)) return {};
+  if (splitPairs()) {
+    const PairSource source = pairSource(from_point, to_point);
+    if (source.map == nullptr) return {};
+    std::vector<GridCell> cells = source.map->field->pathFrom(source.start);
+    if (source.reversed) std::reverse(cells.begin(), cells.end());
+    return cells;
+  }
   const GoalSlot* g = slot(to_point);
   if (g == nullptr) return {};
   if (g->deferred) {
@@ -279,6 +317,10 @@ void MmdStarLite::arriveAt(int point) {
   // and the old vehicle's queues, and now unplanned pairs, are dropped.
   goals_.erase(std::remove_if(goals_.begin(), goals_.end(), [&](const GoalSlot& g) { return g.point == point; }),
                goals_.end());
+  if (splitPairs()) {
+    arriveSplit(old_vehicle);
+    return;
+  }
   for (GoalSlot& goal : goals_) {
     std::erase_if(goal.starts, [&](const StartSlot& st) {
       return st.point == old_vehicle || !planned(st.point, goal.point);
@@ -290,6 +332,57 @@ void MmdStarLite::arriveAt(int point) {
   // there, gets its own route.
   for (GoalSlot& goal : goals_)
     if (goal.deferred) goal.route_stale = true;
+}
+
+void MmdStarLite::arriveSplit(int old_vehicle) {
+  const GridCell at = points_[vehicle_point_];
+  for (GoalSlot& goal : goals_) {
+    const auto has = [&](int p) {
+      return std::any_of(goal.starts.begin(), goal.starts.end(), [&](const StartSlot& st) { return st.point == p; });
+    };
+    if (!has(vehicle_point_) && planned(vehicle_point_, goal.point)) {
+      // The pair {reached point, goal} was the reached point's map's: this map needs a queue for the
+      // new vehicle start. The old vehicle's is turned into it, else a copy of another start's
+      // (every queue sharing the field holds every inconsistent cell once synchronised), re-keyed
+      // for the new start with k_m = 0 (line 77) and searched to it now, so its cost is exact as
+      // the reached point's own queue would have left it.
+      auto old = std::find_if(goal.starts.begin(), goal.starts.end(), [&](const StartSlot& st) { return st.point == old_vehicle; });
+      if (old == goal.starts.end() && !goal.starts.empty()) {
+        goal.starts.push_back(goal.starts.front());
+        old = goal.starts.end() - 1;
+      }
+      if (old != goal.starts.end()) {
+        old->point = vehicle_point_;
+        old->queue.setStart(at);
+        old->queue.setKm(0.0);
+        old->queue.adapt(*goal.field, stats_);
+        dstarSyncQueue(*goal.field, old->queue, stats_);
+        (void)dstarComputeShortestPath(*goal.field, old->queue, stats_, {});
+      }
+    }
+    // Keep the vehicle's queue and those of the remaining goals this map hosts.
+    std::erase_if(goal.starts, [&](const StartSlot& st) {
+      return st.point != vehicle_point_ && (visited(st.point) || st.point == old_vehicle);
+    });
+    for (StartSlot& st : goal.starts)
+      if (st.point == vehicle_point_) st.queue.setKm(0.0);
+  }
+  // A map left without any queue (E's, whose pairs were all hosted by the mission points' maps, once
+  // the last of them is reached) is planned afresh for the vehicle; likewise a goal that had none.
+  for (int goal_point : remainingGoals()) {
+    GoalSlot* goal = slot(goal_point);
+    if (goal != nullptr && !goal->starts.empty()) continue;
+    if (mapStarts(goal_point).empty()) continue;
+    if (goal == nullptr) {
+      goals_.push_back(GoalSlot{});
+      goal = &goals_.back();
+      goal->point = goal_point;
+      goal->field = std::make_unique<DStarGoalField>(table_, points_[goal_point]);
+    } else {
+      goal->field->reset();
+    }
+    (void)preplanGoal(*goal, stats_, {});
+  }
 }
 
 }  // namespace skyroute

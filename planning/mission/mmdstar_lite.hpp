@@ -105,6 +105,19 @@ class MmdStarLite final : public MissionSearch {
   // Goals deferred by that rule since construction.
   std::size_t deferredGoals() const { return deferred_goals_; }
 
+  // Deviation from the seed, off by default: each pair of remaining goals {a, b} (mission points
+  // and E) is searched in one of the two maps only, since moves are symmetric (c(a, b) = c(b, a)):
+  // for a < b, in a's map when a + b is odd, in b's when even (E then serves as a start of the
+  // mission maps that host its pairs). Every map hosts about half
+  // of its pairs, so a change next to a goal repairs that goal's map for half as many starts, and
+  // the other half of that goal's pairs are repaired near their far end in the other maps, on the
+  // other threads. The vehicle stays a start of every map (it is no goal). The rule depends only on
+  // the points' numbers, so pairs never move between maps; at an arrival the old vehicle's queue
+  // of a map that did not host the reached point becomes the new vehicle's (re-keyed, and searched
+  // to the new start at once), and E's map is made then if it hosted nothing. Exact. Not combined
+  // with setDeferGoalMaps (which needs every goal's other maps to hold it): deferral wins.
+  void setSymmetricPairs(bool on) { symmetric_pairs_ = on; }
+
   // The shared map of a remaining goal (nullptr otherwise, or when deferred); for tests.
   const DStarGoalField* field(int goal_point) const;
 
@@ -131,8 +144,9 @@ class MmdStarLite final : public MissionSearch {
   GoalSlot* slot(int goal_point);
   // Lines 34-42 for one goal whose field exists.
   PlannerStatus preplanGoal(GoalSlot& goal, SearchStats& stats, const TerminationCondition& stop) const;
-  // Lines 57-71 for one goal (the move table already follows `changed`).
-  PlannerStatus replanGoal(GoalSlot& goal, std::span<const GridCell> changed, SearchStats& stats,
+  // Lines 57-71 for one goal (the move table already follows the change; `touched`: the cells
+  // whose rhs it can alter, dstarTouchedCells).
+  PlannerStatus replanGoal(GoalSlot& goal, std::span<const std::uint32_t> touched, SearchStats& stats,
                           const TerminationCondition& stop);
   // Runs work(goal, stats) for every goal on up to threads_ threads; a stopped status (isStopped) if any stopped.
   template <class Work>
@@ -147,6 +161,23 @@ class MmdStarLite final : public MissionSearch {
     if (goal.route_stale) routeVehicle(goal);
     return goal;
   }
+  bool splitPairs() const { return symmetric_pairs_ && !defer_goal_maps_; }
+  // The points whose queue lives in goal_point's map: startsFor(goal_point), or with split pairs
+  // the vehicle and the other remaining goals whose pair with it this map hosts.
+  std::vector<int> mapStarts(int goal_point) const;
+  // With split pairs: the goal whose map holds the pair {a, b} of two remaining goals.
+  // The lower of the two when a + b is odd, the higher when even: each goal hosts about half of
+  // the others, above and below it alike.
+  static int hostOf(int a, int b) { return (a + b) % 2 == 1 ? std::min(a, b) : std::max(a, b); }
+  // The map and start in it that give the cost of from -> to (nullptr when none).
+  struct PairSource {
+    const GoalSlot* map = nullptr;
+    GridCell start;
+    bool reversed = false;  // the map's goal is `from`: its path runs to -> from
+  };
+  PairSource pairSource(int from_point, int to_point) const;
+  // Arrival with split pairs: gives every remaining map a queue for the new vehicle point.
+  void arriveSplit(int old_vehicle);
   bool useSweep(std::size_t starts) const {
     return sweep_min_cells_ > 0 && grid_->cellCount() >= sweep_min_cells_ && starts >= kSweepMinStarts;
   }
@@ -157,6 +188,7 @@ class MmdStarLite final : public MissionSearch {
   double fresh_plan_fraction_ = 0.0;
   std::size_t sweep_min_cells_ = 0;
   bool defer_goal_maps_ = false;
+  bool symmetric_pairs_ = false;
   std::atomic<std::size_t> deferred_goals_{0};
   std::atomic<std::size_t> fresh_plans_{0};
 };

@@ -115,12 +115,18 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
       deferring.setSweepMinCells(1);
       deferring.setFreshPlanFraction(0.05);
       deferring.setDeferGoalMaps(true);
+      // And one that searches each pair of goals in one of its two maps, on two threads.
+      MmdStarLite split(grid, points, moves, 2);
+      split.setSymmetricPairs(true);
       PairwiseDStarLite pairwise(grid, points, moves);
       ASSERT_EQ(mmd.preplan(), PlannerStatus::kSolved);
       ASSERT_EQ(threaded.preplan(), PlannerStatus::kSolved);
       ASSERT_EQ(fresh.preplan(), PlannerStatus::kSolved);
       ASSERT_EQ(swept.preplan(), PlannerStatus::kSolved);
       ASSERT_EQ(deferring.preplan(), PlannerStatus::kSolved);
+      ASSERT_EQ(split.preplan(), PlannerStatus::kSolved);
+      expectMatrixMatchesDijkstra(split, "split pairs, preplanning");
+      expectPathsCostWhatTheMatrixSays(split, "split pairs, preplanning");
       expectMatrixMatchesDijkstra(swept, "sweep, preplanning");
       expectSameSearch(threaded, mmd, "preplanning");
       ASSERT_EQ(pairwise.preplan(), PlannerStatus::kSolved);
@@ -142,6 +148,7 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
         fresh.moveVehicle(next);
         swept.moveVehicle(next);
         deferring.moveVehicle(next);
+        split.moveVehicle(next);
         pairwise.moveVehicle(next);
         ++step;
         if (next == points[target]) {
@@ -151,6 +158,9 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
           fresh.arriveAt(target);
           swept.arriveAt(target);
           deferring.arriveAt(target);
+          split.arriveAt(target);
+          expectMatrixMatchesDijkstra(split, "split pairs, after arrival");
+          expectPathsCostWhatTheMatrixSays(split, "split pairs, after arrival");
           expectMatrixMatchesDijkstra(deferring, "deferring, after arrival");
           expectPathsCostWhatTheMatrixSays(deferring, "deferring, after arrival");
           pairwise.arriveAt(target);
@@ -171,6 +181,9 @@ TEST(MmdStarLite, CostMatrixEqualsDijkstraThroughAMissionWithChanges) {
         ASSERT_EQ(swept.applyChanges(changed), PlannerStatus::kSolved);
         expectMatrixMatchesDijkstra(swept, "sweep, replanning step " + std::to_string(step));
         ASSERT_EQ(deferring.applyChanges(changed), PlannerStatus::kSolved);
+        ASSERT_EQ(split.applyChanges(changed), PlannerStatus::kSolved);
+        expectMatrixMatchesDijkstra(split, "split pairs, replanning step " + std::to_string(step));
+        expectPathsCostWhatTheMatrixSays(split, "split pairs, replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(deferring, "deferring, replanning step " + std::to_string(step));
         expectPathsCostWhatTheMatrixSays(deferring, "deferring, replanning step " + std::to_string(step));
         expectMatrixMatchesDijkstra(fresh, "fresh-plan rule, replanning step " + std::to_string(step));
