@@ -41,6 +41,14 @@ std::pair<Trajectory, double> cutFrom(const Trajectory& t, double start_s, doubl
   return {Trajectory(segmentsBetween(t, from_s - start_s, t.duration_s())), 0.0};
 }
 
+// How far an obstacle reaches across (horizontally) and up or down from its centre.
+double horizontalReachM(const Obstacle& o) {
+  return o.shape == ObstacleShape::kBox ? o.size_m.head<2>().norm()
+         : o.shape == ObstacleShape::kEllipsoid ? o.size_m.head<2>().maxCoeff()
+                                                : o.size_m.x();
+}
+double verticalReachM(const Obstacle& o) { return o.shape == ObstacleShape::kSphere ? o.size_m.x() : o.size_m.z(); }
+
 // A polyline point of a candidate's route: its horizontal position and what it is (a task's
 // index, kDepot, or kPlain for a cell the route turns at).
 constexpr int kPlain = -1;
@@ -212,11 +220,75 @@ bool FleetReplanner::taskCovered(std::uint32_t task, double from_s, double to_s)
   return false;
 }
 
+std::optional<Trajectory> FleetReplanner::restToRest(const std::vector<Eigen::Vector3d>& path_m,
+                                                     double start_world_s) const {
+  PlannedRoute route;
+  RouteLeg leg;
+  leg.from_point = 0;
+  leg.to_point = 1;
+  leg.path_m = path_m;
+  route.waypoints_m = path_m;
+  route.legs.push_back(std::move(leg));
+  RouteOptions ro = mission_options_.route;
+  ro.snapshot.reset();
+  ro.trajectory_start_world_s = start_world_s;
+  ro.moving_check_horizon_s = 0.0;  // moving obstacles: the candidate's checks
+  if (!buildRouteTrajectory(world_, {path_m.front(), path_m.back()}, limits_, ro, route).ok()) return std::nullopt;
+  if (route.built.report.status == TrajectoryStatus::kInfeasible) return std::nullopt;
+  return route.built.trajectory;
+}
+
+std::vector<FleetReplanner::Escape> FleetReplanner::escapesFrom(const Eigen::Vector3d& p, double at_s) const {
+  std::vector<Escape> out;
+  // Beyond the obstacle's reach by the room the checks keep and a grid cell (the band search
+  // blocks the cells round the obstacle's track by most of a cell more).
+  const double room_m = world_->options().vehicle_radius_m + options_.margin_m + plan_cell_m_;
+  const double low_m = std::min(p.z(), cruise_m_), high_m = std::max(p.z(), cruise_m_);
+  for (const Obstacle& o : world_->obstacles()) {
+    const Eigen::Vector3d c = o.centerAt(at_s);
+    const double up_m = verticalReachM(o) + room_m;
+    double obstacle_low_m = c.z(), obstacle_high_m = c.z();
+    if (o.moving()) {
+      obstacle_low_m = std::min(o.motion->from_m.z(), o.motion->to_m.z());
+      obstacle_high_m = std::max(o.motion->from_m.z(), o.motion->to_m.z());
+    }
+    if (obstacle_high_m + up_m < low_m || obstacle_low_m - up_m > high_m) continue;  // above or below the climb
+    const double reach_m = horizontalReachM(o) + room_m;
+    const Eigen::Vector2d to_p = p.head<2>() - c.head<2>();
+    Eigen::Vector2d track = o.moving() ? Eigen::Vector2d((o.motion->to_m - o.motion->from_m).head<2>())
+                                       : Eigen::Vector2d::Zero();
+    if (track.norm() < 1e-6) {
+      // Fixed (or moving up and down): straight away from its axis.
+      if (to_p.norm() >= reach_m) continue;
+      const Eigen::Vector2d away = to_p.norm() > 1e-6 ? Eigen::Vector2d(to_p.normalized()) : Eigen::Vector2d::UnitX();
+      out.push_back({c.head<2>() + away * reach_m, 0.0});
+      continue;
+    }
+    // Across its track, the side the vehicle is on first; or hold there until it has gone by.
+    track.normalize();
+    const Eigen::Vector2d across(-track.y(), track.x());
+    const double off_m = to_p.dot(across);
+    if (std::abs(off_m) >= reach_m) continue;  // its track passes by
+    const Eigen::Vector2d heading = (o.centerAt(at_s + 1.0) - c).head<2>();
+    const double ahead_m = heading.dot(to_p) >= 0.0 ? std::abs(to_p.dot(track)) : -std::abs(to_p.dot(track));
+    if (ahead_m + reach_m <= 0.0) continue;  // gone by already
+    const double gone_by_s = at_s + (ahead_m + reach_m) / o.motion->speed_mps;
+    const double side = off_m >= 0.0 ? 1.0 : -1.0;
+    for (double s : {side, -side}) {
+      const Eigen::Vector2d xy = p.head<2>() + across * (s * reach_m - off_m);
+      out.push_back({xy, 0.0});
+      out.push_back({xy, gone_by_s});
+    }
+  }
+  return out;
+}
+
 std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::size_t i,
                                                                          const std::vector<std::uint32_t>& tasks,
                                                                          double now_s, double takeover_s,
                                                                          double wait_s,
-                                                                         const TerminationCondition& stop) const {
+                                                                         const TerminationCondition& stop,
+                                                                         const Escape* escape) const {
   const FleetVehicleFlight& v = vehicles_[i];
   const GridLayer& grid = *grid_;
   const double from_s = std::max(now_s, v.start_world_s);
@@ -229,7 +301,38 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
   Eigen::Vector3d start_m = state.position_m;
   double new_start_s = takeover_s;
   bool from_rest = at_rest;
-  if (wait_s > 0.0) {
+  if (escape) {
+    // Off the obstacle's track at the altitude it is at: a stop, a step aside, a hold while the
+    // obstacle goes by when asked for, then the climb to the band there.
+    if (!at_rest) {
+      const std::optional<Segment> stop = stopSegment(state, limits_);
+      if (!stop) return rejected(i, wait_s, "no stop from the takeover state");
+      segments.push_back(*stop);
+      new_start_s += stop->duration_s;
+      start_m = stop->evaluate(stop->duration_s, Derivative::kPosition);
+    }
+    auto append = [&](const Trajectory& t) {
+      segments.insert(segments.end(), t.segments().begin(), t.segments().end());
+      new_start_s += t.duration_s();
+    };
+    const Eigen::Vector3d aside(escape->xy.x(), escape->xy.y(), start_m.z());
+    const std::optional<Trajectory> step_aside = restToRest({start_m, aside}, new_start_s);
+    if (!step_aside) return rejected(i, wait_s, "no step aside");
+    append(*step_aside);
+    start_m = aside;
+    if (escape->hold_until_s > new_start_s) {
+      segments.push_back(holdSegment(start_m, escape->hold_until_s - new_start_s));
+      new_start_s = escape->hold_until_s;
+    }
+    if (start_m.z() < cruise_m_ - 1.0) {
+      const Eigen::Vector3d top(start_m.x(), start_m.y(), cruise_m_);
+      const std::optional<Trajectory> climb = restToRest({start_m, top}, new_start_s);
+      if (!climb) return rejected(i, wait_s, "no climb from the step aside");
+      append(*climb);
+      start_m = top;
+    }
+    from_rest = true;
+  } else if (wait_s > 0.0) {
     if (!at_rest) {
       const std::optional<Segment> stop = stopSegment(state, limits_);
       if (!stop) return rejected(i, wait_s, "no stop from the takeover state");
@@ -286,15 +389,13 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
     const Obstacle& o = obstacles[k];
     const int agent = n + static_cast<int>(k);
     // On the band the obstacle's horizontal extent counts (a column's height does not).
-    const double extent_m = o.shape == ObstacleShape::kBox ? o.size_m.head<2>().norm()
-                            : o.shape == ObstacleShape::kEllipsoid ? o.size_m.head<2>().maxCoeff()
-                                                                   : o.size_m.x();
+    const double extent_m = horizontalReachM(o);
     for (int s = 0; s <= horizon; ++s) {  // the stretch it covers round each step
       const Eigen::Vector3d a = o.centerAt(new_start_s + (s - 0.5) * step_s_);
       const Eigen::Vector3d b = o.centerAt(new_start_s + (s + 0.5) * step_s_);
       Eigen::Vector3d a_band = a, b_band = b;
       a_band.z() = b_band.z() = cruise_m_;  // vertical reach checked once below
-      const double vertical_m = o.shape == ObstacleShape::kSphere ? o.size_m.x() : o.size_m.z();
+      const double vertical_m = verticalReachM(o);
       if (std::abs(a.z() - cruise_m_) > vertical_m + obstacle_room_m && std::abs(b.z() - cruise_m_) > vertical_m + obstacle_room_m) continue;
       reserveAround(agent, a_band, b_band, extent_m + obstacle_room_m, s);
     }
@@ -410,22 +511,39 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::replanVehicle(std::size
   const double takeover_s = now_s + options_.lead_s;
   std::vector<double> waits{0.0};
   waits.insert(waits.end(), options_.waits_s.begin(), options_.waits_s.end());
-  for (double wait_s : waits) {
-    if (stop.shouldStop()) return std::nullopt;
-    std::optional<Candidate> c = buildCandidate(i, tasks, now_s, takeover_s, wait_s, stop);
-    ++built;
-    if (!c) continue;
+  auto passes = [&](const std::optional<Candidate>& c, double wait_s) {
+    if (!c) return false;
     if (auto hit = obstacleHit(c->trajectory, c->start_world_s, c->start_world_s)) {
       spdlog::debug("event=fleet_candidate vehicle={} wait_s={:.0f} rejected=\"meets an obstacle {:.1f} s ahead\"",
                     request_.vehicle_ids[i], wait_s, *hit - now_s);
-      continue;
+      return false;
     }
     if (!separatedFromOthers(i, c->trajectory, c->start_world_s, c->start_world_s)) {
       spdlog::debug("event=fleet_candidate vehicle={} wait_s={:.0f} rejected=\"too close to another vehicle\"",
                     request_.vehicle_ids[i], wait_s);
-      continue;
+      return false;
     }
-    return c;
+    return true;
+  };
+  for (double wait_s : waits) {
+    if (stop.shouldStop()) return std::nullopt;
+    std::optional<Candidate> c = buildCandidate(i, tasks, now_s, takeover_s, wait_s, stop);
+    ++built;
+    if (passes(c, wait_s)) return c;
+    if (wait_s > 0.0) continue;
+    // Below the band at the takeover (climbing over its begin, descending onto its end, or not
+    // yet launched): a hover stays on the track of an obstacle that reaches every altitude it
+    // passes through, so it steps off that track first.
+    const FleetVehicleFlight& v = vehicles_[i];
+    const double at_s = std::clamp(takeover_s, v.start_world_s, v.start_world_s + v.trajectory.duration_s());
+    const Eigen::Vector3d p = positionAt(i, at_s);
+    if (p.z() >= cruise_m_ - 1.0) continue;
+    for (const Escape& escape : escapesFrom(p, at_s)) {
+      if (stop.shouldStop()) return std::nullopt;
+      std::optional<Candidate> e = buildCandidate(i, tasks, now_s, takeover_s, 0.0, stop, &escape);
+      ++built;
+      if (passes(e, escape.hold_until_s > 0.0 ? escape.hold_until_s - now_s : 0.0)) return e;
+    }
   }
   return std::nullopt;
 }

@@ -124,8 +124,22 @@ class FleetReplanner {
   // The first candidate for vehicle i flying `tasks` from the takeover that passes the checks.
   std::optional<Candidate> replanVehicle(std::size_t i, const std::vector<std::uint32_t>& tasks, double now_s,
                                          const TerminationCondition& stop, std::size_t& built) const;
+  // A place beside an obstacle's track, at the altitude the vehicle is at below the band, to step
+  // to before it climbs; with hold_until_s (world time), held there until then.
+  struct Escape {
+    Eigen::Vector2d xy;
+    double hold_until_s = 0.0;
+  };
+  // The escapes from p (below the band, at world time at_s) off the track of every obstacle that
+  // reaches the altitudes between p and the band and would pass over p: across its track beyond
+  // its reach, the side p is on first.
+  std::vector<Escape> escapesFrom(const Eigen::Vector3d& p, double at_s) const;
   std::optional<Candidate> buildCandidate(std::size_t i, const std::vector<std::uint32_t>& tasks, double now_s,
-                                          double takeover_s, double wait_s, const TerminationCondition& stop) const;
+                                          double takeover_s, double wait_s, const TerminationCondition& stop,
+                                          const Escape* escape = nullptr) const;
+  // The trajectory from rest to rest along path_m (checked against the terrain and fixed
+  // obstacles), starting at world time start_world_s; nullopt when the trajectory stage fails.
+  std::optional<Trajectory> restToRest(const std::vector<Eigen::Vector3d>& path_m, double start_world_s) const;
   void adopt(std::size_t i, Candidate candidate);
   std::nullopt_t rejected(std::size_t i, double wait_s, const char* why) const;  // logged (debug)
   // Vehicle i's tasks not yet served at world_s (in order).
