@@ -324,6 +324,19 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
       segments.push_back(holdSegment(start_m, escape->hold_until_s - new_start_s));
       new_start_s = escape->hold_until_s;
     }
+    if (escape->land) {
+      // Nothing left to serve and the end below: straight down onto it from beside the track.
+      const std::optional<Trajectory> down = restToRest({start_m, ends_m_[i]}, new_start_s);
+      if (!down) return rejected(i, wait_s, "no descent from the step aside");
+      append(*down);
+      Candidate c;
+      c.trajectory = Trajectory(std::move(segments));
+      c.start_world_s = from_s;
+      c.kept_until_s = takeover_s;
+      c.order = {0, static_cast<std::uint32_t>(request_.tasks.size() + 1)};
+      c.legs.push_back(LegBoundaryData{0, c.order.back(), 0.0, c.trajectory.duration_s()});
+      return c;
+    }
     if (start_m.z() < cruise_m_ - 1.0) {
       const Eigen::Vector3d top(start_m.x(), start_m.y(), cruise_m_);
       const std::optional<Trajectory> climb = restToRest({start_m, top}, new_start_s);
@@ -538,8 +551,12 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::replanVehicle(std::size
     const double at_s = std::clamp(takeover_s, v.start_world_s, v.start_world_s + v.trajectory.duration_s());
     const Eigen::Vector3d p = positionAt(i, at_s);
     if (p.z() >= cruise_m_ - 1.0) continue;
-    for (const Escape& escape : escapesFrom(p, at_s)) {
+    // With nothing left to serve over its end, it lands from beside the track rather than
+    // climbing back to the band.
+    const bool land = tasks.empty() && (p.head<2>() - ends_m_[i].head<2>()).norm() < plan_cell_m_;
+    for (Escape escape : escapesFrom(p, at_s)) {
       if (stop.shouldStop()) return std::nullopt;
+      escape.land = land;
       std::optional<Candidate> e = buildCandidate(i, tasks, now_s, takeover_s, 0.0, stop, &escape);
       ++built;
       if (passes(e, escape.hold_until_s > 0.0 ? escape.hold_until_s - now_s : 0.0)) return e;

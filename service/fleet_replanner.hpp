@@ -125,10 +125,12 @@ class FleetReplanner {
   std::optional<Candidate> replanVehicle(std::size_t i, const std::vector<std::uint32_t>& tasks, double now_s,
                                          const TerminationCondition& stop, std::size_t& built) const;
   // A place beside an obstacle's track, at the altitude the vehicle is at below the band, to step
-  // to before it climbs; with hold_until_s (world time), held there until then.
+  // to before it climbs (or, with land, descends from there onto its end); with hold_until_s
+  // (world time), held there until then.
   struct Escape {
     Eigen::Vector2d xy;
     double hold_until_s = 0.0;
+    bool land = false;
   };
   // The escapes from p (below the band, at world time at_s) off the track of every obstacle that
   // reaches the altitudes between p and the band and would pass over p: across its track beyond
