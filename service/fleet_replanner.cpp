@@ -736,8 +736,9 @@ FleetStatusData FleetReplanner::status(double latency_s) const {
     s.error_code = PlanErrorCode::kUnreachable;
     s.field = "vehicle_ids[" + std::to_string(i) + "]";
     s.message = s.field + ": " + request_.vehicle_ids[i] +
-                " meets an obstacle and no revision clear of it and of the other vehicles was found (a vehicle can "
-                "only turn away on the flight band, not while it climbs or descends); its revision in force stays";
+                " meets an obstacle and no revision clear of it and of the other vehicles was found (neither a "
+                "detour on the flight band, a hover, nor a step aside off the obstacle's track below the band); its "
+                "revision in force stays";
   } else if (!pending_.empty()) {
     s.error_code = PlanErrorCode::kUnreachable;
     s.field = "tasks[" + std::to_string(*pending_.begin()) + "]";
