@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "planning/grid/space_time_astar.hpp"
+#include "service/fleet_step_aside.hpp"
 #include "service/fleet_vehicle_route.hpp"
 #include "service/route_planner.hpp"
 #include "service/trajectory_data.hpp"
@@ -40,14 +41,6 @@ std::pair<Trajectory, double> cutFrom(const Trajectory& t, double start_s, doubl
   if (from_s >= start_s + t.duration_s()) return {Trajectory({holdSegment(positionOn(t, start_s, from_s), 0.1)}), 0.0};
   return {Trajectory(segmentsBetween(t, from_s - start_s, t.duration_s())), 0.0};
 }
-
-// How far an obstacle reaches across (horizontally) and up or down from its centre.
-double horizontalReachM(const Obstacle& o) {
-  return o.shape == ObstacleShape::kBox ? o.size_m.head<2>().norm()
-         : o.shape == ObstacleShape::kEllipsoid ? o.size_m.head<2>().maxCoeff()
-                                                : o.size_m.x();
-}
-double verticalReachM(const Obstacle& o) { return o.shape == ObstacleShape::kSphere ? o.size_m.x() : o.size_m.z(); }
 
 // A polyline point of a candidate's route: its horizontal position and what it is (a task's
 // index, kDepot, or kPlain for a cell the route turns at).
@@ -236,51 +229,6 @@ std::optional<Trajectory> FleetReplanner::restToRest(const std::vector<Eigen::Ve
   if (!buildRouteTrajectory(world_, {path_m.front(), path_m.back()}, limits_, ro, route).ok()) return std::nullopt;
   if (route.built.report.status == TrajectoryStatus::kInfeasible) return std::nullopt;
   return route.built.trajectory;
-}
-
-std::vector<FleetReplanner::Escape> FleetReplanner::escapesFrom(const Eigen::Vector3d& p, double at_s) const {
-  std::vector<Escape> out;
-  // Beyond the obstacle's reach by the room the checks keep and a grid cell (the band search
-  // blocks the cells round the obstacle's track by most of a cell more).
-  const double room_m = world_->options().vehicle_radius_m + options_.margin_m + plan_cell_m_;
-  const double low_m = std::min(p.z(), cruise_m_), high_m = std::max(p.z(), cruise_m_);
-  for (const Obstacle& o : world_->obstacles()) {
-    const Eigen::Vector3d c = o.centerAt(at_s);
-    const double up_m = verticalReachM(o) + room_m;
-    double obstacle_low_m = c.z(), obstacle_high_m = c.z();
-    if (o.moving()) {
-      obstacle_low_m = std::min(o.motion->from_m.z(), o.motion->to_m.z());
-      obstacle_high_m = std::max(o.motion->from_m.z(), o.motion->to_m.z());
-    }
-    if (obstacle_high_m + up_m < low_m || obstacle_low_m - up_m > high_m) continue;  // above or below the climb
-    const double reach_m = horizontalReachM(o) + room_m;
-    const Eigen::Vector2d to_p = p.head<2>() - c.head<2>();
-    Eigen::Vector2d track = o.moving() ? Eigen::Vector2d((o.motion->to_m - o.motion->from_m).head<2>())
-                                       : Eigen::Vector2d::Zero();
-    if (track.norm() < 1e-6) {
-      // Fixed (or moving up and down): straight away from its axis.
-      if (to_p.norm() >= reach_m) continue;
-      const Eigen::Vector2d away = to_p.norm() > 1e-6 ? Eigen::Vector2d(to_p.normalized()) : Eigen::Vector2d::UnitX();
-      out.push_back({c.head<2>() + away * reach_m, 0.0});
-      continue;
-    }
-    // Across its track, the side the vehicle is on first; or hold there until it has gone by.
-    track.normalize();
-    const Eigen::Vector2d across(-track.y(), track.x());
-    const double off_m = to_p.dot(across);
-    if (std::abs(off_m) >= reach_m) continue;  // its track passes by
-    const Eigen::Vector2d heading = (o.centerAt(at_s + 1.0) - c).head<2>();
-    const double ahead_m = heading.dot(to_p) >= 0.0 ? std::abs(to_p.dot(track)) : -std::abs(to_p.dot(track));
-    if (ahead_m + reach_m <= 0.0) continue;  // gone by already
-    const double gone_by_s = at_s + (ahead_m + reach_m) / o.motion->speed_mps;
-    const double side = off_m >= 0.0 ? 1.0 : -1.0;
-    for (double s : {side, -side}) {
-      const Eigen::Vector2d xy = p.head<2>() + across * (s * reach_m - off_m);
-      out.push_back({xy, 0.0});
-      out.push_back({xy, gone_by_s});
-    }
-  }
-  return out;
 }
 
 std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::size_t i,
@@ -554,9 +502,12 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::replanVehicle(std::size
     // With nothing left to serve over its end, it lands from beside the track rather than
     // climbing back to the band.
     const bool land = tasks.empty() && (p.head<2>() - ends_m_[i].head<2>()).norm() < plan_cell_m_;
-    for (Escape escape : escapesFrom(p, at_s)) {
+    // Beyond the obstacle's reach by the room the checks keep and a grid cell (the band search
+    // blocks the cells round the obstacle's track by most of a cell more).
+    const double room_m = world_->options().vehicle_radius_m + options_.margin_m + plan_cell_m_;
+    for (const StepAside& aside : stepAsidesFrom(world_->obstacles(), p, cruise_m_, room_m, at_s)) {
       if (stop.shouldStop()) return std::nullopt;
-      escape.land = land;
+      const Escape escape{aside.xy, aside.hold_until_s, land};
       std::optional<Candidate> e = buildCandidate(i, tasks, now_s, takeover_s, 0.0, stop, &escape);
       ++built;
       if (passes(e, escape.hold_until_s > 0.0 ? escape.hold_until_s - now_s : 0.0)) return e;

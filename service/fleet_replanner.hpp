@@ -142,10 +142,6 @@ class FleetReplanner {
     double hold_until_s = 0.0;
     bool land = false;
   };
-  // The escapes from p (below the band, at world time at_s) off the track of every obstacle that
-  // reaches the altitudes between p and the band and would pass over p: across its track beyond
-  // its reach, the side p is on first.
-  std::vector<Escape> escapesFrom(const Eigen::Vector3d& p, double at_s) const;
   std::optional<Candidate> buildCandidate(std::size_t i, const std::vector<std::uint32_t>& tasks, double now_s,
                                           double takeover_s, double wait_s, const TerminationCondition& stop,
                                           const Escape* escape = nullptr) const;
