@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "planning/grid/space_time_astar.hpp"
+#include "service/fleet_step_aside.hpp"
 #include "service/fleet_vehicle_route.hpp"
 #include "service/route_planner.hpp"
 #include "service/trajectory_data.hpp"
@@ -212,11 +213,30 @@ bool FleetReplanner::taskCovered(std::uint32_t task, double from_s, double to_s)
   return false;
 }
 
+std::optional<Trajectory> FleetReplanner::restToRest(const std::vector<Eigen::Vector3d>& path_m,
+                                                     double start_world_s) const {
+  PlannedRoute route;
+  RouteLeg leg;
+  leg.from_point = 0;
+  leg.to_point = 1;
+  leg.path_m = path_m;
+  route.waypoints_m = path_m;
+  route.legs.push_back(std::move(leg));
+  RouteOptions ro = mission_options_.route;
+  ro.snapshot.reset();
+  ro.trajectory_start_world_s = start_world_s;
+  ro.moving_check_horizon_s = 0.0;  // moving obstacles: the candidate's checks
+  if (!buildRouteTrajectory(world_, {path_m.front(), path_m.back()}, limits_, ro, route).ok()) return std::nullopt;
+  if (route.built.report.status == TrajectoryStatus::kInfeasible) return std::nullopt;
+  return route.built.trajectory;
+}
+
 std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::size_t i,
                                                                          const std::vector<std::uint32_t>& tasks,
                                                                          double now_s, double takeover_s,
                                                                          double wait_s,
-                                                                         const TerminationCondition& stop) const {
+                                                                         const TerminationCondition& stop,
+                                                                         const Escape* escape) const {
   const FleetVehicleFlight& v = vehicles_[i];
   const GridLayer& grid = *grid_;
   const double from_s = std::max(now_s, v.start_world_s);
@@ -229,7 +249,51 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
   Eigen::Vector3d start_m = state.position_m;
   double new_start_s = takeover_s;
   bool from_rest = at_rest;
-  if (wait_s > 0.0) {
+  if (escape) {
+    // Off the obstacle's track at the altitude it is at: a stop, a step aside, a hold while the
+    // obstacle goes by when asked for, then the climb to the band there.
+    if (!at_rest) {
+      const std::optional<Segment> stop = stopSegment(state, limits_);
+      if (!stop) return rejected(i, wait_s, "no stop from the takeover state");
+      segments.push_back(*stop);
+      new_start_s += stop->duration_s;
+      start_m = stop->evaluate(stop->duration_s, Derivative::kPosition);
+    }
+    auto append = [&](const Trajectory& t) {
+      segments.insert(segments.end(), t.segments().begin(), t.segments().end());
+      new_start_s += t.duration_s();
+    };
+    const Eigen::Vector3d aside(escape->xy.x(), escape->xy.y(), start_m.z());
+    const std::optional<Trajectory> step_aside = restToRest({start_m, aside}, new_start_s);
+    if (!step_aside) return rejected(i, wait_s, "no step aside");
+    append(*step_aside);
+    start_m = aside;
+    if (escape->hold_until_s > new_start_s) {
+      segments.push_back(holdSegment(start_m, escape->hold_until_s - new_start_s));
+      new_start_s = escape->hold_until_s;
+    }
+    if (escape->land) {
+      // Nothing left to serve and the end below: straight down onto it from beside the track.
+      const std::optional<Trajectory> down = restToRest({start_m, ends_m_[i]}, new_start_s);
+      if (!down) return rejected(i, wait_s, "no descent from the step aside");
+      append(*down);
+      Candidate c;
+      c.trajectory = Trajectory(std::move(segments));
+      c.start_world_s = from_s;
+      c.kept_until_s = takeover_s;
+      c.order = {0, static_cast<std::uint32_t>(request_.tasks.size() + 1)};
+      c.legs.push_back(LegBoundaryData{0, c.order.back(), 0.0, c.trajectory.duration_s()});
+      return c;
+    }
+    if (start_m.z() < cruise_m_ - 1.0) {
+      const Eigen::Vector3d top(start_m.x(), start_m.y(), cruise_m_);
+      const std::optional<Trajectory> climb = restToRest({start_m, top}, new_start_s);
+      if (!climb) return rejected(i, wait_s, "no climb from the step aside");
+      append(*climb);
+      start_m = top;
+    }
+    from_rest = true;
+  } else if (wait_s > 0.0) {
     if (!at_rest) {
       const std::optional<Segment> stop = stopSegment(state, limits_);
       if (!stop) return rejected(i, wait_s, "no stop from the takeover state");
@@ -286,15 +350,13 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
     const Obstacle& o = obstacles[k];
     const int agent = n + static_cast<int>(k);
     // On the band the obstacle's horizontal extent counts (a column's height does not).
-    const double extent_m = o.shape == ObstacleShape::kBox ? o.size_m.head<2>().norm()
-                            : o.shape == ObstacleShape::kEllipsoid ? o.size_m.head<2>().maxCoeff()
-                                                                   : o.size_m.x();
+    const double extent_m = horizontalReachM(o);
     for (int s = 0; s <= horizon; ++s) {  // the stretch it covers round each step
       const Eigen::Vector3d a = o.centerAt(new_start_s + (s - 0.5) * step_s_);
       const Eigen::Vector3d b = o.centerAt(new_start_s + (s + 0.5) * step_s_);
       Eigen::Vector3d a_band = a, b_band = b;
       a_band.z() = b_band.z() = cruise_m_;  // vertical reach checked once below
-      const double vertical_m = o.shape == ObstacleShape::kSphere ? o.size_m.x() : o.size_m.z();
+      const double vertical_m = verticalReachM(o);
       if (std::abs(a.z() - cruise_m_) > vertical_m + obstacle_room_m && std::abs(b.z() - cruise_m_) > vertical_m + obstacle_room_m) continue;
       reserveAround(agent, a_band, b_band, extent_m + obstacle_room_m, s);
     }
@@ -410,22 +472,46 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::replanVehicle(std::size
   const double takeover_s = now_s + options_.lead_s;
   std::vector<double> waits{0.0};
   waits.insert(waits.end(), options_.waits_s.begin(), options_.waits_s.end());
-  for (double wait_s : waits) {
-    if (stop.shouldStop()) return std::nullopt;
-    std::optional<Candidate> c = buildCandidate(i, tasks, now_s, takeover_s, wait_s, stop);
-    ++built;
-    if (!c) continue;
+  auto passes = [&](const std::optional<Candidate>& c, double wait_s) {
+    if (!c) return false;
     if (auto hit = obstacleHit(c->trajectory, c->start_world_s, c->start_world_s)) {
       spdlog::debug("event=fleet_candidate vehicle={} wait_s={:.0f} rejected=\"meets an obstacle {:.1f} s ahead\"",
                     request_.vehicle_ids[i], wait_s, *hit - now_s);
-      continue;
+      return false;
     }
     if (!separatedFromOthers(i, c->trajectory, c->start_world_s, c->start_world_s)) {
       spdlog::debug("event=fleet_candidate vehicle={} wait_s={:.0f} rejected=\"too close to another vehicle\"",
                     request_.vehicle_ids[i], wait_s);
-      continue;
+      return false;
     }
-    return c;
+    return true;
+  };
+  for (double wait_s : waits) {
+    if (stop.shouldStop()) return std::nullopt;
+    std::optional<Candidate> c = buildCandidate(i, tasks, now_s, takeover_s, wait_s, stop);
+    ++built;
+    if (passes(c, wait_s)) return c;
+    if (wait_s > 0.0) continue;
+    // Below the band at the takeover (climbing over its begin, descending onto its end, or not
+    // yet launched): a hover stays on the track of an obstacle that reaches every altitude it
+    // passes through, so it steps off that track first.
+    const FleetVehicleFlight& v = vehicles_[i];
+    const double at_s = std::clamp(takeover_s, v.start_world_s, v.start_world_s + v.trajectory.duration_s());
+    const Eigen::Vector3d p = positionAt(i, at_s);
+    if (p.z() >= cruise_m_ - 1.0) continue;
+    // With nothing left to serve over its end, it lands from beside the track rather than
+    // climbing back to the band.
+    const bool land = tasks.empty() && (p.head<2>() - ends_m_[i].head<2>()).norm() < plan_cell_m_;
+    // Beyond the obstacle's reach by the room the checks keep and a grid cell (the band search
+    // blocks the cells round the obstacle's track by most of a cell more).
+    const double room_m = world_->options().vehicle_radius_m + options_.margin_m + plan_cell_m_;
+    for (const StepAside& aside : stepAsidesFrom(world_->obstacles(), p, cruise_m_, room_m, at_s)) {
+      if (stop.shouldStop()) return std::nullopt;
+      const Escape escape{aside.xy, aside.hold_until_s, land};
+      std::optional<Candidate> e = buildCandidate(i, tasks, now_s, takeover_s, 0.0, stop, &escape);
+      ++built;
+      if (passes(e, escape.hold_until_s > 0.0 ? escape.hold_until_s - now_s : 0.0)) return e;
+    }
   }
   return std::nullopt;
 }
@@ -601,8 +687,9 @@ FleetStatusData FleetReplanner::status(double latency_s) const {
     s.error_code = PlanErrorCode::kUnreachable;
     s.field = "vehicle_ids[" + std::to_string(i) + "]";
     s.message = s.field + ": " + request_.vehicle_ids[i] +
-                " meets an obstacle and no revision clear of it and of the other vehicles was found (a vehicle can "
-                "only turn away on the flight band, not while it climbs or descends); its revision in force stays";
+                " meets an obstacle and no revision clear of it and of the other vehicles was found (neither a "
+                "detour on the flight band, a hover, nor a step aside off the obstacle's track below the band); its "
+                "revision in force stays";
   } else if (!pending_.empty()) {
     s.error_code = PlanErrorCode::kUnreachable;
     s.field = "tasks[" + std::to_string(*pending_.begin()) + "]";

@@ -15,8 +15,18 @@
 //       (their trajectories in force, grown by the separation) and the obstacles (predicted,
 //       grown by their size, the vehicle radius and the margin) hold at each step blocked, flown
 //       from the takeover state at the cruise altitude;
+//     a step aside (tried after the detour when the vehicle is below the band at the takeover:
+//       climbing over its begin, not yet launched, or descending onto its end): a hover there
+//       would stay on the track of an obstacle that reaches the altitudes it passes through (a
+//       column reaches them all), so from a stop it moves at its altitude across that track,
+//       beyond the obstacle's reach by the margin and a grid cell (its side first, then the
+//       other), holds there or not until the obstacle's predicted motion has taken it past, then
+//       climbs there to the band and flies the same search from there at the time it arrives; a
+//       vehicle with nothing left to serve that is over its end lands from beside the track
+//       instead of climbing back;
 //     a wait: a stop from the takeover state, a hover of waits_s[k] (the space-time plan's wait,
 //       which a flown curve cannot otherwise keep), then the same search from the hover's step.
+//       A vehicle still on the band whose descent an obstacle will cross waits it out this way.
 //   The checks are in continuous time against the other vehicles' trajectories in force (the
 //   separation certificate of checkFleetSeparation, pair by pair) and the obstacles' predicted
 //   motion (sampled every check_dt_s; the margin covers the motion between samples), so the
@@ -27,9 +37,9 @@
 //   insertion a candidate that must pass the same checks. A task no vehicle can take stays
 //   pending; it is offered again at the next step that follows a change of the world.
 // - Only the vehicles whose trajectory changed get a new revision (revision + 1, same plan id).
-//   A vehicle for which no candidate passes keeps its revision and is reported (unresolved): the
-//   candidates turn away on the flight band only, so a vehicle still climbing over its begin (or
-//   descending onto its end) where an obstacle passes cannot dodge it.
+//   A vehicle for which no candidate passes keeps its revision and is reported (unresolved), e.g.
+//   when the obstacle reaches it before it can stop and step aside, or the step aside meets
+//   another vehicle, the terrain or another obstacle.
 // - Work is bounded by budget_s per step: the vehicles not reached stay marked and the next step
 //   goes on with them.
 // DDS-free: the engine drives it on a planning worker; the tests drive it with a world clock.
@@ -124,8 +134,20 @@ class FleetReplanner {
   // The first candidate for vehicle i flying `tasks` from the takeover that passes the checks.
   std::optional<Candidate> replanVehicle(std::size_t i, const std::vector<std::uint32_t>& tasks, double now_s,
                                          const TerminationCondition& stop, std::size_t& built) const;
+  // A place beside an obstacle's track, at the altitude the vehicle is at below the band, to step
+  // to before it climbs (or, with land, descends from there onto its end); with hold_until_s
+  // (world time), held there until then.
+  struct Escape {
+    Eigen::Vector2d xy;
+    double hold_until_s = 0.0;
+    bool land = false;
+  };
   std::optional<Candidate> buildCandidate(std::size_t i, const std::vector<std::uint32_t>& tasks, double now_s,
-                                          double takeover_s, double wait_s, const TerminationCondition& stop) const;
+                                          double takeover_s, double wait_s, const TerminationCondition& stop,
+                                          const Escape* escape = nullptr) const;
+  // The trajectory from rest to rest along path_m (checked against the terrain and fixed
+  // obstacles), starting at world time start_world_s; nullopt when the trajectory stage fails.
+  std::optional<Trajectory> restToRest(const std::vector<Eigen::Vector3d>& path_m, double start_world_s) const;
   void adopt(std::size_t i, Candidate candidate);
   std::nullopt_t rejected(std::size_t i, double wait_s, const char* why) const;  // logged (debug)
   // Vehicle i's tasks not yet served at world_s (in order).

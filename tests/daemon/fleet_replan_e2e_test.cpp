@@ -3,6 +3,8 @@
 // three vehicles. The station must receive new revisions for the vehicles the obstacles meet, and
 // only for them, and the trajectories in force must serve every task once, keep clear of the
 // obstacles' actual motion and keep the separation: all judged from the published samples.
+// Then the same over a climb: a column crossing a vehicle's climb over its begin right after the
+// launch, which the vehicle must step aside from below the band.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,6 +29,7 @@ using testing::sampledAt;
 using testing::Station;
 
 constexpr int kDomain = 185;
+constexpr int kClimbDomain = 186;
 constexpr double kVehicleRadiusM = 5.0;  // the daemon's default
 constexpr double kMarginM = 30.0;        // fleet.replan_margin_m's default
 
@@ -155,6 +158,80 @@ TEST_F(FleetReplanE2E, CrossingObstaclesGetOnlyTheVehiclesTheyMeetNewRevisions) 
   EXPECT_GE(closest_m, last.min_separation_m - 1.0);
   std::printf("fleet replan over DDS: met %zu (maybe %zu), revised %zu, replan %.3f s, closest pair %.0f m (min %.0f)\n",
               surely.size(), maybe.size(), got.size(), last.planning_time_s, closest_m, last.min_separation_m);
+}
+
+class FleetClimbE2E : public FleetReplanE2E {
+ protected:
+  void SetUp() override { startDaemon(kClimbDomain, {"--log-level", "debug"}, "skyrouted_fleet_climb", 20.0); }
+};
+
+TEST_F(FleetClimbE2E, AColumnCrossingAClimbIsSteppedAround) {
+  FleetRequestData r;
+  r.request_id = "fleet-climb-e2e";
+  r.vehicle_ids = {"fc-a", "fc-b", "fc-c"};
+  r.begins = {above(-4000, -4000, 100), above(4000, -4000, 100), above(0, 4000, 100)};
+  r.ends = r.begins;
+  const double spots[6][2] = {{-2500, -1500}, {-1000, -3000}, {1500, -2500}, {3000, -1000}, {-1500, 3000}, {1500, 3500}};
+  for (const auto& s : spots) r.tasks.push_back(above(s[0], s[1], 150));
+  ASSERT_TRUE(fleet_requests_->write(r).ok());
+  auto firstPlans = [&] {
+    std::size_t n = 0;
+    for (const TrajectoryData& t : station_->trajectory_log) n += t.request_id == r.request_id ? 1 : 0;
+    return n;
+  };
+  ASSERT_TRUE(station_->pumpUntil([&] { return reached(r.request_id, PlanState::kSucceeded) && firstPlans() == 3; }, 20.0))
+      << daemon_.err();
+  const FleetFlown planned(station_->trajectory_log, r.request_id);
+  double cruise_m = 0.0;
+  for (double t = planned.beginOf("fc-a"); t <= planned.endOf("fc-a"); t += 1.0)
+    cruise_m = std::max(cruise_m, planned.positionAt("fc-a", t).z());
+
+  // A column (every altitude of the band) across where fc-a is 70 s after its launch: still
+  // climbing over its begin.
+  const std::int64_t now_ns = utcNowNs();
+  const double now_s = static_cast<double>(now_ns) * 1e-9;
+  const double meet_s = planned.beginOf("fc-a") + 70.0;
+  ASSERT_GT(meet_s - now_s, 30.0) << "the plan came too late for the scenario";
+  const Eigen::Vector3d meet = planned.positionAt("fc-a", meet_s);
+  ASSERT_LT(meet.z(), cruise_m - 200.0) << "the column must meet fc-a in its climb";
+  const Eigen::Vector2d velocity(0.0, 10.0);
+  const Eigen::Vector2d from = meet.head<2>() - velocity * (meet_s - now_s);
+  ObstacleUpdateData u;
+  u.obstacle.id = 201;
+  u.obstacle.shape = ObstacleShape::kCylinder;
+  u.obstacle.size_m = Eigen::Vector3d(120.0, 120.0, 2500.0);
+  u.obstacle.center_m = Eigen::Vector3d(from.x(), from.y(), 1000.0);
+  u.constant_velocity_enu_mps = Eigen::Vector3d(velocity.x(), velocity.y(), 0.0);
+  u.valid_from_utc_ns = now_ns;
+  const Obstacle column = worldObstacle(u, 3600.0);
+  ASSERT_TRUE(station_->obstacles->write(u).ok());
+
+  ASSERT_TRUE(station_->pumpUntil(
+      [&] { return reached(r.request_id, PlanState::kReplanned) && revised(r.request_id).count("fc-a") > 0; }, 20.0))
+      << daemon_.err();
+  station_->pumpUntil([] { return false; }, 1.0);  // anything else that would come
+  const FleetStatusData& last = *std::find_if(fleet_log_.rbegin(), fleet_log_.rend(), [&](const FleetStatusData& s) {
+    return s.request_id == r.request_id && s.state == PlanState::kReplanned;
+  });
+  EXPECT_TRUE(last.field.empty()) << last.message;
+
+  const FleetFlown flown(station_->trajectory_log, r.request_id);
+  for (std::uint32_t j = 0; j < r.tasks.size(); ++j) ASSERT_EQ(flown.servings(j).size(), 1u) << "task " << j;
+  double last_end_s = now_s;
+  for (const std::string& v : r.vehicle_ids) {
+    last_end_s = std::max(last_end_s, flown.endOf(v));
+    for (double t = std::max(now_s, flown.beginOf(v)); t <= flown.endOf(v); t += 0.05)
+      ASSERT_FALSE(column.contains(flown.positionAt(v, t), t, kVehicleRadiusM)) << v << " in the column at " << t;
+  }
+  double closest_m = std::numeric_limits<double>::infinity();
+  for (double t = now_s; t <= last_end_s; t += 0.1) {
+    for (std::size_t a = 0; a < r.vehicle_ids.size(); ++a)
+      for (std::size_t b = a + 1; b < r.vehicle_ids.size(); ++b)
+        closest_m = std::min(closest_m, (flown.positionAt(r.vehicle_ids[a], t) - flown.positionAt(r.vehicle_ids[b], t)).norm());
+  }
+  EXPECT_GE(closest_m, last.min_separation_m - 1.0);
+  std::printf("climb over DDS: revised %zu, replan %.3f s, closest pair %.0f m (min %.0f)\n", revised(r.request_id).size(),
+              last.planning_time_s, closest_m, last.min_separation_m);
 }
 
 }  // namespace

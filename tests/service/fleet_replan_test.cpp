@@ -213,6 +213,105 @@ TEST_F(FleetReplanTest, ThreeCrossingObstaclesFiveVehiclesFifteenTasks) {
               status.planning_time_s);
 }
 
+// A column crosses uav-a's climb over its begin: a hover in the climb stays on the column's track
+// and the band search turns away only once up there, so the vehicle steps aside at the altitude it
+// is at, climbs there and flies on; every task is still served and nobody meets the column.
+TEST_F(FleetReplanTest, AColumnCrossingAClimbIsSteppedAround) {
+  const FleetRequestData r = fiveByFifteen();
+  planFleet(r);
+  const std::vector<TrajectoryData> first = sink_.trajectories;
+  const TrajectoryData& a = first.front();
+  ASSERT_EQ(a.vehicle_id, "uav-a");
+  double cruise_m = 0.0;
+  for (const TrajectorySampleData& x : a.samples) cruise_m = std::max(cruise_m, x.position_enu_m.z());
+
+  now_ns_ += seconds(20.0);
+  const double now_s = static_cast<double>(now_ns_) * 1e-9;
+  // Where uav-a is 70 s after the start: still climbing over its begin, well below the band.
+  const double meet_s = kStartNs * 1e-9 + 70.0;
+  const Eigen::Vector3d meet = sampledAt(a, meet_s);
+  ASSERT_LT(meet.z(), cruise_m - 200.0) << "the column must meet uav-a in its climb";
+  ASSERT_LT((meet.head<2>() - r.begins[0].enu_m.head<2>()).norm(), 150.0);
+  const Eigen::Vector2d velocity(0.0, 10.0);
+  const Eigen::Vector2d from = meet.head<2>() - velocity * (meet_s - now_s);
+  const ObstacleUpdateData update = column(4, from.x(), from.y(), velocity.x(), velocity.y(), 120.0);
+  ASSERT_FALSE(engine_->updateObstacle(update).has_value());
+  const std::size_t published_before = sink_.trajectories.size();
+  cycle();
+  now_ns_ += seconds(0.1);
+  cycle();
+
+  const FleetStatusData& status = sink_.fleet.back();
+  EXPECT_EQ(status.state, PlanState::kReplanned);
+  EXPECT_TRUE(status.field.empty()) << status.message;
+  bool a_revised = false;
+  for (std::size_t k = published_before; k < sink_.trajectories.size(); ++k) {
+    const TrajectoryData& t = sink_.trajectories[k];
+    if (t.vehicle_id != "uav-a") continue;
+    a_revised = true;
+    EXPECT_LT((sampledAt(a, startS(t)) - t.samples.front().position_enu_m).norm(), 0.5);
+    // It leaves the climb's vertical line below the band: the step aside.
+    bool aside_below_band = false;
+    for (const TrajectorySampleData& x : t.samples) {
+      aside_below_band = aside_below_band || (x.position_enu_m.z() < cruise_m - 100.0 &&
+                                              (x.position_enu_m.head<2>() - meet.head<2>()).norm() > 100.0);
+    }
+    EXPECT_TRUE(aside_below_band);
+  }
+  EXPECT_TRUE(a_revised);
+  expectCleanFlight(r, {update});
+  const double cell_m = 99.0;
+  expectNoGridConflicts(r, cell_m, cell_m / r.limits.v_ref_mps);
+}
+
+// A column crosses uav-a's descent onto its end, when the vehicle is already descending: it
+// steps aside at the altitude it is at, holds there until the column has gone by, then lands,
+// without climbing back to the band. (Seen while still on the band, a hover there does.)
+TEST_F(FleetReplanTest, AColumnCrossingADescentIsSteppedAround) {
+  const FleetRequestData r = fiveByFifteen();
+  planFleet(r);
+  const std::vector<TrajectoryData> first = sink_.trajectories;
+  const TrajectoryData& a = first.front();
+  ASSERT_EQ(a.vehicle_id, "uav-a");
+  double cruise_m = 0.0;
+  for (const TrajectorySampleData& x : a.samples) cruise_m = std::max(cruise_m, x.position_enu_m.z());
+
+  // Where uav-a is 40 s before its end: descending onto it, well below the band.
+  const double meet_s = endS(a) - 40.0;
+  const Eigen::Vector3d meet = sampledAt(a, meet_s);
+  ASSERT_LT(meet.z(), cruise_m - 200.0) << "the column must meet uav-a in its descent";
+  ASSERT_LT((meet.head<2>() - r.ends[0].enu_m.head<2>()).norm(), 150.0);
+  now_ns_ = seconds(meet_s - 30.0);
+  const double now_s = static_cast<double>(now_ns_) * 1e-9;
+  const Eigen::Vector2d velocity(-10.0, 0.0);
+  const Eigen::Vector2d from = meet.head<2>() - velocity * (meet_s - now_s);
+  const ObstacleUpdateData update = column(5, from.x(), from.y(), velocity.x(), velocity.y(), 120.0);
+  ASSERT_FALSE(engine_->updateObstacle(update).has_value());
+  const std::size_t published_before = sink_.trajectories.size();
+  cycle();
+  now_ns_ += seconds(0.1);
+  cycle();
+
+  const FleetStatusData& status = sink_.fleet.back();
+  EXPECT_EQ(status.state, PlanState::kReplanned);
+  EXPECT_TRUE(status.field.empty()) << status.message;
+  bool a_revised = false;
+  for (std::size_t k = published_before; k < sink_.trajectories.size(); ++k) {
+    const TrajectoryData& t = sink_.trajectories[k];
+    if (t.vehicle_id != "uav-a") continue;
+    a_revised = true;
+    EXPECT_LT((sampledAt(a, startS(t)) - t.samples.front().position_enu_m).norm(), 0.5);
+    EXPECT_LT((t.samples.back().position_enu_m - r.ends[0].enu_m).norm(), 1.0);
+    double highest_m = 0.0;
+    for (const TrajectorySampleData& x : t.samples) highest_m = std::max(highest_m, x.position_enu_m.z());
+    EXPECT_LT(highest_m, cruise_m - 100.0) << "it climbs back to the band";
+  }
+  EXPECT_TRUE(a_revised);
+  expectCleanFlight(r, {update});
+  const double cell_m = 99.0;
+  expectNoGridConflicts(r, cell_m, cell_m / r.limits.v_ref_mps);
+}
+
 // An obstacle far from every vehicle's path: nothing is replanned, nothing published.
 TEST_F(FleetReplanTest, AFarObstacleChangesNothing) {
   const FleetRequestData r = fiveByFifteen();
