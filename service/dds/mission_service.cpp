@@ -157,7 +157,7 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
       *edge->cancels,
       [this](CancelRequestData&& cancel) {
         // In a shard group only the vehicle's owner answers; every member forgets the mission.
-        if (!router_ || router_->onCancel(cancel)) engine_->cancel(cancel);
+        if (!router_ || routeCancel(cancel)) engine_->cancel(cancel);
       },
       [this](const Error& e, const CancelRequestData& identity) {
         ++bad_samples_;
@@ -258,8 +258,14 @@ Status MissionService::configure(const DaemonConfig& config) {
   instance_ = ServiceInstance::current(config.service_id, config.heartbeat_period_s, config.role);
   instance_.shard_group = config.shard_group;
   if (!config.shard_group.empty()) {
-    router_ = std::make_unique<ShardRouter>(ShardMember{config.service_id, instance_.started_utc_ns},
-                                            static_cast<std::int64_t>(kShardJoinMarginS * 1e9));
+    const auto margin_ns = static_cast<std::int64_t>(kShardJoinMarginS * 1e9);
+    if (journal_) {
+      // The journal's earlier lives tell the others which older requests this shard read.
+      instance_.past_coverage = advertisedCoverage(recovered_->shard_lives, margin_ns);
+      if (Status s = journal_->beginShardLife(instance_.started_utc_ns); !s.ok()) return s.error();
+    }
+    router_ = std::make_unique<ShardRouter>(
+        ShardMember{config.service_id, instance_.started_utc_ns, instance_.past_coverage}, margin_ns);
     // Shards plan the same vehicles in turn, each counting its own plans: its instance in the plan id.
     (*engine)->setPlanIdTag(instance_.instance_id.substr(0, 8));
   }
@@ -347,10 +353,12 @@ Status MissionService::activate() {
   if (recovered_) {
     if (router_) {
       // A shard takes its vehicles from the wire and its own copy of the requests (the group may
-      // have moved them while it was down): from the journal only the world and the plan counter.
+      // have moved them while it was down): from the journal the world, the plan counter and
+      // its copies of the requests, which go to the router, not to the engine.
       recovered_->missions.clear();
       recovered_->trajectories.clear();
       recovered_->fleets.clear();
+      recoverShardCopies(recovered_->shard_requests);
     }
     catchUpFromPartner(*recovered_);
     engine_->recover(*recovered_);
@@ -648,6 +656,7 @@ void MissionService::ddsThread() {
     if (now >= next_heartbeat) {
       publishHeartbeat();
       scheduleShardCheck();  // a restarted member's first heartbeat makes it live again
+      recordShardCoverage();
       // On the period's grid, so a late heartbeat does not delay every later one.
       const auto period = seconds(config().heartbeat_period_s);
       next_heartbeat = now - next_heartbeat < period ? next_heartbeat + period : now + period;

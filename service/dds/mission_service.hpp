@@ -113,6 +113,12 @@ class MissionService final : public EngineSink {
   void startShard();
   void routeMission(MissionRequestData&& request);
   void routeFleet(FleetRequestData&& request);
+  bool routeCancel(const CancelRequestData& cancel);  // true: this shard answers it
+  // Every request a shard reads is journaled (with --state-dir) before it is routed, so a shard
+  // restarted on its journal still has a copy of the others' vehicles (docs/journal.md).
+  void journalShardCopy(const JournaledRequest& copy);
+  void recoverShardCopies(const std::vector<JournaledRequest>& copies);  // at activate, before the DDS thread
+  void recordShardCoverage();  // DDS thread, at each heartbeat: every request read up to a margin ago
   void scheduleShardCheck();                              // DDS thread
   void shardCheckDue(std::chrono::steady_clock::time_point now);  // DDS thread
   void evaluateShard();                                   // DDS thread
