@@ -158,6 +158,13 @@ class Engine {
   // last.revision + 1 of last.plan_id, then is replanned as usual. `last` names the trajectory in
   // force (its samples are not needed). Answers no status: the request was answered.
   void resumeFlight(const MissionRequestData& request, const TrajectoryData& last, std::int64_t flight_start_utc_ns);
+  // A hot standby taking over: the readers' last revision of the vehicle's plan came from the
+  // primary (wire_revision). When this engine's current revision of that plan is neither it nor
+  // the one after (the two daemons' replans drifted apart), the current trajectory is numbered
+  // wire_revision + 1 and later revisions count on from there. Returns the new number, or nothing
+  // when the numbering already follows (or the vehicle flies another plan here).
+  std::optional<std::uint32_t> followRevision(const std::string& vehicle_id, const std::string& plan_id,
+                                              std::uint32_t wire_revision);
   // Plan ids become "<vehicle>-<tag>-<n>" (before start()): daemons that plan the same vehicles in
   // turn (a shard group) never give two plans one id, their counters being their own.
   void setPlanIdTag(const std::string& tag);

@@ -1,5 +1,6 @@
 // The engine in a shard group: vehicles handed to another daemon are let go quietly, and vehicles
-// taken from one are resumed in flight by the journal restart's path (planResumed).
+// taken from one are resumed in flight by the journal restart's path (planResumed). A hot standby
+// taking over numbers its revisions on from the primary's.
 #include <spdlog/spdlog.h>
 
 #include "service/engine_state.hpp"
@@ -73,6 +74,30 @@ void Engine::resumeFlight(const MissionRequestData& request, const TrajectoryDat
     queue_.push_back(std::move(job));
   }
   work_cv_.notify_one();
+}
+
+std::optional<std::uint32_t> Engine::followRevision(const std::string& vehicle_id, const std::string& plan_id,
+                                                    std::uint32_t wire_revision) {
+  std::shared_ptr<Mission> mission;
+  {
+    std::lock_guard lock(mutex_);
+    auto it = missions_.find(vehicle_id);
+    if (it == missions_.end()) return std::nullopt;
+    mission = it->second;
+  }
+  std::lock_guard mission_lock(mission->mutex);
+  if (mission->ended || mission->plan_id != plan_id) return std::nullopt;
+  const std::uint32_t flight_revision = mission->plan.flight->revision();
+  const std::uint32_t current = mission->revision_base + flight_revision;
+  if (current == wire_revision || current == wire_revision + 1) return std::nullopt;
+  const std::uint32_t next = wire_revision + 1;
+  // Unsigned arithmetic wraps: base + flight_revision is `next` even when base "goes below zero"
+  // (a standby that made more replans than the primary).
+  mission->revision_base = next - flight_revision;
+  if (mission->recovered) mission->recovered->revision = next;
+  spdlog::info("event=revisions_followed vehicle={} plan={} own_revision={} wire_revision={} revision={}", vehicle_id,
+               plan_id, current, wire_revision, next);
+  return next;
 }
 
 void Engine::setPlanIdTag(const std::string& tag) {

@@ -21,6 +21,18 @@ CREATE TABLE obstacles(obstacle_id INTEGER PRIMARY KEY, update_json TEXT NOT NUL
 CREATE TABLE no_fly_zones(zone_id TEXT PRIMARY KEY, zone_json TEXT NOT NULL, valid_until_utc_ns INTEGER NOT NULL);
 CREATE TABLE fleet_allocations(request_id TEXT PRIMARY KEY, status_json TEXT NOT NULL);
 CREATE TABLE owner(instance_id TEXT NOT NULL);
+CREATE TABLE shard_requests(key TEXT PRIMARY KEY, kind TEXT NOT NULL, vehicle_id TEXT NOT NULL,
+                            request_id TEXT NOT NULL, request_json TEXT NOT NULL, seen_utc_ns INTEGER NOT NULL);
+CREATE TABLE shard_lives(started_utc_ns INTEGER PRIMARY KEY, covered_until_utc_ns INTEGER NOT NULL);
+)sql";
+
+// Version 2 -> 3: a shard's copies of every request it read and its lives (empty for a daemon
+// that is no shard, and for a shard's journal written by version 2: it had none).
+constexpr const char* kMigrateV2ToV3 = R"sql(
+CREATE TABLE shard_requests(key TEXT PRIMARY KEY, kind TEXT NOT NULL, vehicle_id TEXT NOT NULL,
+                            request_id TEXT NOT NULL, request_json TEXT NOT NULL, seen_utc_ns INTEGER NOT NULL);
+CREATE TABLE shard_lives(started_utc_ns INTEGER PRIMARY KEY, covered_until_utc_ns INTEGER NOT NULL);
+UPDATE schema_version SET version = 3;
 )sql";
 
 // Version 1 -> 2: the new columns and tables; each trajectory's end and each obstacle's end of
@@ -128,9 +140,11 @@ Result<int> prepareJournalSchema(SqliteDb& db) {
   if (*version < 1) return refused(db, "schema version " + std::to_string(*version) + " is not a valid version");
   if (*version == kJournalSchemaVersion) return static_cast<int>(*version);
   if (Status s = db.exec("BEGIN IMMEDIATE"); !s.ok()) return s.error();
-  if (Status s = migrateV1ToV2(db); !s.ok()) {
+  Status migrated = *version < 2 ? migrateV1ToV2(db) : Status::success();
+  if (migrated.ok()) migrated = db.exec(kMigrateV2ToV3);
+  if (!migrated.ok()) {
     (void)db.exec("ROLLBACK");
-    return s.error();
+    return migrated.error();
   }
   if (Status s = db.exec("COMMIT"); !s.ok()) return s.error();
   return static_cast<int>(*version);

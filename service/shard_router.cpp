@@ -11,11 +11,16 @@ namespace {
 constexpr std::string_view kVehiclePrefix = "vehicle:";
 constexpr std::string_view kFleetPrefix = "fleet:";
 
-std::string vehicleKey(const std::string& vehicle_id) { return std::string(kVehiclePrefix) + vehicle_id; }
-std::string fleetKey(const std::string& request_id) { return std::string(kFleetPrefix) + request_id; }
 bool isFleetKey(const std::string& key) { return key.rfind(kFleetPrefix, 0) == 0; }
 
 }  // namespace
+
+std::string ShardRouter::missionKey(const std::string& vehicle_id) { return std::string(kVehiclePrefix) + vehicle_id; }
+std::string ShardRouter::fleetKey(const std::string& request_id) { return std::string(kFleetPrefix) + request_id; }
+
+bool ShardRouter::readLocked(const ShardMember& member, std::int64_t arrived_utc_ns) const {
+  return coversArrival(member.started_utc_ns, member.past_coverage, arrived_utc_ns, join_margin_ns_);
+}
 
 ShardRouter::ShardRouter(ShardMember self, std::int64_t join_margin_ns)
     : self_(std::move(self)), join_margin_ns_(join_margin_ns), members_{self_} {}
@@ -33,9 +38,10 @@ std::string ShardRouter::ownerOfKeyLocked(const std::string& key) const {
     return oldest->service_id;
   }
   std::vector<std::string> eligible;
-  // Members that were serving when the request arrived read it too; a later joiner may not have.
+  // Members that were serving when the request arrived read it too; a later joiner, or one that
+  // was down then, may not have.
   for (const ShardMember& m : members_) {
-    if (m.started_utc_ns + join_margin_ns_ <= plan->second.seen_utc_ns) eligible.push_back(m.service_id);
+    if (readLocked(m, plan->second.seen_utc_ns)) eligible.push_back(m.service_id);
   }
   if (eligible.empty()) {
     for (const ShardMember& m : members_) eligible.push_back(m.service_id);
@@ -45,7 +51,7 @@ std::string ShardRouter::ownerOfKeyLocked(const std::string& key) const {
 
 std::string ShardRouter::ownerOfVehicleLocked(const std::string& vehicle_id) const {
   if (auto owner = vehicle_owner_.find(vehicle_id); owner != vehicle_owner_.end()) return owner->second;
-  return ownerOfKeyLocked(vehicleKey(vehicle_id));
+  return ownerOfKeyLocked(missionKey(vehicle_id));
 }
 
 ShardActions ShardRouter::setMembers(std::vector<ShardMember> members, bool settled, std::int64_t now_utc_ns) {
@@ -121,22 +127,23 @@ void ShardRouter::loseLocked(const std::string& vehicle_id, ShardActions& action
   }
 }
 
-void ShardRouter::dropUnusedFleetLocked(const std::string& key) {
+void ShardRouter::dropUnusedFleetLocked(const std::string& key, ShardActions& actions) {
   for (const auto& [vehicle, current] : vehicle_plan_) {
     if (current == key) return;
   }
   plans_.erase(key);
+  actions.forget_requests.push_back(key);
 }
 
 ShardActions ShardRouter::onMission(const MissionRequestData& request, std::int64_t now_utc_ns) {
   std::lock_guard lock(mutex_);
   ShardActions actions;
-  const std::string key = vehicleKey(request.vehicle_id);
+  const std::string key = missionKey(request.vehicle_id);
   plans_[key] = Plan{now_utc_ns, request, std::nullopt};
   std::string& current = vehicle_plan_[request.vehicle_id];
   const std::string previous_key = current;
   current = key;
-  if (previous_key != key && isFleetKey(previous_key)) dropUnusedFleetLocked(previous_key);
+  if (previous_key != key && isFleetKey(previous_key)) dropUnusedFleetLocked(previous_key, actions);
   const std::string owner = ownerOfKeyLocked(key);
   std::string& known = vehicle_owner_[request.vehicle_id];
   if (owner != known) {
@@ -158,7 +165,7 @@ ShardActions ShardRouter::onFleet(const FleetRequestData& request, std::int64_t 
     std::string& current = vehicle_plan_[vehicle];
     const std::string previous_key = current;
     current = key;
-    if (previous_key != key && isFleetKey(previous_key)) dropUnusedFleetLocked(previous_key);
+    if (previous_key != key && isFleetKey(previous_key)) dropUnusedFleetLocked(previous_key, actions);
     std::string& known = vehicle_owner_[vehicle];
     if (owner == known) continue;
     if (!known.empty()) actions.moves.push_back(VehicleMove{vehicle, known, owner});
@@ -186,6 +193,13 @@ bool ShardRouter::onCancel(const CancelRequestData& cancel) {
     }
   }
   return settled_ && ownerOfVehicleLocked(vehicle) == self_.service_id;
+}
+
+void ShardRouter::recoverRequests(const std::vector<JournaledRequest>& copies) {
+  for (const JournaledRequest& copy : copies) {
+    if (copy.mission) (void)onMission(*copy.mission, copy.seen_utc_ns);
+    if (copy.fleet) (void)onFleet(*copy.fleet, copy.seen_utc_ns);
+  }
 }
 
 void ShardRouter::onTrajectory(const TrajectoryData& trajectory) {

@@ -5,10 +5,12 @@
 //
 // The owner of a vehicle is the rendezvous owner (shard_assignment.hpp) of the vehicle's current
 // plan: its latest mission request ("vehicle:<id>") or, while a fleet request is its latest plan,
-// that fleet ("fleet:<request_id>"), so one daemon plans a whole fleet. Only members that were
-// serving when the plan's request arrived can own it (started at least join_margin before: they
-// read the request too); when none of them is live any more, every live member can. A daemon
-// that joins therefore takes new requests at once, and older vehicles only when their owner dies.
+// that fleet ("fleet:<request_id>"), so one daemon plans a whole fleet. Only members that read
+// the plan's request can own it (shard_coverage.hpp: serving since at least join_margin before
+// it arrived, in this life or in an earlier one their journal kept); when none of them is live
+// any more, every live member can. A daemon that joins therefore takes new requests at once, and
+// older vehicles only when their owner dies; one restarted on its journal also takes back the
+// vehicles of requests it read before, and their owners let go of them.
 // What names a vehicle or fleet this daemon never saw a request for (a cancel, a refused request)
 // is answered by the oldest live member.
 //
@@ -25,12 +27,15 @@
 #include <vector>
 
 #include "service/mission_types.hpp"
+#include "service/shard_coverage.hpp"
+#include "service/state_journal.hpp"
 
 namespace skyroute {
 
 struct ShardMember {
   std::string service_id;
   std::int64_t started_utc_ns = 0;
+  std::vector<CoverageInterval> past_coverage = {};  // earlier lives kept by its journal
 };
 
 // What this daemon knows of a vehicle's trajectory in force, from the wire.
@@ -55,9 +60,10 @@ struct ShardActions {
   std::vector<std::pair<MissionRequestData, PublishedRevision>> resume;  // flights to resume
   std::vector<FleetRequestData> plan_fleets;
   std::vector<VehicleMove> moves;             // owners that changed (from or to this daemon, or between others)
+  std::vector<std::string> forget_requests;   // copies no longer kept (plan keys): out of the journal too
   bool empty() const {
     return release_vehicles.empty() && release_fleets.empty() && plan.empty() && resume.empty() &&
-           plan_fleets.empty() && moves.empty();
+           plan_fleets.empty() && moves.empty() && forget_requests.empty();
   }
 };
 
@@ -76,6 +82,14 @@ class ShardRouter {
   // A cancel: the dormant copy it names is forgotten on every member. True when this daemon
   // answers it (it owns the vehicle, or for a vehicle nobody plans, it is the oldest member).
   bool onCancel(const CancelRequestData& cancel);
+  // The copies a journal kept (JournalState::shard_requests), replayed in the order they arrived,
+  // each with its arrival time then. Before the first settled setMembers() only: nothing is
+  // planned now; the vehicles this daemon owns once settled are resumed from the wire then.
+  void recoverRequests(const std::vector<JournaledRequest>& copies);
+  // The plan key of a mission's or fleet's copy (the journal's row key).
+  static std::string missionKey(const std::string& vehicle_id);
+  static std::string fleetKey(const std::string& request_id);
+
   // Every trajectory on the wire (this daemon's own included).
   void onTrajectory(const TrajectoryData& trajectory);
 
@@ -99,7 +113,8 @@ class ShardRouter {
   void gainLocked(const std::string& vehicle_id, std::int64_t now_utc_ns, ShardActions& actions,
                   std::set<std::string>& fleets_planned);
   void loseLocked(const std::string& vehicle_id, ShardActions& actions);
-  void dropUnusedFleetLocked(const std::string& key);
+  void dropUnusedFleetLocked(const std::string& key, ShardActions& actions);
+  bool readLocked(const ShardMember& member, std::int64_t arrived_utc_ns) const;
 
   mutable std::mutex mutex_;
   ShardMember self_;

@@ -216,6 +216,62 @@ Status StateJournal::recordOwner(const std::string& instance_id) {
   });
 }
 
+Status StateJournal::recordShardRequest(const JournaledRequest& copy) {
+  const bool fleet = copy.fleet.has_value();
+  const std::string text = fleet ? fleetToJson(*copy.fleet).dump() : missionToJson(*copy.mission).dump();
+  const std::string vehicle = fleet ? std::string() : copy.mission->vehicle_id;
+  const std::string request = fleet ? copy.fleet->request_id : copy.mission->request_id;
+  return transaction([&] {
+    return runSql(*db_,
+                  "INSERT OR REPLACE INTO shard_requests(key, kind, vehicle_id, request_id, request_json, seen_utc_ns) "
+                  "VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                  [&](SqliteStatement& q) {
+                    q.bind(1, copy.key).bind(2, std::string(fleet ? "fleet" : "mission")).bind(3, vehicle);
+                    q.bind(4, request).bind(5, text).bind(6, copy.seen_utc_ns);
+                  });
+  });
+}
+
+Status StateJournal::forgetShardRequests(const std::vector<std::string>& keys) {
+  if (keys.empty()) return Status::success();
+  return transaction([&]() -> Status {
+    for (const std::string& key : keys) {
+      Status s = runSql(*db_, "DELETE FROM shard_requests WHERE key = ?1", [&](SqliteStatement& q) { q.bind(1, key); });
+      if (!s.ok()) return s;
+    }
+    return Status::success();
+  });
+}
+
+Status StateJournal::forgetShardMission(const std::string& vehicle_id, const std::string& request_id) {
+  return transaction([&] {
+    return runSql(*db_,
+                  "DELETE FROM shard_requests WHERE kind = 'mission' AND (?1 = '' OR vehicle_id = ?1) "
+                  "AND (?2 = '' OR request_id = ?2)",
+                  [&](SqliteStatement& q) { q.bind(1, vehicle_id).bind(2, request_id); });
+  });
+}
+
+Status StateJournal::beginShardLife(std::int64_t started_utc_ns) {
+  return transaction([&]() -> Status {
+    Status s = runSql(*db_, "INSERT OR REPLACE INTO shard_lives(started_utc_ns, covered_until_utc_ns) VALUES (?1, 0)",
+                      [&](SqliteStatement& q) { q.bind(1, started_utc_ns); });
+    if (!s.ok()) return s;
+    return runSql(*db_,
+                  "DELETE FROM shard_lives WHERE started_utc_ns NOT IN "
+                  "(SELECT started_utc_ns FROM shard_lives ORDER BY started_utc_ns DESC LIMIT ?1)",
+                  [&](SqliteStatement& q) { q.bind(1, static_cast<std::int64_t>(kMaxPastCoverage + 1)); });
+  });
+}
+
+Status StateJournal::recordShardCoverage(std::int64_t started_utc_ns, std::int64_t covered_until_utc_ns) {
+  return transaction([&] {
+    return runSql(*db_,
+                  "UPDATE shard_lives SET covered_until_utc_ns = max(covered_until_utc_ns, ?2) WHERE started_utc_ns = ?1",
+                  [&](SqliteStatement& q) { q.bind(1, started_utc_ns).bind(2, covered_until_utc_ns); });
+  });
+}
+
 Result<JournalState> StateJournal::load(std::int64_t now_utc_ns) {
   if (Status s = transaction([&] { return pruneLocked(now_utc_ns); }); !s.ok()) return s.error();
   std::lock_guard lock(mutex_);
@@ -276,6 +332,38 @@ Result<JournalState> StateJournal::load(std::int64_t now_utc_ns) {
       state.owner_instance_id = q.text(0);
       return Status::success();
     });
+  }
+  if (s.ok()) {
+    s = readRows(*db_,
+                 "SELECT key, kind, request_json, seen_utc_ns, vehicle_id, request_id FROM shard_requests "
+                 "ORDER BY seen_utc_ns, rowid",
+                 [&](SqliteStatement& q) -> Status {
+                   JournaledRequest copy;
+                   copy.key = q.text(0);
+                   copy.seen_utc_ns = q.integer(3);
+                   const json parsed = json::parse(q.text(2), nullptr, false);
+                   const std::string row = "the shard's copy of request '" + q.text(5) + "'";
+                   if (q.text(1) == "fleet") {
+                     auto fleet = fleetFromJson(parsed);
+                     if (!fleet.ok()) return damagedRow(*db_, row, fleet.error());
+                     copy.fleet = std::move(*fleet);
+                   } else {
+                     auto mission = missionFromJson(parsed);
+                     if (!mission.ok()) return damagedRow(*db_, row, mission.error());
+                     mission->vehicle_id = q.text(4);
+                     mission->request_id = q.text(5);
+                     copy.mission = std::move(*mission);
+                   }
+                   state.shard_requests.push_back(std::move(copy));
+                   return Status::success();
+                 });
+  }
+  if (s.ok()) {
+    s = readRows(*db_, "SELECT started_utc_ns, covered_until_utc_ns FROM shard_lives ORDER BY started_utc_ns",
+                 [&](SqliteStatement& q) -> Status {
+                   state.shard_lives.push_back(CoverageInterval{q.integer(0), q.integer(1)});
+                   return Status::success();
+                 });
   }
   // Plan ids of a journal migrated from version 1 (no counter kept) are above every current one.
   for (const TrajectoryData& t : state.trajectories) state.plan_counter = std::max(state.plan_counter, planNumber(t.plan_id));

@@ -5,7 +5,12 @@
 //                 trajectory, then "flying");
 //   trajectories  each vehicle's current trajectory, its revision and every sample as published;
 //   obstacles, no-fly zones in force (ended ones pruned), fleet allocations whose trajectories
-//                 are still current, and the plan counter (plan ids never repeat after a restart).
+//                 are still current, and the plan counter (plan ids never repeat after a restart);
+//   shard_requests in a shard group, a copy of every request the shard read, whoever plans it:
+//                 one per vehicle (its latest mission request) and per fleet still some
+//                 vehicle's latest plan, forgotten on cancel;
+//   shard_lives    when each of the shard's recent lives started and up to when it had read
+//                 every request (shard_coverage.hpp).
 // Rows are replaced in place, so the journal's size follows the vehicles and obstacles in force,
 // not the daemon's age. Thread-safe: the engine's threads write, each call one transaction.
 // Schema versions and what a refused file looks like: journal_schema.hpp.
@@ -15,15 +20,26 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "planning/core/result.hpp"
 #include "service/mission_types.hpp"
 #include "service/no_fly_zone_data.hpp"
+#include "service/shard_coverage.hpp"
 #include "service/sqlite_db.hpp"
 
 namespace skyroute {
+
+// A shard's copy of a request it read (docs/dds.md "Shards"): the key its router files it under,
+// and when it arrived (which members may own it depends on that).
+struct JournaledRequest {
+  std::string key;
+  std::int64_t seen_utc_ns = 0;
+  std::optional<MissionRequestData> mission;
+  std::optional<FleetRequestData> fleet;
+};
 
 // What a journal holds, as recovery reads it (ended trajectories and obstacles left out).
 struct JournalState {
@@ -39,6 +55,8 @@ struct JournalState {
   std::vector<FleetStatusData> fleets;           // succeeded fleets with a current trajectory
   std::uint64_t plan_counter = 0;                // the highest plan number used so far
   std::string owner_instance_id;                 // the daemon instance that last opened it ("" = none)
+  std::vector<JournaledRequest> shard_requests;  // a shard's copies, in the order they arrived
+  std::vector<CoverageInterval> shard_lives;     // a shard's earlier lives, oldest first
 };
 
 // How long the write transactions took (the replanning cycle waits for the revision's).
@@ -75,6 +93,17 @@ class StateJournal {
   // The daemon instance (ServiceInstance::instance_id) now writing the journal. After a crash its
   // successor knows the dead instance, which discovery still lists for a lease, by this id.
   Status recordOwner(const std::string& instance_id);
+
+  // A shard's copy of a request it read (replacing the copy under the same key).
+  Status recordShardRequest(const JournaledRequest& copy);
+  // Copies the shard no longer keeps (plan keys), and the mission copy a cancel names (either id
+  // may be empty: any).
+  Status forgetShardRequests(const std::vector<std::string>& keys);
+  Status forgetShardMission(const std::string& vehicle_id, const std::string& request_id);
+  // A shard's new life, started at started_utc_ns: only the newest kMaxPastCoverage earlier lives
+  // are kept. Then, as it goes, up to when it has read every request.
+  Status beginShardLife(std::int64_t started_utc_ns);
+  Status recordShardCoverage(std::int64_t started_utc_ns, std::int64_t covered_until_utc_ns);
 
   // Everything in force at now_utc_ns, after pruning what ended. Errors: a damaged row, naming
   // the file and the row.

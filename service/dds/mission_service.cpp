@@ -128,6 +128,9 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
   if (auto e = emplaceCreated(edge->fleet_statuses, Writer<FleetStatusData>::create(p, me.userData(), owned))) return *e;
   if (!config.shard_group.empty()) {
     if (auto e = emplaceCreated(edge->members, Reader<ServiceStatusData>::create(p))) return *e;
+  }
+  // Shards follow every vehicle's last revision on the wire; a standby the primary's.
+  if (!config.shard_group.empty() || config.role == "standby") {
     if (auto e = emplaceCreated(edge->published, Reader<TrajectoryData>::create(p))) return *e;
   }
   if (config.ros2_enabled) edge->ros2 = Ros2Mirror::create(p, world.frame().anchor());
@@ -157,7 +160,7 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
       *edge->cancels,
       [this](CancelRequestData&& cancel) {
         // In a shard group only the vehicle's owner answers; every member forgets the mission.
-        if (!router_ || router_->onCancel(cancel)) engine_->cancel(cancel);
+        if (!router_ || routeCancel(cancel)) engine_->cancel(cancel);
       },
       [this](const Error& e, const CancelRequestData& identity) {
         ++bad_samples_;
@@ -227,7 +230,18 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
     added = l.addStatus(edge->members->handle(), DDS_SUBSCRIPTION_MATCHED_STATUS | DDS_LIVELINESS_CHANGED_STATUS,
                         [this] { scheduleShardCheck(); });
     if (!added.ok()) return added.error();
-    added = l.add(*edge->published, [this](TrajectoryData&& t) { router_->onTrajectory(t); }, [](const Error&) {});
+  }
+  if (edge->published) {
+    added = l.add(
+        *edge->published,
+        [this](TrajectoryData&& t) {
+          if (router_) {
+            router_->onTrajectory(t);
+          } else {
+            noteWireRevision(t);
+          }
+        },
+        [](const Error&) {});
     if (!added.ok()) return added.error();
   }
   return edge;
@@ -258,8 +272,14 @@ Status MissionService::configure(const DaemonConfig& config) {
   instance_ = ServiceInstance::current(config.service_id, config.heartbeat_period_s, config.role);
   instance_.shard_group = config.shard_group;
   if (!config.shard_group.empty()) {
-    router_ = std::make_unique<ShardRouter>(ShardMember{config.service_id, instance_.started_utc_ns},
-                                            static_cast<std::int64_t>(kShardJoinMarginS * 1e9));
+    const auto margin_ns = static_cast<std::int64_t>(kShardJoinMarginS * 1e9);
+    if (journal_) {
+      // The journal's earlier lives tell the others which older requests this shard read.
+      instance_.past_coverage = advertisedCoverage(recovered_->shard_lives, margin_ns);
+      if (Status s = journal_->beginShardLife(instance_.started_utc_ns); !s.ok()) return s.error();
+    }
+    router_ = std::make_unique<ShardRouter>(
+        ShardMember{config.service_id, instance_.started_utc_ns, instance_.past_coverage}, margin_ns);
     // Shards plan the same vehicles in turn, each counting its own plans: its instance in the plan id.
     (*engine)->setPlanIdTag(instance_.instance_id.substr(0, 8));
   }
@@ -347,10 +367,12 @@ Status MissionService::activate() {
   if (recovered_) {
     if (router_) {
       // A shard takes its vehicles from the wire and its own copy of the requests (the group may
-      // have moved them while it was down): from the journal only the world and the plan counter.
+      // have moved them while it was down): from the journal the world, the plan counter and
+      // its copies of the requests, which go to the router, not to the engine.
       recovered_->missions.clear();
       recovered_->trajectories.clear();
       recovered_->fleets.clear();
+      recoverShardCopies(recovered_->shard_requests);
     }
     catchUpFromPartner(*recovered_);
     engine_->recover(*recovered_);
@@ -554,6 +576,7 @@ void MissionService::checkPartnerLoss() {
   const bool lost = alive < alive_heartbeat_writers_;
   alive_heartbeat_writers_ = alive;
   if (!lost || config().role != "standby") return;
+  follow_wire_revisions_ = true;
   // A heartbeat writer died or left: perhaps the primary. Its readers now take this standby's
   // samples, but only those written after they noticed, and the revisions this standby wrote
   // meanwhile were refused: publish every current trajectory again. Readers notice the lost lease
@@ -568,13 +591,38 @@ void MissionService::checkPartnerLoss() {
                alive);
 }
 
+void MissionService::noteWireRevision(const TrajectoryData& trajectory) {
+  // The reader is exclusive too: while the primary lives, its samples; this daemon's own once it
+  // owns the instance, which say nothing about the primary's numbering.
+  if (trajectory.source_instance == instance_.instance_id) return;
+  wire_revisions_[trajectory.vehicle_id] = WireRevision{trajectory.plan_id, trajectory.revision};
+}
+
+void MissionService::followWireRevisions() {
+  for (const auto& [vehicle, wire] : wire_revisions_) {
+    if (engine_->followRevision(vehicle, wire.plan_id, wire.revision)) renumbered_.insert(vehicle);
+  }
+  spdlog::info("event=takeover_revisions vehicles_on_wire={} renumbered={}", wire_revisions_.size(), renumbered_.size());
+  // Numbered from the primary's last revision once: a later takeover (of a restarted primary)
+  // follows what that one publishes meanwhile.
+  wire_revisions_.clear();
+}
+
 void MissionService::republishDue(Clock::time_point now) {
   if (republish_at_.empty() || now < republish_at_.front()) return;
   republish_at_.erase(republish_at_.begin());
+  if (follow_wire_revisions_) {
+    follow_wire_revisions_ = false;
+    followWireRevisions();
+  }
   std::size_t n = 0;
   for (const TrajectoryData& t : engine_->currentTrajectories()) {
     if (router_ && !taken_vehicles_.contains(t.vehicle_id)) continue;  // only those that just moved here
-    publishTrajectory(t);
+    if (journal_sink_ && renumbered_.erase(t.vehicle_id) > 0) {
+      journal_sink_->publishTrajectory(t);  // a new revision number: into the journal first
+    } else {
+      publishTrajectory(t);
+    }
     ++n;
   }
   if (republish_at_.empty()) taken_vehicles_.clear();
@@ -648,6 +696,7 @@ void MissionService::ddsThread() {
     if (now >= next_heartbeat) {
       publishHeartbeat();
       scheduleShardCheck();  // a restarted member's first heartbeat makes it live again
+      recordShardCoverage();
       // On the period's grid, so a late heartbeat does not delay every later one.
       const auto period = seconds(config().heartbeat_period_s);
       next_heartbeat = now - next_heartbeat < period ? next_heartbeat + period : now + period;

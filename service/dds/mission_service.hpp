@@ -24,6 +24,7 @@
 
 #include <atomic>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -100,6 +101,10 @@ class MissionService final : public EngineSink {
   // A standby whose partner's heartbeat writer lost its liveliness: schedules the republishing.
   void checkPartnerLoss();
   void republishDue(std::chrono::steady_clock::time_point now);  // DDS thread
+  // A standby keeps the primary's last revision of each vehicle from the wire and, taking over,
+  // numbers its own on from it (Engine::followRevision) before it republishes.
+  void noteWireRevision(const TrajectoryData& trajectory);  // DDS thread
+  void followWireRevisions();                               // DDS thread
   // A restarting primary: the journal's trajectories that the standby has since replaced by newer
   // revisions of the same plan are taken from the bus; vehicles it gave a newer plan stay its own.
   void catchUpFromPartner(JournalState& state);
@@ -113,6 +118,12 @@ class MissionService final : public EngineSink {
   void startShard();
   void routeMission(MissionRequestData&& request);
   void routeFleet(FleetRequestData&& request);
+  bool routeCancel(const CancelRequestData& cancel);  // true: this shard answers it
+  // Every request a shard reads is journaled (with --state-dir) before it is routed, so a shard
+  // restarted on its journal still has a copy of the others' vehicles (docs/journal.md).
+  void journalShardCopy(const JournaledRequest& copy);
+  void recoverShardCopies(const std::vector<JournaledRequest>& copies);  // at activate, before the DDS thread
+  void recordShardCoverage();  // DDS thread, at each heartbeat: every request read up to a margin ago
   void scheduleShardCheck();                              // DDS thread
   void shardCheckDue(std::chrono::steady_clock::time_point now);  // DDS thread
   void evaluateShard();                                   // DDS thread
@@ -145,6 +156,13 @@ class MissionService final : public EngineSink {
   std::vector<std::string> partners_logged_;        // DDS thread only
   std::uint32_t alive_heartbeat_writers_ = 0;       // DDS thread only
   std::vector<std::chrono::steady_clock::time_point> republish_at_;  // DDS thread only, in order
+  struct WireRevision {
+    std::string plan_id;
+    std::uint32_t revision = 0;
+  };
+  std::map<std::string, WireRevision> wire_revisions_;  // DDS thread only: a standby's view of the primary's
+  bool follow_wire_revisions_ = false;                  // DDS thread only: set by a takeover
+  std::set<std::string> renumbered_;                    // DDS thread only: journaled at their republishing
   std::unique_ptr<ShardRouter> router_;  // null unless sharded
   // Publishing (engine threads) holds it shared from the ownership check to the write; a change
   // of ownership holds it exclusive while the released vehicles are unregistered.

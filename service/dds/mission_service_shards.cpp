@@ -69,7 +69,7 @@ ShardActions MissionService::decideShard(const std::function<ShardActions()>& de
 void MissionService::evaluateShard() {
   std::vector<ShardMember> members;
   for (const ServiceInstance& i : liveShardMembers(edge_->members->handle(), config().shard_group)) {
-    members.push_back(ShardMember{i.service_id, i.started_utc_ns});
+    members.push_back(ShardMember{i.service_id, i.started_utc_ns, i.past_coverage});
   }
   const bool settled = Clock::now() >= shard_settle_at_;
   const ShardActions actions = decideShard([&] { return router_->setMembers(std::move(members), settled, utcNowNs()); });
@@ -83,8 +83,34 @@ void MissionService::evaluateShard() {
   applyShardActions(actions);
 }
 
+void MissionService::journalShardCopy(const JournaledRequest& copy) {
+  if (!journal_) return;
+  // A copy that cannot be written is still routed: this shard may own the vehicle, and its
+  // engine's own journal write answers the client; the copy is lost for a restart only.
+  if (Status s = journal_->recordShardRequest(copy); !s.ok()) {
+    spdlog::warn("event=journal_write_failed what=shard_copy key={} message=\"{}\"", copy.key, s.error().message);
+  }
+}
+
+void MissionService::recoverShardCopies(const std::vector<JournaledRequest>& copies) {
+  router_->recoverRequests(copies);
+  spdlog::info("event=shard_copies_recovered requests={} past_lives={}", copies.size(), instance_.past_coverage.size());
+}
+
+void MissionService::recordShardCoverage() {
+  if (!router_ || !journal_) return;
+  // Every request that reached this shard a margin ago has been read and journaled by now
+  // (routeMission runs on this thread): the others may count on this shard's copies up to then.
+  const auto margin_ns = static_cast<std::int64_t>(kShardJoinMarginS * 1e9);
+  if (Status s = journal_->recordShardCoverage(instance_.started_utc_ns, utcNowNs() - margin_ns); !s.ok()) {
+    spdlog::warn("event=journal_write_failed what=shard_coverage message=\"{}\"", s.error().message);
+  }
+}
+
 void MissionService::routeMission(MissionRequestData&& request) {
-  const ShardActions actions = decideShard([&] { return router_->onMission(request, utcNowNs()); });
+  const std::int64_t now_utc_ns = utcNowNs();
+  journalShardCopy(JournaledRequest{ShardRouter::missionKey(request.vehicle_id), now_utc_ns, request, std::nullopt});
+  const ShardActions actions = decideShard([&] { return router_->onMission(request, now_utc_ns); });
   if (actions.plan.empty()) {
     spdlog::debug("event=request_dormant request={} vehicle={}", request.request_id, request.vehicle_id);
   }
@@ -92,11 +118,28 @@ void MissionService::routeMission(MissionRequestData&& request) {
 }
 
 void MissionService::routeFleet(FleetRequestData&& request) {
-  const ShardActions actions = decideShard([&] { return router_->onFleet(request, utcNowNs()); });
+  const std::int64_t now_utc_ns = utcNowNs();
+  journalShardCopy(JournaledRequest{ShardRouter::fleetKey(request.request_id), now_utc_ns, std::nullopt, request});
+  const ShardActions actions = decideShard([&] { return router_->onFleet(request, now_utc_ns); });
   applyShardActions(actions);
 }
 
+bool MissionService::routeCancel(const CancelRequestData& cancel) {
+  if (journal_ && !(cancel.vehicle_id.empty() && cancel.request_id.empty())) {
+    if (Status s = journal_->forgetShardMission(cancel.vehicle_id, cancel.request_id); !s.ok()) {
+      spdlog::warn("event=journal_write_failed what=shard_cancel request={} vehicle={} message=\"{}\"",
+                   cancel.request_id, cancel.vehicle_id, s.error().message);
+    }
+  }
+  return router_->onCancel(cancel);
+}
+
 void MissionService::applyShardActions(const ShardActions& actions) {
+  if (journal_ && !actions.forget_requests.empty()) {
+    if (Status s = journal_->forgetShardRequests(actions.forget_requests); !s.ok()) {
+      spdlog::warn("event=journal_write_failed what=shard_forget message=\"{}\"", s.error().message);
+    }
+  }
   for (const std::string& vehicle : actions.release_vehicles) engine_->release(vehicle);
   for (const std::string& request_id : actions.release_fleets) engine_->releaseFleet(request_id);
   for (const MissionRequestData& request : actions.plan) engine_->submit(request);

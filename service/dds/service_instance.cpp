@@ -55,7 +55,8 @@ std::string ServiceInstance::userData() const {
   return std::string(kTag) + ";service_id=" + service_id + ";instance=" + instance_id + ";host=" + host +
          ";pid=" + std::to_string(pid) + ";started_utc_ns=" + std::to_string(started_utc_ns) +
          ";heartbeat_period_s=" + numberText(heartbeat_period_s, 9) + ";role=" + role +
-         (shard_group.empty() ? std::string() : ";shard_group=" + shard_group);
+         (shard_group.empty() ? std::string() : ";shard_group=" + shard_group) +
+         (past_coverage.empty() ? std::string() : ";coverage=" + coverageText(past_coverage));
 }
 
 std::optional<ServiceInstance> ServiceInstance::fromUserData(std::string_view text) {
@@ -78,6 +79,10 @@ std::optional<ServiceInstance> ServiceInstance::fromUserData(std::string_view te
         if (key == "heartbeat_period_s") s.heartbeat_period_s = std::stod(value);
         if (key == "role" && !value.empty()) s.role = value;
         if (key == "shard_group") s.shard_group = value;
+        if (key == "coverage") {
+          // Unreadable: as if it advertised none (it then owns only what its current life read).
+          if (auto past = coverageFromText(value)) s.past_coverage = std::move(*past);
+        }
       } catch (const std::exception&) {
         return std::nullopt;
       }

@@ -13,6 +13,8 @@
 
 #include <dds/dds.h>
 
+#include "service/shard_coverage.hpp"
+
 namespace skyroute::dds {
 
 struct ServiceInstance {
@@ -24,12 +26,14 @@ struct ServiceInstance {
   double heartbeat_period_s = 1.0;  // at start (a reload may change it; each heartbeat says)
   std::string role = "primary";     // service.role: primary or standby (a daemon that names none: primary)
   std::string shard_group;          // service.shard_group ("" = not sharded, or a daemon that names none)
+  // A shard's earlier lives its journal kept (shard_coverage.hpp): which older requests it read.
+  std::vector<CoverageInterval> past_coverage;
 
   // A new instance of this process (random instance id), started now.
   static ServiceInstance current(const std::string& service_id, double heartbeat_period_s = 1.0,
                                  const std::string& role = "primary");
   // "skyrouted-instance/1;service_id=...;instance=...;host=...;pid=...;started_utc_ns=...;heartbeat_period_s=...;role=...
-  // [;shard_group=...]" (an older reader skips the fields it does not know)
+  // [;shard_group=...][;coverage=s1-e1,...]" (an older reader skips the fields it does not know)
   std::string userData() const;
   static std::optional<ServiceInstance> fromUserData(std::string_view text);
 

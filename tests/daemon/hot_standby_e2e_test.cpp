@@ -3,7 +3,9 @@
 // after an update, while it replans. The ground station takes the standby's samples within 1 s,
 // every revision arrives (no gap), and the trajectory is never disposed or unregistered. The
 // primary, restarted on its journal, takes ownership back without a gap and without going back to
-// an older revision. DDS domains 126-129.
+// an older revision. A standby whose revisions drifted from the primary's (it does not replan)
+// numbers its first revision after the takeover from the primary's last on the wire. DDS domains
+// 126-129 and 136.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <set>
 #include <string>
@@ -75,15 +78,23 @@ class HotStandbyE2E : public DaemonFixture {
     DaemonFixture::TearDown();
     std::filesystem::remove_all(primary_dir_);
     std::filesystem::remove_all(standby_dir_);
+    if (!standby_config_path_.empty()) std::filesystem::remove(standby_config_path_);
   }
 
   // The primary (the fixture's daemon) and the standby, both serving; one mission planned by both.
   // A replan cut short by its wall-clock budget (a loaded machine) is a hold in one daemon and a
   // plan in the other: both get a budget the replans never reach, as a standby deployment should.
-  void startPair(int domain) {
+  // The standby's configuration may differ (standby_toml, when given).
+  void startPair(int domain, const char* standby_toml = nullptr) {
     domain_ = domain;
     startDaemonWithConfig(domain, kConfig, {"--role", "primary", "--state-dir", primary_dir_});
-    standby_ = ChildProcess::spawn({SKYROUTED, "--domain", std::to_string(domain), "--config", config_path_, "--role",
+    std::string standby_config = config_path_;
+    if (standby_toml) {
+      standby_config_path_ = e2eTempPath("skyrouted_" + std::to_string(domain) + "_standby.toml");
+      std::ofstream(standby_config_path_) << standby_toml;
+      standby_config = standby_config_path_;
+    }
+    standby_ = ChildProcess::spawn({SKYROUTED, "--domain", std::to_string(domain), "--config", standby_config, "--role",
                                     "standby", "--state-dir", standby_dir_},
                                    "skyrouted_" + std::to_string(domain) + "_standby");
     ASSERT_TRUE(standby_.started());
@@ -197,7 +208,7 @@ class HotStandbyE2E : public DaemonFixture {
   static constexpr const char* kConfig = "[replanning]\nbudget_s = 5.0\n";
   int domain_ = 0;
   std::string killed_log_;
-  std::string primary_dir_, standby_dir_;
+  std::string primary_dir_, standby_dir_, standby_config_path_;
   ChildProcess standby_;
   std::unique_ptr<InstanceStateWatch> watch_;
 };
@@ -291,6 +302,56 @@ TEST_F(HotStandbyE2E, RestartedPrimaryCatchesUpFromItsJournalAndTakesOwnershipBa
   EXPECT_EQ(station_->latest("uav-h")->source_role, "primary");
   expectNoGap(revisions());
   if (HasFailure()) std::cout << logs() << std::endl;
+  if (HasFailure()) std::cout << logs() << std::endl;
+  watch_->poll();
+  EXPECT_EQ(watch_->notAlive(), 0) << "the trajectory was disposed or unregistered";
+}
+
+TEST_F(HotStandbyE2E, StandbyWhoseRevisionsDriftedNumbersItsFirstFromThePrimarysLastOnTheWire) {
+  // The cheapest drift: a standby that never replans stays at the first revision while the
+  // primary makes two more (a budget-cut replan or a coalesced update drifts the same way).
+  ASSERT_NO_FATAL_FAILURE(startPair(136, "[replanning]\nbudget_s = 5.0\nenabled = false\n"));
+  const std::uint32_t standby_revision = station_->latest("uav-h")->revision;
+  std::uint32_t revision = standby_revision;
+  for (std::uint64_t id = 1; id <= 2; ++id) {
+    ASSERT_NO_FATAL_FAILURE(blockAhead(id, 60.0 + 10.0 * static_cast<double>(id)));
+    ASSERT_TRUE(waitRevision(++revision, 30.0)) << daemon_.err();
+  }
+  ASSERT_EQ(station_->latest("uav-h")->source_role, "primary");
+  const std::uint32_t last_of_primary = station_->latest("uav-h")->revision;
+  const std::string plan = station_->latest("uav-h")->plan_id;
+  const std::size_t before_kill = station_->trajectory_log.size();
+  daemon_.signal(SIGKILL);
+  ASSERT_EQ(daemon_.wait(10.0), 128 + SIGKILL);
+  {
+    ChildProcess gone = std::move(daemon_);
+    killed_log_ = gone.err();
+  }
+  // The standby's samples: the next revision of the same plan, nothing older, nothing skipped.
+  ASSERT_TRUE(pump(
+      [&] {
+        for (std::size_t i = before_kill; i < station_->trajectory_log.size(); ++i)
+          if (station_->trajectory_log[i].source_role == "standby") return true;
+        return false;
+      },
+      10.0))
+      << logs();
+  station_->pumpUntil([] { return false; }, 1.0);  // the second republishing too
+  std::size_t from_standby = 0;
+  for (std::size_t i = before_kill; i < station_->trajectory_log.size(); ++i) {
+    const TrajectoryData& t = station_->trajectory_log[i];
+    if (t.vehicle_id != "uav-h" || t.source_role != "standby") continue;
+    ++from_standby;
+    EXPECT_EQ(t.plan_id, plan);
+    EXPECT_EQ(t.revision, last_of_primary + 1) << "the standby's revision after the primary's " << last_of_primary;
+  }
+  EXPECT_GE(from_standby, 1u);
+  expectNoGap(revisions());
+  EXPECT_NE(standby_.err().find("event=revisions_followed vehicle=uav-h plan=" + plan + " own_revision=" +
+                                std::to_string(standby_revision) + " wire_revision=" +
+                                std::to_string(last_of_primary) + " revision=" + std::to_string(last_of_primary + 1)),
+            std::string::npos)
+      << standby_.err();
   if (HasFailure()) std::cout << logs() << std::endl;
   watch_->poll();
   EXPECT_EQ(watch_->notAlive(), 0) << "the trajectory was disposed or unregistered";

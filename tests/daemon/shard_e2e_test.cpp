@@ -5,7 +5,9 @@
 // revision from a survivor, of the same plan and numbered right after the last one (no gap, no
 // repeat), and afterwards only that survivor plans it. A fleet request is planned by one daemon
 // for all its vehicles. A daemon that joins takes new requests and leaves the others in place.
-// DDS domains 131-133.
+// A shard killed and restarted on its journal (--state-dir) still has its copies of the requests
+// it read: when the owner of some of those vehicles dies later, it takes over the ones it ranks
+// next for. DDS domains 131-134.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "service/shard_assignment.hpp"
 #include "tests/daemon/daemon_fixture.hpp"
 
 namespace skyroute::testing {
@@ -42,20 +45,31 @@ class ShardE2E : public DaemonFixture {
       }
     }
     for (const std::string& path : config_paths_) std::filesystem::remove(path);
+    for (const std::string& dir : state_dirs_) std::filesystem::remove_all(dir);
     DaemonFixture::TearDown();
   }
 
   static std::string serviceId(std::size_t i) { return std::string("shard-") + static_cast<char>('a' + i); }
 
-  // Starts shard i on `domain_` (its service id in a configuration file, the group on the command line).
+  // Starts shard i on `domain_` (its service id in a configuration file, the group on the command
+  // line), with a state journal of its own when journaled_ is set.
   void spawnShard(std::size_t i) {
     const std::string path = e2eTempPath("shard_" + std::to_string(domain_) + "_" + serviceId(i) + ".toml");
     std::ofstream(path) << "[dds]\nservice_id = \"" << serviceId(i) << "\"\n";
     config_paths_.push_back(path);
     if (shards_.size() <= i) shards_.resize(i + 1);
-    shards_[i] = ChildProcess::spawn({SKYROUTED, "--domain", std::to_string(domain_), "--config", path,
-                                      "--shard-group", "g"},
-                                     "skyrouted_" + std::to_string(domain_) + "_" + serviceId(i));
+    std::vector<std::string> argv{SKYROUTED, "--domain", std::to_string(domain_), "--config", path, "--shard-group", "g"};
+    if (journaled_) {
+      const std::string dir = e2eTempPath("shard_state_" + std::to_string(domain_) + "_" + serviceId(i));
+      if (std::find(state_dirs_.begin(), state_dirs_.end(), dir) == state_dirs_.end()) {
+        std::filesystem::remove_all(dir);
+        state_dirs_.push_back(dir);
+      }
+      argv.insert(argv.end(), {"--state-dir", dir});
+    }
+    // A restarted shard writes to its predecessor's log files: those go (with it) first.
+    shards_[i] = ChildProcess();
+    shards_[i] = ChildProcess::spawn(argv, "skyrouted_" + std::to_string(domain_) + "_" + serviceId(i));
     ASSERT_TRUE(shards_[i].started());
   }
 
@@ -142,9 +156,28 @@ class ShardE2E : public DaemonFixture {
     return out + killed_log_;
   }
 
+  // The instance id shard i logged when it became active (its trajectories' source_instance).
+  std::string activeInstance(std::size_t i) const {
+    const std::string& log = shards_[i].err();
+    const std::string marker = "event=active service_id=" + serviceId(i) + " domain=" + std::to_string(domain_) + " instance=";
+    const std::size_t at = log.rfind(marker);
+    if (at == std::string::npos) return {};
+    const std::size_t from = at + marker.size();
+    return log.substr(from, log.find_first_of(" \n", from) - from);
+  }
+
+  // Kills shard i (SIGKILL) and keeps its log for the failure messages.
+  void killShard(std::size_t i) {
+    shards_[i].signal(SIGKILL);
+    ASSERT_EQ(shards_[i].wait(10.0), 128 + SIGKILL);
+    killed_log_ += "--- killed " + serviceId(i) + ":\n" + shards_[i].err();
+  }
+
   int domain_ = 0;
+  bool journaled_ = false;
   std::vector<ChildProcess> shards_;
   std::vector<std::string> config_paths_;
+  std::vector<std::string> state_dirs_;
   std::string killed_log_;
 };
 
@@ -339,6 +372,107 @@ TEST_F(ShardE2E, AJoiningShardTakesNewRequestsAndLeavesTheFlyingOnesInPlace) {
   }
   std::cout << "[ shard ] " << changed_hands << " of " << before.size() << " vehicles changed hands with their new request\n";
   EXPECT_GE(changed_hands, 1u) << "the test needs a vehicle that changes hands";
+}
+
+TEST_F(ShardE2E, AShardRestartedOnItsJournalTakesOverTheVehiclesItRanksNextForWhenTheirOwnerDies) {
+  journaled_ = true;
+  ASSERT_NO_FATAL_FAILURE(startGroup(134, 3));
+  std::vector<std::string> vehicles;
+  for (int i = 0; i < 15; ++i) vehicles.push_back("r-" + std::to_string(100 + i));
+  ASSERT_NO_FATAL_FAILURE(sendMissions(vehicles, 0));
+  // Two heartbeats: shard-c's journal then says it read every request up to after these.
+  station_->pumpUntil([] { return false; }, 2.5);
+
+  // shard-c is killed; the survivors take its vehicles, then it comes back on its journal.
+  constexpr std::size_t kC = 2;
+  const std::string old_c = activeInstance(kC);
+  ASSERT_FALSE(old_c.empty()) << shards_[kC].err();
+  std::size_t mark = station_->trajectory_log.size();
+  ASSERT_NO_FATAL_FAILURE(killShard(kC));
+  std::vector<std::string> of_c;
+  for (const std::string& v : vehicles)
+    if (trajectoryWriters(v) == std::set<std::string>{old_c}) of_c.push_back(v);
+  const auto written_since = [&](const std::string& v, std::size_t from, const std::string& instance) {
+    for (std::size_t i = from; i < station_->trajectory_log.size(); ++i)
+      if (station_->trajectory_log[i].vehicle_id == v && station_->trajectory_log[i].source_instance == instance) return true;
+    return false;
+  };
+  ASSERT_TRUE(station_->pumpUntil(
+      [&] {
+        return std::all_of(of_c.begin(), of_c.end(), [&](const std::string& v) {
+          return !trajectoryWriters(v, mark).empty() && !written_since(v, mark, old_c);
+        });
+      },
+      20.0))
+      << logs();
+  ASSERT_NO_FATAL_FAILURE(spawnShard(kC));
+  ASSERT_TRUE(station_->pumpUntil(
+      [&] {
+        return shards_[kC].err().find("members=[shard-a,shard-b,shard-c] self=shard-c settled=true") != std::string::npos ||
+               !shards_[kC].running();
+      },
+      60.0))
+      << shards_[kC].err();
+  ASSERT_TRUE(shards_[kC].running()) << shards_[kC].err();
+  EXPECT_NE(shards_[kC].err().find("event=shard_copies_recovered requests=" + std::to_string(vehicles.size()) + " past_lives=1"),
+            std::string::npos)
+      << shards_[kC].err();
+  const std::string new_c = activeInstance(kC);
+  ASSERT_FALSE(new_c.empty());
+  // Back, it takes the vehicles it ranks first for again (their owners let go of them).
+  ASSERT_TRUE(station_->pumpUntil(
+      [&] { return std::all_of(of_c.begin(), of_c.end(), [&](const std::string& v) { return written_since(v, mark, new_c); }); },
+      10.0))
+      << logs();
+  station_->pumpUntil([] { return false; }, 1.0);
+
+  // The shard (a or b) owning most of the vehicles for which shard-c ranks next.
+  std::map<std::string, std::vector<std::string>> next_is_c;  // owner -> its vehicles for which shard-c ranks next
+  for (const std::string& v : vehicles) {
+    const TrajectoryData* latest = station_->latest(v);
+    ASSERT_NE(latest, nullptr);
+    for (std::size_t i = 0; i < kC; ++i) {
+      if (latest->source_instance != activeInstance(i)) continue;
+      const std::string other = serviceId(1 - i);
+      if (rendezvousOwner({other, serviceId(kC)}, "vehicle:" + v) == serviceId(kC)) next_is_c[serviceId(i)].push_back(v);
+    }
+  }
+  const auto victim_it = std::max_element(next_is_c.begin(), next_is_c.end(),
+                                          [](const auto& a, const auto& b) { return a.second.size() < b.second.size(); });
+  ASSERT_NE(victim_it, next_is_c.end()) << "no vehicle for which shard-c ranks next";
+  const std::string victim = victim_it->first;
+  const std::vector<std::string> to_c = victim_it->second;
+  const std::size_t victim_index = static_cast<std::size_t>(victim.back() - 'a');
+  const std::string victim_instance = activeInstance(victim_index);
+  std::map<std::string, TrajectoryData> last;
+  for (const std::string& v : to_c) last[v] = *station_->latest(v);
+  mark = station_->trajectory_log.size();
+  ASSERT_NO_FATAL_FAILURE(killShard(victim_index));
+
+  // shard-c resumes each of them: the next revision of the same plan, from its new instance.
+  const auto resumed_by_c = [&](const std::string& v) { return written_since(v, mark, new_c); };
+  ASSERT_TRUE(station_->pumpUntil([&] { return std::all_of(to_c.begin(), to_c.end(), resumed_by_c); }, 10.0))
+      << "the restarted shard-c should take over " << to_c.size() << " vehicles of " << victim << "\n" << logs();
+  for (const std::string& v : to_c) {
+    const TrajectoryData* first_new = nullptr;
+    for (std::size_t i = mark; i < station_->trajectory_log.size() && !first_new; ++i) {
+      const TrajectoryData& t = station_->trajectory_log[i];
+      if (t.vehicle_id == v && t.source_instance != victim_instance) first_new = &t;
+    }
+    ASSERT_NE(first_new, nullptr);
+    EXPECT_EQ(first_new->source_instance, new_c) << v;
+    EXPECT_EQ(first_new->plan_id, last[v].plan_id) << v;
+    EXPECT_EQ(first_new->revision, last[v].revision + 1) << v << ": shard-c's first revision";
+  }
+  std::cout << "[ shard ] " << to_c.size() << " vehicles of " << victim << " taken over by the restarted shard-c\n";
+
+  // Settled: one trajectory writer per vehicle, and one status writer per vehicle's request.
+  const std::size_t settled_mark = station_->trajectory_log.size();
+  station_->pumpUntil([] { return false; }, 1.5);
+  for (const std::string& v : vehicles) {
+    EXPECT_LE(trajectoryWriters(v, settled_mark).size(), 1u) << v << " written by two daemons after the move";
+    EXPECT_EQ(statusWritersOf("req-" + v).size(), 1u) << v;
+  }
 }
 
 }  // namespace

@@ -32,5 +32,21 @@ TEST(ServiceInstance, RoleTravelsInTheUserDataAndDecidesWhoIsARival) {
   EXPECT_TRUE(standby.rivals(*parsed));
 }
 
+TEST(ServiceInstance, AShardsEarlierLivesTravelInTheUserData) {
+  ServiceInstance shard = ServiceInstance::current("shard-a", 0.5, "primary");
+  shard.shard_group = "g";
+  EXPECT_EQ(ServiceInstance::fromUserData(shard.userData())->past_coverage, std::vector<CoverageInterval>{});
+  shard.past_coverage = {{1'000, 5'000}, {7'000, 9'000}};
+  auto parsed = ServiceInstance::fromUserData(shard.userData());
+  ASSERT_TRUE(parsed);
+  EXPECT_EQ(parsed->past_coverage, shard.past_coverage);
+  EXPECT_EQ(parsed->shard_group, "g");
+  // A coverage it cannot read: the daemon is still known, as one that read only its current life.
+  auto odd = ServiceInstance::fromUserData("skyrouted-instance/1;service_id=s;instance=i;coverage=x-y;shard_group=g");
+  ASSERT_TRUE(odd);
+  EXPECT_TRUE(odd->past_coverage.empty());
+  EXPECT_EQ(odd->shard_group, "g");
+}
+
 }  // namespace
 }  // namespace skyroute::dds

@@ -2,7 +2,8 @@
 // and a new engine recovering from the journal: the flying mission's trajectory comes back with
 // the same plan, revision and samples, its flight is rebuilt and replans on the journal's
 // obstacles with the next revision; a request accepted but never planned is planned; plan ids do
-// not repeat; a queued recovered flight that is cancelled is retracted.
+// not repeat; a queued recovered flight that is cancelled is retracted. A standby taking over
+// numbers its revisions on from the primary's (followRevision).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -257,6 +258,38 @@ TEST_F(EngineRecoveryTest, CancelledRecoveredFlightIsRetractedAndForgotten) {
   ASSERT_TRUE(left.ok());
   EXPECT_TRUE(left->missions.empty());
   EXPECT_TRUE(left->trajectories.empty());
+}
+
+TEST_F(EngineRecoveryTest, TakingOverNumbersTheRevisionsOnFromTheWireOnlyWhenTheyDrifted) {
+  RecordingSink published;
+  Life life = start(published);
+  ASSERT_FALSE(life.engine->submit(request("m1", "uav-1")).has_value());
+  ASSERT_TRUE(life.engine->planNext());
+  const TrajectoryData planned = published.trajectories.front();
+  ASSERT_EQ(planned.revision, 0u);
+  const auto current_revision = [&] { return life.engine->currentTrajectories().at(0).revision; };
+  // In step (the same revision, or the primary one behind): nothing changes.
+  EXPECT_FALSE(life.engine->followRevision("uav-1", planned.plan_id, 0));
+  EXPECT_FALSE(life.engine->followRevision("uav-1", "uav-1-other", 5)) << "another plan on the wire";
+  EXPECT_FALSE(life.engine->followRevision("uav-2", planned.plan_id, 5)) << "a vehicle it does not fly";
+  // The primary made replans this engine did not: its current trajectory is the next one.
+  EXPECT_EQ(life.engine->followRevision("uav-1", planned.plan_id, 5), std::optional<std::uint32_t>(6));
+  EXPECT_EQ(current_revision(), 6u);
+  EXPECT_TRUE(sameSamples(life.engine->currentTrajectories().at(0), planned)) << "renumbered, not replanned";
+  // Its next replan counts on from there.
+  now_ns_ += 20'000'000'000;
+  ObstacleUpdateData blocking;
+  blocking.obstacle.id = 4;
+  blocking.obstacle.size_m = Eigen::Vector3d::Constant(250.0);
+  blocking.obstacle.center_m = planned.samples[static_cast<std::size_t>(50.0 / 0.05)].position_enu_m;
+  blocking.valid_from_utc_ns = now_ns_;
+  ASSERT_FALSE(life.engine->updateObstacle(blocking).has_value());
+  ASSERT_EQ(life.engine->replanCycle(), 1u);
+  EXPECT_EQ(published.trajectories.back().revision, 7u);
+  EXPECT_FALSE(life.engine->followRevision("uav-1", planned.plan_id, 6)) << "7 follows 6";
+  // This engine made more replans than the primary: numbered back to the one after the primary's.
+  EXPECT_EQ(life.engine->followRevision("uav-1", planned.plan_id, 2), std::optional<std::uint32_t>(3));
+  EXPECT_EQ(current_revision(), 3u);
 }
 
 }  // namespace

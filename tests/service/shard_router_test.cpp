@@ -2,7 +2,8 @@
 // daemons: each vehicle has exactly one owner among them, a leaver's flying vehicles are resumed
 // from their last revision and its unplanned ones planned, a joiner takes only requests that
 // arrive after it, a fleet has one owner for all its vehicles, and a cancelled mission is never
-// planned again by the next owner.
+// planned again by the next owner. A shard restarted on its journal gets its copies back without
+// planning them, and the members agree which requests it read (its earlier lives, not its gap).
 #include <gtest/gtest.h>
 
 #include <map>
@@ -198,6 +199,133 @@ TEST(ShardRouter, AFleetHasOneOwnerForAllItsVehiclesAndACancelledMissionIsNotPla
     for (const MissionRequestData& p : a.plan) EXPECT_NE(p.vehicle_id, "c-1");
     EXPECT_TRUE(a.resume.empty());
   }
+}
+
+TEST(ShardCoverage, ARequestIsCoveredByTheLifeItArrivedInNotByTheGaps) {
+  const std::vector<CoverageInterval> past{{0, 30 * kSecond}, {40 * kSecond, 60 * kSecond}};
+  const auto covered = [&](std::int64_t t) { return coversArrival(100 * kSecond, past, t, kMargin); };
+  EXPECT_FALSE(covered(kSecond / 2)) << "within the first life's join margin";
+  EXPECT_TRUE(covered(10 * kSecond));
+  EXPECT_TRUE(covered(30 * kSecond));
+  EXPECT_FALSE(covered(35 * kSecond)) << "down between its lives";
+  EXPECT_FALSE(covered(40 * kSecond + kMargin / 2));
+  EXPECT_TRUE(covered(50 * kSecond));
+  EXPECT_FALSE(covered(80 * kSecond));
+  EXPECT_FALSE(covered(100 * kSecond));
+  EXPECT_TRUE(covered(101 * kSecond)) << "the current life, a margin after its start";
+  EXPECT_FALSE(coversArrival(100 * kSecond, {}, 10 * kSecond, kMargin)) << "no journal: only the current life";
+
+  // Advertised: lives that cover something, the newest kMaxPastCoverage, oldest first; as text and back.
+  std::vector<CoverageInterval> lives;
+  for (std::int64_t i = 7; i >= 1; --i) lives.push_back({i * 100 * kSecond, i * 100 * kSecond + 50 * kSecond});
+  lives.push_back({800 * kSecond, 800 * kSecond + kMargin / 2});  // killed before it covered anything
+  const std::vector<CoverageInterval> advertised = advertisedCoverage(lives, kMargin);
+  ASSERT_EQ(advertised.size(), kMaxPastCoverage);
+  EXPECT_EQ(advertised.front().started_utc_ns, 400 * kSecond);
+  EXPECT_EQ(advertised.back().started_utc_ns, 700 * kSecond);
+  EXPECT_EQ(coverageFromText(coverageText(advertised)), advertised);
+  EXPECT_LE(coverageText(advertised).size(), 4u * 40u) << "USER_DATA stays small";
+  EXPECT_EQ(coverageFromText(""), std::vector<CoverageInterval>{});
+  for (const char* bad : {"1", "1-", "-2", "1-2,", "a-2", "1-2,3-4,5-6,7-8,9-10"}) {
+    EXPECT_FALSE(coverageFromText(bad)) << bad;
+  }
+}
+
+// A shard that plans nothing until settled, recovering copies a journal kept.
+TEST(ShardRouter, ARestartedShardsCopiesComeBackUnplannedAndItTakesItsVehiclesWhenTheirOwnerDies) {
+  Group g;
+  std::vector<JournaledRequest> journal_of_c;  // what shard-c journals as it reads
+  std::vector<MissionRequestData> old_missions, gap_missions;
+  for (int i = 0; i < 60; ++i) old_missions.push_back(mission("old-" + std::to_string(i), "o" + std::to_string(i)));
+  for (int i = 0; i < 20; ++i) gap_missions.push_back(mission("gap-" + std::to_string(i), "g" + std::to_string(i)));
+  for (const MissionRequestData& m : old_missions) {
+    for (auto& [id, r] : g.routers) r->onMission(m, 10 * kSecond);
+    journal_of_c.push_back(JournaledRequest{ShardRouter::missionKey(m.vehicle_id), 10 * kSecond, m, std::nullopt});
+    for (auto& [id, r] : g.routers) r->onTrajectory(published(m, 2, 10 * kSecond, 500 * kSecond));
+  }
+  std::map<std::string, std::string> first_owner;
+  for (const MissionRequestData& m : old_missions) first_owner[m.vehicle_id] = g.ownersOf(m.vehicle_id).at(0);
+
+  // shard-c dies at 30 s (its journal covered up to 29 s); requests arrive while it is down.
+  g.routers.erase("shard-c");
+  const std::vector<ShardMember> ab{{"shard-a", 0}, {"shard-b", 0}};
+  for (auto& [id, r] : g.routers) r->setMembers(ab, true, 31 * kSecond);
+  for (const MissionRequestData& m : gap_missions) {
+    for (auto& [id, r] : g.routers) r->onMission(m, 40 * kSecond);
+    for (auto& [id, r] : g.routers) r->onTrajectory(published(m, 0, 40 * kSecond, 500 * kSecond));
+  }
+
+  // Restarted at 50 s on its journal: its copies come back, nothing is planned before it settles.
+  const ShardMember c{"shard-c", 50 * kSecond, {{0, 29 * kSecond}}};
+  auto restarted = std::make_unique<ShardRouter>(c, kMargin);
+  restarted->recoverRequests(journal_of_c);
+  EXPECT_EQ(restarted->ownedVehicles(), 0u);
+  for (const MissionRequestData& m : old_missions) EXPECT_FALSE(restarted->ownsVehicle(m.vehicle_id));
+  for (const MissionRequestData& m : old_missions) restarted->onTrajectory(published(m, 2, 10 * kSecond, 500 * kSecond));
+  for (const MissionRequestData& m : gap_missions) restarted->onTrajectory(published(m, 0, 40 * kSecond, 500 * kSecond));
+  g.routers["shard-c"] = std::move(restarted);
+  const std::vector<ShardMember> abc{{"shard-a", 0}, {"shard-b", 0}, c};
+  std::map<std::string, int> resumed_by_c;
+  for (auto& [id, r] : g.routers) {
+    const ShardActions a = r->setMembers(abc, true, 52 * kSecond);
+    if (id != "shard-c") continue;
+    EXPECT_TRUE(a.plan.empty()) << "flying vehicles are resumed from the wire, never planned from scratch";
+    for (const auto& [m, last] : a.resume) {
+      ++resumed_by_c[m.vehicle_id];
+      EXPECT_EQ(last.identity.revision, 2u);
+    }
+  }
+  // Every member agrees: shard-c takes back exactly the old vehicles it ranks first for, and none
+  // of those that arrived while it was down.
+  for (const MissionRequestData& m : old_missions) {
+    ASSERT_EQ(g.ownersOf(m.vehicle_id).size(), 1u) << m.vehicle_id;
+    EXPECT_EQ(g.ownersOf(m.vehicle_id)[0], first_owner[m.vehicle_id]) << m.vehicle_id;
+    EXPECT_EQ(resumed_by_c.count(m.vehicle_id), first_owner[m.vehicle_id] == "shard-c" ? 1u : 0u) << m.vehicle_id;
+  }
+  for (const MissionRequestData& m : gap_missions) {
+    ASSERT_EQ(g.ownersOf(m.vehicle_id).size(), 1u) << m.vehicle_id;
+    EXPECT_NE(g.ownersOf(m.vehicle_id)[0], "shard-c") << m.vehicle_id << " arrived while shard-c was down";
+  }
+
+  // shard-a dies: its old vehicles for which shard-c ranks above shard-b go to shard-c, resumed.
+  std::vector<std::string> to_c, to_b_gap;
+  for (const MissionRequestData& m : old_missions) {
+    if (first_owner[m.vehicle_id] == "shard-a" && rendezvousOwner({"shard-b", "shard-c"}, "vehicle:" + m.vehicle_id) == "shard-c") {
+      to_c.push_back(m.vehicle_id);
+    }
+  }
+  for (const MissionRequestData& m : gap_missions) {
+    if (g.ownersOf(m.vehicle_id)[0] == "shard-a") to_b_gap.push_back(m.vehicle_id);
+  }
+  ASSERT_FALSE(to_c.empty());
+  ASSERT_FALSE(to_b_gap.empty());
+  g.routers.erase("shard-a");
+  const std::vector<ShardMember> bc{{"shard-b", 0}, c};
+  std::map<std::string, int> resumed_after;
+  for (auto& [id, r] : g.routers) {
+    const ShardActions a = r->setMembers(bc, true, 60 * kSecond);
+    for (const auto& [m, last] : a.resume) resumed_after[id + ":" + m.vehicle_id]++;
+    EXPECT_TRUE(a.plan.empty()) << id;
+  }
+  for (const std::string& v : to_c) {
+    EXPECT_EQ(g.ownersOf(v), std::vector<std::string>{"shard-c"}) << v;
+    EXPECT_EQ(resumed_after["shard-c:" + v], 1) << v;
+  }
+  for (const std::string& v : to_b_gap) {
+    EXPECT_EQ(g.ownersOf(v), std::vector<std::string>{"shard-b"}) << v << ": shard-c never read it";
+    EXPECT_EQ(resumed_after["shard-b:" + v], 1) << v;
+  }
+}
+
+TEST(ShardRouter, AFleetReplacedForAllItsVehiclesIsForgotten) {
+  ShardRouter alone({"shard-a", 0}, kMargin);
+  FleetRequestData fleet;
+  fleet.request_id = "fleet-1";
+  fleet.vehicle_ids = {"f-1", "f-2"};
+  EXPECT_TRUE(alone.onFleet(fleet, 10 * kSecond).forget_requests.empty());
+  EXPECT_TRUE(alone.onMission(mission("f-1", "m1"), 11 * kSecond).forget_requests.empty()) << "f-2 still flies it";
+  EXPECT_EQ(alone.onMission(mission("f-2", "m2"), 12 * kSecond).forget_requests,
+            std::vector<std::string>{ShardRouter::fleetKey("fleet-1")});
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // The state journal on its own: trajectories come back bit for bit, a mission's rows follow it
 // (accepted, flying, replaced, finished), what ended is pruned, a version-1 journal written by
-// hand is migrated, and a damaged, foreign or newer file is refused naming the file. The cost of
-// recording one revision is measured.
+// hand is migrated, and a damaged, foreign or newer file is refused naming the file. A shard's
+// copies of the requests it read and its lives come back, bounded. The cost of recording one
+// revision is measured.
 #include <gtest/gtest.h>
 
 #include <sqlite3.h>
@@ -329,6 +330,92 @@ TEST_F(StateJournalTest, VersionOneJournalWrittenByHandIsMigrated) {
   auto reopened = open();
   ASSERT_TRUE(reopened);
   EXPECT_EQ(reopened->foundSchemaVersion(), kJournalSchemaVersion);
+}
+
+TEST_F(StateJournalTest, AShardsCopiesOfRequestsAndItsLivesComeBackBounded) {
+  FleetRequestData fleet;
+  fleet.request_id = "fleet-1";
+  fleet.vehicle_ids = {"f-1", "f-2"};
+  fleet.begins = {MissionPointData::wgs84(44.1, -71.9, 500.0), MissionPointData::enu(Eigen::Vector3d(1.0 / 3.0, 2, 3))};
+  fleet.ends = fleet.begins;
+  fleet.tasks = {MissionPointData::enu(Eigen::Vector3d(10, 20.5, 300))};
+  fleet.planner = "rrt_star";
+  {
+    auto journal = open();
+    ASSERT_TRUE(journal);
+    const auto copy = [](const std::string& key, std::int64_t seen, std::optional<MissionRequestData> m,
+                         std::optional<FleetRequestData> f) { return JournaledRequest{key, seen, std::move(m), std::move(f)}; };
+    ASSERT_TRUE(journal->recordShardRequest(copy("vehicle:uav-1", kNowNs + 3, mission("old", "uav-1"), std::nullopt)).ok());
+    ASSERT_TRUE(journal->recordShardRequest(copy("vehicle:uav-2", kNowNs + 2, mission("two", "uav-2"), std::nullopt)).ok());
+    ASSERT_TRUE(journal->recordShardRequest(copy("vehicle:uav-3", kNowNs + 4, mission("three", "uav-3"), std::nullopt)).ok());
+    ASSERT_TRUE(journal->recordShardRequest(copy("fleet:fleet-1", kNowNs + 5, std::nullopt, fleet)).ok());
+    ASSERT_TRUE(journal->recordShardRequest(copy("fleet:fleet-0", kNowNs + 1, std::nullopt, fleet)).ok());
+    // The vehicle's newer request replaces its copy; a cancel and a dropped fleet forget theirs.
+    ASSERT_TRUE(journal->recordShardRequest(copy("vehicle:uav-1", kNowNs + 6, mission("new", "uav-1"), std::nullopt)).ok());
+    ASSERT_TRUE(journal->forgetShardMission("", "three").ok());
+    ASSERT_TRUE(journal->forgetShardMission("uav-2", "not-its-request").ok());
+    ASSERT_TRUE(journal->forgetShardRequests({"fleet:fleet-0"}).ok());
+    // Seven lives: the newest kMaxPastCoverage + 1 are kept.
+    for (std::int64_t life = 1; life <= 7; ++life) {
+      ASSERT_TRUE(journal->beginShardLife(life * 100).ok());
+      ASSERT_TRUE(journal->recordShardCoverage(life * 100, life * 100 + 50).ok());
+      ASSERT_TRUE(journal->recordShardCoverage(life * 100, life * 100 + 40).ok()) << "coverage never goes back";
+    }
+  }
+  auto journal = open();
+  ASSERT_TRUE(journal);
+  auto state = journal->load(kNowNs);
+  ASSERT_TRUE(state.ok()) << state.error().describe();
+  ASSERT_EQ(state->shard_requests.size(), 3u);
+  // In the order they arrived: uav-2 (2), the fleet (5), uav-1's newer request (6).
+  EXPECT_EQ(state->shard_requests[0].key, "vehicle:uav-2");
+  EXPECT_EQ(state->shard_requests[0].seen_utc_ns, kNowNs + 2);
+  ASSERT_TRUE(state->shard_requests[0].mission);
+  EXPECT_EQ(state->shard_requests[0].mission->request_id, "two");
+  EXPECT_EQ(state->shard_requests[0].mission->points[0].enu_m, Eigen::Vector3d(100.0 / 3.0, -250.5, 420.25));
+  EXPECT_EQ(state->shard_requests[0].mission->limits.v_ref_mps, 17.5);
+  EXPECT_EQ(state->shard_requests[1].key, "fleet:fleet-1");
+  ASSERT_TRUE(state->shard_requests[1].fleet);
+  EXPECT_FALSE(state->shard_requests[1].mission);
+  EXPECT_EQ(state->shard_requests[1].fleet->vehicle_ids, fleet.vehicle_ids);
+  EXPECT_EQ(state->shard_requests[1].fleet->begins[1].enu_m, Eigen::Vector3d(1.0 / 3.0, 2, 3));
+  EXPECT_EQ(state->shard_requests[2].key, "vehicle:uav-1");
+  EXPECT_EQ(state->shard_requests[2].mission->request_id, "new");
+  EXPECT_EQ(state->shard_requests[2].mission->vehicle_id, "uav-1");
+  ASSERT_EQ(state->shard_lives.size(), kMaxPastCoverage + 1);
+  for (std::size_t i = 0; i < state->shard_lives.size(); ++i) {
+    const auto life = static_cast<std::int64_t>(i + 3) * 100;
+    EXPECT_EQ(state->shard_lives[i], (CoverageInterval{life, life + 50}));
+  }
+}
+
+TEST_F(StateJournalTest, VersionTwoJournalIsMigratedAndKeepsItsRows) {
+  {
+    auto journal = open();
+    ASSERT_TRUE(journal);
+    ASSERT_TRUE(journal->recordAccepted(mission("kept", "uav-1"), kNowNs).ok());
+  }
+  // What a version-2 skyrouted wrote: no shard tables.
+  runSql(file(), "DROP TABLE shard_requests; DROP TABLE shard_lives; UPDATE schema_version SET version = 2;");
+  {
+    auto journal = open();
+    ASSERT_TRUE(journal);
+    EXPECT_EQ(journal->foundSchemaVersion(), 2);
+    auto state = journal->load(kNowNs);
+    ASSERT_TRUE(state.ok()) << state.error().describe();
+    ASSERT_EQ(state->missions.size(), 1u);
+    EXPECT_TRUE(state->shard_requests.empty());
+    EXPECT_TRUE(state->shard_lives.empty());
+    ASSERT_TRUE(journal->recordShardRequest(JournaledRequest{"vehicle:uav-1", kNowNs, mission("kept", "uav-1"), std::nullopt}).ok());
+    ASSERT_TRUE(journal->beginShardLife(kNowNs).ok());
+  }
+  auto journal = open();
+  ASSERT_TRUE(journal);
+  EXPECT_EQ(journal->foundSchemaVersion(), 3);
+  auto state = journal->load(kNowNs);
+  ASSERT_TRUE(state.ok());
+  EXPECT_EQ(state->shard_requests.size(), 1u);
+  EXPECT_EQ(state->shard_lives.size(), 1u);
 }
 
 TEST_F(StateJournalTest, NewerSchemaIsRefusedNamingTheFileAndTheVersion) {
