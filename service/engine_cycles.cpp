@@ -2,8 +2,8 @@
 // steps every active mission each cycle (t_ref, or at once after an obstacle update), and stop().
 // A cycle takes every world change since the last one together: one step, so at most one replan,
 // per vehicle however many updates arrived. A step that finds nothing better puts the vehicle on
-// hold: a new revision that keeps the trajectory as far as it is clear, then stops, published with
-// a non-terminal holding status naming why. When not even a hold does better (or one is in force
+// hold: a new revision that keeps the trajectory as far as it is clear, then stops (a fixed wing:
+// loiters), published with a non-terminal holding status naming why. When not even a hold does better (or one is in force
 // already and still clear), the step is answered with a non-terminal status (the error, the
 // revision kept), once per change of the world.
 #include <algorithm>
@@ -87,7 +87,10 @@ std::size_t Engine::replanCycle() {
       const bool holding = mission->plan.flight->holding();
       mission_lock.unlock();
       if (answer && !stopping_) {
-        publishReplanFailure(mission->request, *step.failure, revision, step.latency_ms, coalesced, holding);
+        // A fixed wing with no clear loiter circle: the answer says so too.
+        Error failure = *step.failure;
+        if (step.hold_failure) failure.message += "; and no hold: " + step.hold_failure->message;
+        publishReplanFailure(mission->request, failure, revision, step.latency_ms, coalesced, holding);
       }
       // A blocked vehicle fails every cycle (10 Hz) until the obstacle moves: one line per window.
       throttle_.warn("replan_failed:" + mission->request.vehicle_id + ":" + step.failure->field,
@@ -121,8 +124,10 @@ void Engine::publishHold(const MissionRequestData& request, const ReplanStep& st
   // stops and waits; the next cycles plan on from it. The error says why no plan was found.
   PlanError error = step.failure ? toPlanError(*step.failure) : PlanError{PlanErrorCode::kUnreachable, "replan", ""};
   error.stage = PlanStage::kReplan;
-  error.message = "holding: revision " + std::to_string(revision) +
-                  " keeps the trajectory as far as it is clear, then stops and waits; no new plan: " + error.message;
+  // A fixed wing cannot stop: its hold ends in a loiter circle it flies until a plan is found.
+  error.message = "holding: revision " + std::to_string(revision) + " keeps the trajectory as far as it is clear, then " +
+                  (step.loiter ? "loiters (a fixed wing: a circle at or above its minimum airspeed)" : "stops and waits") +
+                  "; no new plan: " + error.message;
   PlanStatusData s = PlanStatusData::failed(request, error, step.latency_ms * 1e-3);
   s.state = PlanState::kHolding;
   sink_.publishStatus(s);

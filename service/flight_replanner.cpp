@@ -31,6 +31,9 @@ Status validateReplanOptions(const ReplanOptions& options) {
   if (!(options.replan_accel_fraction > 0.0 && options.replan_accel_fraction <= 1.0)) {
     return make_error(ErrorCode::kInvalidArgument, "replan_accel_fraction", "must be in (0, 1]");
   }
+  if (!(options.loiter_radius_margin >= 1.0) || !std::isfinite(options.loiter_radius_margin)) {
+    return make_error(ErrorCode::kInvalidArgument, "loiter_radius_margin", "must be >= 1 and finite");
+  }
   return Status::success();
 }
 
@@ -388,6 +391,7 @@ FlightReplanner::Candidate FlightReplanner::splice(PlannedRoute local, const Rej
 }
 
 void FlightReplanner::adopt(PlannedRoute route, std::vector<Eigen::Vector3d> points, double start_world_s) {
+  loiter_circle_.reset();
   if (options_.rrt_tree_reuse && !route.legs.empty() && route.legs.front().tree) leg_tree_ = route.legs.front().tree;
   route_ = std::move(route);
   points_ = std::move(points);
@@ -517,6 +521,18 @@ TerminationCondition FlightReplanner::cycleStop(std::chrono::steady_clock::time_
 }
 
 ReplanStep FlightReplanner::step(double now_s) {
+  // A loiter about to end gets more turns first, so this cycle checks and plans on from it.
+  const bool extended = extendLoiter(now_s);
+  ReplanStep result = stepOnce(now_s);
+  if (extended && !result.replanned && !result.holding) {
+    ++revision_;
+    result.holding = true;
+    result.loiter = true;
+  }
+  return result;
+}
+
+ReplanStep FlightReplanner::stepOnce(double now_s) {
   ReplanStep result;
   const auto started = std::chrono::steady_clock::now();
   if (finished(now_s)) return result;
@@ -567,10 +583,15 @@ ReplanStep FlightReplanner::step(double now_s) {
   if (!best.ok()) {
     result.failure = best.error();
     ++failed_cycles_;
-    if (options_.hold_fallback && !std::isinf(current_conflict) && best.error().code != ErrorCode::kCancelled &&
-        adoptHold(now_s, takeover_s, current_conflict)) {
-      ++revision_;
-      result.holding = true;
+    if (options_.hold_fallback && !std::isinf(current_conflict) && best.error().code != ErrorCode::kCancelled) {
+      // A fixed wing cannot stop and wait: it loiters.
+      const bool held = limits_.fixedWing() ? adoptLoiter(now_s, takeover_s, current_conflict, result.hold_failure)
+                                            : adoptHold(now_s, takeover_s, current_conflict);
+      if (held) {
+        ++revision_;
+        result.holding = true;
+        result.loiter = limits_.fixedWing();
+      }
     }
     result.latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
     return result;
@@ -588,6 +609,10 @@ ReplanStep FlightReplanner::step(double now_s) {
 }
 
 double FlightReplanner::takeoverTime(double now_s, double conflict_s) const {
+  // From a clear loiter the new plan leaves the circle along its tangent, where it heads for the
+  // next route point: a curve taking over elsewhere on the circle would have to turn back
+  // tighter than the circle.
+  if (holding_ && loiter_circle_ && std::isinf(conflict_s)) return loiterExitTime(now_s);
   const double earliest = now_s + options_.reaction_delay_s;
   double latest = earliest + std::max(0.0, options_.max_commit_s);
   // Never commit to much of the way to the obstacle: the new plan needs the room to turn away.
@@ -714,17 +739,26 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
                   stops_infeasible, conflict_s - now_s);
     return false;
   }
+  installHold(std::move(*best), from_s, best_stop_s);
+  loiter_circle_.reset();
+  spdlog::debug("event=replan_hold stop_in_s={:.1f} conflict_in_s={:.1f} room_m={:.0f} stops_tried={} ms={:.1f}",
+                best_stop_s - now_s, best_conflict - now_s, best_room_m, tried,
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - hold_started).count());
+  return true;
+}
+
+void FlightReplanner::installHold(Trajectory hold, double from_s, double kept_until_s) {
   // The route points the kept part reaches keep their times; the others are not reached by the hold.
-  std::vector<Eigen::Vector3d> points{best->evaluate(0.0, Derivative::kPosition)};
+  std::vector<Eigen::Vector3d> points{hold.evaluate(0.0, Derivative::kPosition)};
   std::vector<double> times{from_s};
   for (std::size_t i = 1; i < points_.size(); ++i) {
     if (point_times_world_s_[i] <= from_s && i + 1 < points_.size()) continue;  // passed already
     points.push_back(points_[i]);
-    times.push_back(point_times_world_s_[i] <= best_stop_s ? point_times_world_s_[i]
-                                                           : std::numeric_limits<double>::infinity());
+    times.push_back(point_times_world_s_[i] <= kept_until_s ? point_times_world_s_[i]
+                                                            : std::numeric_limits<double>::infinity());
   }
   PlannedRoute route;
-  route.built.trajectory = std::move(*best);
+  route.built.trajectory = std::move(hold);
   for (const Segment& s : route.built.trajectory.segments()) route.built.knots.push_back(s.evaluate(0.0, Derivative::kPosition));
   route.built.knots.push_back(route.built.trajectory.evaluate(route.built.trajectory.duration_s(), Derivative::kPosition));
   route.built.report.status = TrajectoryStatus::kFeasible;
@@ -735,10 +769,6 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
   waypoint_times_world_s_ = {from_s};
   start_world_s_ = from_s;
   holding_ = true;
-  spdlog::debug("event=replan_hold stop_in_s={:.1f} conflict_in_s={:.1f} room_m={:.0f} stops_tried={} ms={:.1f}",
-                best_stop_s - now_s, best_conflict - now_s, best_room_m, tried,
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - hold_started).count());
-  return true;
 }
 
 }  // namespace skyroute

@@ -11,6 +11,12 @@
 // When no better plan is found in a cycle, the vehicle holds: the new revision keeps the current
 // trajectory as far as it stays clear, then stops (a checked stop from the state there) and waits
 // at rest; the mission is not finished, and every cycle tries to plan on from the hold.
+// A fixed wing cannot stop: its hold is a loiter (trajectory/loiter.hpp): the current trajectory
+// kept as far as it is clear, then a level circle at least loiter_radius_margin times wider than
+// its tightest turn at the loiter speed (cruise, never under the minimum airspeed), flown for
+// twice the horizon and extended by whole arcs (a new revision) while the hold lasts; the next
+// cycles plan on from a point on the circle, with its velocity. With no clear circle, the step
+// says so (hold_failure) and the current trajectory stays in force, as without holds.
 // DDS-free: the engine and the tests drive it with a world clock.
 // Defaults: on the seed-003 Table 1 scenario (obstacles at 60-80 m/s, faster than the vehicle) a
 // 30 s horizon with 4 attempts let obstacle B catch the vehicle; 45 s and 8 attempts avoid all three.
@@ -25,6 +31,7 @@
 #include <vector>
 
 #include "service/route_planner.hpp"
+#include "trajectory/loiter.hpp"
 
 namespace skyroute {
 
@@ -52,6 +59,9 @@ struct ReplanOptions {
   // next cycles plan past the deadline until a first candidate. Off = the current trajectory
   // stays in force and the cycle plans past its deadline until a first candidate at once.
   bool hold_fallback = true;
+  // A fixed wing's loiter circle: its radius over the tightest turn at the loiter speed (>= 1;
+  // 1.3 flies a 35-degree bank limit at about 28 degrees), tried first and then 1.6 times wider.
+  double loiter_radius_margin = 1.3;
   double margin_m = 150.0;          // extra room kept from every moving obstacle when planning
   double window_s = 15.0;           // planning blocks the stretch each obstacle covers this long
   int max_attempts = 8;             // seeds, windows and margins tried per replan; the candidate
@@ -102,6 +112,10 @@ struct ReplanStep {
   // No better plan: a new revision that keeps the current trajectory as far as it is clear and
   // then stops and waits at rest (failure says why no plan was found).
   bool holding = false;
+  bool loiter = false;              // ... and the hold is a loiter (a fixed wing)
+  // A fixed wing whose replan failed and for which no loiter circle is clear (kUnreachable,
+  // field "loiter", naming what was tried): the current revision stays in force.
+  std::optional<Error> hold_failure;
   double takeover_s = 0.0;          // world time the new revision's plan starts from
   double latency_ms = 0.0;          // wall time of the replan (check included)
   std::size_t reused_tree_nodes = 0;  // nodes of the kept RRT* tree the adopted plan's first leg grew
@@ -127,6 +141,8 @@ class FlightReplanner {
 
   // One cycle at world time now_s.
   ReplanStep step(double now_s);
+  // The loiter in force (a fixed wing's hold), if any.
+  const std::optional<LoiterCircle>& loiterCircle() const { return loiter_circle_; }
   // The points still to visit are to be flown in a new order (mission_reorder.hpp; defined in
   // flight_reroute.cpp): the whole rest of the route is planned again through points_m, from the
   // takeover a step at now_s would use (takeoverS), as a whole replan is. The new revision is
@@ -219,6 +235,20 @@ class FlightReplanner {
   // Adopts the hold for a current trajectory meeting an obstacle at conflict_s, when one does
   // better than it (a later conflict, or none); false when none does.
   bool adoptHold(double now_s, double takeover_s, double conflict_s);
+  // A fixed wing's hold (defined in flight_loiter.cpp): the current trajectory up to an entry
+  // time, then a loiter; false, with why_not set, when no circle does better than the current
+  // trajectory.
+  bool adoptLoiter(double now_s, double takeover_s, double conflict_s, std::optional<Error>& why_not);
+  // A loiter in force that ends within the horizon gets more turns of the same circle (the same
+  // curve from now on, so a new revision continuous to the jerk); true when it did.
+  bool extendLoiter(double now_s);
+  // The takeover from a loiter at now_s: within the next turn, where the vehicle heads most
+  // nearly for the next route point.
+  double loiterExitTime(double now_s) const;
+  // Puts `hold` (starting at world time from_s) in force as a hold: the route points the kept
+  // part reaches by kept_until_s keep their times, the others are not reached.
+  void installHold(Trajectory hold, double from_s, double kept_until_s);
+  ReplanStep stepOnce(double now_s);
 
   std::shared_ptr<const CollisionWorld> world_;
   VehicleLimits limits_;
@@ -231,6 +261,8 @@ class FlightReplanner {
   std::uint32_t revision_ = 0;
   int failed_cycles_ = 0;  // replanning cycles in a row that found nothing better
   bool holding_ = false;
+  std::optional<LoiterCircle> loiter_circle_;  // the loiter in force
+  double loiter_end_rad_ = 0.0;               // where its last arc ends
   std::shared_ptr<const RrtTree> leg_tree_;  // ReplanOptions::rrt_tree_reuse: the first leg's tree in force
 };
 

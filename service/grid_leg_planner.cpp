@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
+#include <optional>
+#include <string_view>
+
+#include <spdlog/spdlog.h>
 
 #include "planning/colony/hab_pp.hpp"
 #include "service/planner_status.hpp"
@@ -17,6 +22,23 @@ std::string legName(std::size_t i) { return "legs[" + std::to_string(i) + "]"; }
 // How many times a leg's band may rise by its margin before the leg is given up (each costs a
 // grid of at most max_cells_per_axis^2 cells and a connectivity check).
 constexpr int kMaxBandRaises = 20;
+
+std::string_view plannerName(GridGlobalPlanner planner) {
+  return planner == GridGlobalPlanner::kHabPp ? "hab-pp" : "hab-pp-rrt";
+}
+
+// The first piece of `path` steeper than the options' path angles allow, if any.
+std::optional<std::size_t> steeperThanAllowed(const std::vector<Eigen::Vector3d>& path, const GridLegOptions& options) {
+  constexpr double kDeg = std::numbers::pi / 180.0;
+  for (std::size_t k = 0; k + 1 < path.size(); ++k) {
+    const Eigen::Vector3d d = path[k + 1] - path[k];
+    const double limit_deg = d.z() > 0.0 ? options.max_path_climb_deg : options.max_path_descent_deg;
+    if (limit_deg <= 0.0 || d.z() == 0.0) continue;
+    // A tolerance for the lifting's own rounding.
+    if (std::abs(d.z()) > std::tan(limit_deg * kDeg) * d.head<2>().norm() * (1.0 + 1e-6) + 1e-6) return k;
+  }
+  return std::nullopt;
+}
 
 }  // namespace
 
@@ -122,6 +144,18 @@ Result<PlannedRoute> planGridRoutePaths(std::shared_ptr<const CollisionWorld> wo
         path.push_back(to);
       }
       leg.path_m = std::move(path);
+    }
+    if (auto steep = steeperThanAllowed(leg.path_m, options)) {
+      const bool climbs = leg.path_m[*steep + 1].z() > leg.path_m[*steep].z();
+      const Eigen::Vector3d d = leg.path_m[*steep + 1] - leg.path_m[*steep];
+      const double angle_deg = std::atan2(std::abs(d.z()), d.head<2>().norm()) * 180.0 / std::numbers::pi;
+      return make_error(ErrorCode::kInvalidArgument, "planner",
+                        fmt::format("{}'s path of {} {} at {:.1f} deg between its vertices {} and {} (the grid path is "
+                                    "lifted to the flight band over the leg's ends), steeper than the fixed wing's "
+                                    "{:.1f} deg path angle: plan a fixed wing with rrtstar-lospo",
+                                    plannerName(planner), legName(i), climbs ? "climbs" : "descends", angle_deg, *steep,
+                                    *steep + 1,
+                                    climbs ? options.max_path_climb_deg : options.max_path_descent_deg));
     }
     double length = 0.0;
     for (std::size_t k = 1; k < leg.path_m.size(); ++k) length += (leg.path_m[k] - leg.path_m[k - 1]).norm();

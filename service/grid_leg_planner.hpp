@@ -32,6 +32,12 @@ struct GridLegOptions {
   // Wall-clock cap of one leg's search, seconds (0 = none): the colony stops with the best path
   // it has, and the leg says it was capped.
   double leg_time_cap_s = 0.0;
+  // A fixed wing's path angles (RouteOptions::max_path_climb_deg, max_path_descent_deg; 0 = no
+  // limit). The lifting climbs and descends over a leg's ends as steeply as the terrain needs,
+  // so a lifted path steeper than these is refused (kInvalidArgument, field "planner") rather
+  // than handed to a trajectory stage that cannot fly it.
+  double max_path_climb_deg = 0.0;
+  double max_path_descent_deg = 0.0;
 };
 
 // points_m: the route in visiting order (ENU). Returns legs with 3D paths and the joined waypoints

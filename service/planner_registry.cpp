@@ -71,6 +71,8 @@ LegPathPlanner legPathPlanner(RoutePlannerKind kind, const GridLegOptions& grid)
     // One budget for every planner: the legs' wall-clock cap is the route's.
     GridLegOptions leg_options = grid;
     leg_options.leg_time_cap_s = options.leg_budget_ms * 1e-3;
+    leg_options.max_path_climb_deg = options.max_path_climb_deg;
+    leg_options.max_path_descent_deg = options.max_path_descent_deg;
     return planGridRoutePaths(std::move(world), points_m, planner, leg_options, options.seed, stop, options.snapshot);
   };
 }

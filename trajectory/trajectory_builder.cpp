@@ -113,6 +113,7 @@ struct CornerRecord {
 };
 
 constexpr double kTurningRad = 1e-6;  // a vertex turning less is straight
+constexpr double kStretchMargin = 1.03;  // a stretch goes this much beyond the violation's ratio
 
 // Turns the vehicle cannot fly: too tight for its radius, or (a fixed wing) for its bank.
 bool isTurnViolation(ViolationKind kind) {
@@ -121,6 +122,12 @@ bool isTurnViolation(ViolationKind kind) {
 
 // How much wider a corner must be for the violation to go (> 1 when it is too tight).
 double turnShortfall(const Violation& v) {
+  if (v.kind == ViolationKind::kLoadFactor) {
+    // In a level turn n = 1 / cos(bank): tan(bank) = sqrt(n^2 - 1) scales with the curvature.
+    const double need = std::sqrt(std::max(0.0, v.value * v.value - 1.0));
+    const double allowed = std::sqrt(std::max(1e-9, v.limit * v.limit - 1.0));
+    return need / allowed;
+  }
   if (v.kind == ViolationKind::kBankAngle) {
     // At the same speed the bank's tangent scales with the curvature, 1 / radius.
     const double deg = std::numbers::pi / 180.0;
@@ -301,10 +308,9 @@ class RepairLoop {
     report.repairs.push_back("stops at waypoint " + std::to_string(path_[at].input_index) + ": " + why);
   }
 
-  // Turns tighter than the vehicle can fly: rounds (or widens) the corners they fly. Returns why
-  // it cannot, or "".
-  std::string repairTurns(const std::vector<Violation>& violations, const std::vector<double>& t,
-                          TrajectoryBuildReport& report);
+  // Turns tighter than the vehicle can fly (turn radius, bank, a fixed wing's load factor): the
+  // corners they fly, to round (or widen). Returns why it cannot, or "". A load factor with no
+  // corner to explain it is left to the stretch (a pull-up on a straight), which says why not.
   std::string findCornerJobs(const std::vector<Violation>& violations, const std::vector<double>& t,
                              std::map<std::size_t, CornerJob>& jobs);
   std::string roundCorners(const std::map<std::size_t, CornerJob>& jobs, const std::vector<double>& t,
@@ -315,7 +321,10 @@ class RepairLoop {
   // Stretches the segments over a limit, locally for the first rounds after a layout, then the
   // whole trajectory; why stretching does not help, or "".
   std::string stretchInTime(const std::map<std::size_t, double>& stretch, const std::vector<Violation>& violations,
-                            int round, TrajectoryBuildReport& report);
+                            int round, const Trajectory& trajectory, TrajectoryBuildReport& report);
+  // A fixed wing: the largest stretch of segment s (or, for npos, of the whole trajectory) that
+  // keeps it at or above its minimum airspeed; infinity for a multirotor.
+  double largestStretch(const Trajectory& trajectory, std::size_t s) const;
   // Splits each segment at the middle of its chord, from the back.
   void splitSegments(const std::set<std::size_t>& to_split, TrajectoryBuildReport& report);
 
@@ -372,8 +381,23 @@ Status RepairLoop::run(BuiltTrajectory& built) {
 
     // Turns tighter than the vehicle can fly: a different path, so this comes first and the
     // knots and times are laid out again from the new path (time repairs of the old one are moot).
-    if (report.final_check.has(ViolationKind::kTurnRadius) || report.final_check.has(ViolationKind::kBankAngle)) {
-      if (std::string unrepairable = repairTurns(violations, t, report); !unrepairable.empty()) {
+    // A fixed wing's load factor is eased by slowing down (the stretch below) as far as its
+    // minimum airspeed allows; beyond that the turn it flies is widened like a bank.
+    std::vector<Violation> turns;
+    for (const Violation& v : violations) {
+      const bool too_slow = limits_.fixedWing() && v.kind == ViolationKind::kLoadFactor &&
+                            stretchFactor(v) * kStretchMargin > largestStretch(built.trajectory, v.segment);
+      if (isTurnViolation(v.kind) || too_slow) turns.push_back(v);
+    }
+    std::map<std::size_t, CornerJob> corner_jobs;
+    if (!turns.empty()) {
+      if (std::string unrepairable = findCornerJobs(turns, t, corner_jobs); !unrepairable.empty()) {
+        report.failure_reason = unrepairable;
+        break;
+      }
+    }
+    if (!corner_jobs.empty()) {
+      if (std::string unrepairable = roundCorners(corner_jobs, t, report); !unrepairable.empty()) {
         report.failure_reason = unrepairable;
         break;
       }
@@ -404,7 +428,8 @@ Status RepairLoop::run(BuiltTrajectory& built) {
     }
     // Stretch first (indices refer to the current segments), then split from the back.
     if (!repairs.stretch.empty()) {
-      if (std::string failed = stretchInTime(repairs.stretch, violations, round, report); !failed.empty()) {
+      if (std::string failed = stretchInTime(repairs.stretch, violations, round, built.trajectory, report);
+          !failed.empty()) {
         report.failure_reason = failed;
         break;
       }
@@ -415,17 +440,9 @@ Status RepairLoop::run(BuiltTrajectory& built) {
   return Status::success();
 }
 
-std::string RepairLoop::repairTurns(const std::vector<Violation>& violations, const std::vector<double>& t,
-                                    TrajectoryBuildReport& report) {
-  std::map<std::size_t, CornerJob> jobs;
-  if (std::string unrepairable = findCornerJobs(violations, t, jobs); !unrepairable.empty()) return unrepairable;
-  return roundCorners(jobs, t, report);
-}
-
 std::string RepairLoop::findCornerJobs(const std::vector<Violation>& violations, const std::vector<double>& t,
                                        std::map<std::size_t, CornerJob>& jobs) {
   for (const Violation& v : violations) {
-    if (!isTurnViolation(v.kind)) continue;
     failing_ = v;  // until it is explained
     if (!options_.round_corners) {
       return describe(v) +
@@ -444,6 +461,10 @@ std::string RepairLoop::findCornerJobs(const std::vector<Violation>& violations,
       }
     }
     if (nearest == path_.size()) {
+      if (v.kind == ViolationKind::kLoadFactor) {
+        failing_.reset();
+        continue;
+      }
       return describe(v) + ": no corner of the path explains it (the curve wiggles on a straight path)";
     }
     const int id = path_[nearest].corner;
@@ -562,12 +583,43 @@ std::string RepairLoop::sortSegmentRepairs(const std::vector<Violation>& violati
   return std::string();
 }
 
+double RepairLoop::largestStretch(const Trajectory& trajectory, std::size_t s) const {
+  if (!limits_.fixedWing()) return std::numeric_limits<double>::infinity();
+  const auto& segments = trajectory.segments();
+  const std::size_t from = s == std::string::npos ? 0 : s;
+  const std::size_t to = s == std::string::npos ? segments.size() : std::min(segments.size(), s + 1);
+  double slowest = std::numeric_limits<double>::infinity();
+  constexpr int kSamples = 16;
+  for (std::size_t i = from; i < to; ++i)
+    for (int k = 0; k <= kSamples; ++k)
+      slowest = std::min(slowest, segments[i].evaluate(segments[i].duration_s * k / kSamples, Derivative::kVelocity).norm());
+  return slowest / limits_.minAirspeedMps();
+}
+
 std::string RepairLoop::stretchInTime(const std::map<std::size_t, double>& stretch,
                                       const std::vector<Violation>& violations, int round,
-                                      TrajectoryBuildReport& report) {
+                                      const Trajectory& trajectory, TrajectoryBuildReport& report) {
   double worst = 1.0;
   for (const auto& [s, f] : stretch) worst = std::max(worst, f);
-  const double margin = 1.03;
+  const double margin = kStretchMargin;
+  // A fixed wing slowed under its minimum airspeed has traded one violation for another: say
+  // where and why instead.
+  auto too_slow = [&](std::size_t s, double k, double cap) {
+    const auto it = std::find_if(violations.begin(), violations.end(), [&](const Violation& v) {
+      return v.kind != ViolationKind::kCollision && (s == std::string::npos || v.segment == s);
+    });
+    const Violation& v = it != violations.end() ? *it : violations.front();
+    failing_ = v;
+    const std::vector<double>& t = trajectory.knotTimes();
+    const std::string where = s == std::string::npos
+                                  ? std::string("the whole trajectory")
+                                  : "segment " + std::to_string(s) + format(" (t=%.2f..%.2f s)", t[s], t[s + 1]);
+    return describe(v) + ": slowing " + where + format(" by %.1f%%", (k - 1.0) * 100.0) +
+           " would take the fixed wing under its minimum airspeed (" +
+           format("%.1f m/s at the slowest there, at most %.1f%% slower keeps %.1f m/s", cap * limits_.minAirspeedMps(),
+                  (cap - 1.0) * 100.0, limits_.minAirspeedMps()) +
+           "); the path must change (a wider turn, a gentler climb or pull-up)";
+  };
   // Stretching a segment whose start velocity is given makes the curve overshoot instead of
   // easing it; when the worst violation grew two rounds running, more rounds only diverge
   // (a replan once spent 0.5 s stretching its first segment to 500 s).
@@ -586,10 +638,15 @@ std::string RepairLoop::stretchInTime(const std::map<std::size_t, double>& stret
     std::vector<double> factor(durations_.size(), 1.0);
     for (const auto& [s, f] : stretch) {
       const double k = std::min(4.0, f * margin);
+      if (const double cap = largestStretch(trajectory, s); k > cap) return too_slow(s, k, cap);
       factor[s] = std::max(factor[s], k);
-      // Neighbours share the joint's derivatives; stretch them part way so the joint eases too.
-      if (s > 0) factor[s - 1] = std::max(factor[s - 1], std::sqrt(k));
-      if (s + 1 < factor.size()) factor[s + 1] = std::max(factor[s + 1], std::sqrt(k));
+      // Neighbours share the joint's derivatives; stretch them part way so the joint eases too
+      // (a fixed wing's no further than its minimum airspeed allows).
+      auto ease = [&](std::size_t n) {
+        factor[n] = std::max(factor[n], std::min(std::sqrt(k), std::max(1.0, largestStretch(trajectory, n))));
+      };
+      if (s > 0) ease(s - 1);
+      if (s + 1 < factor.size()) ease(s + 1);
     }
     for (std::size_t s = 0; s < durations_.size(); ++s) durations_[s] *= factor[s];
     report.repairs.push_back("stretched " + std::to_string(stretch.size()) + " segment(s) in time by up to " +
@@ -611,6 +668,7 @@ std::string RepairLoop::stretchInTime(const std::map<std::size_t, double>& stret
   }
   previous_uniform_worst_ = worst;
   const double k = std::min(4.0, worst * margin);
+  if (const double cap = largestStretch(trajectory, std::string::npos); k > cap) return too_slow(std::string::npos, k, cap);
   for (double& d : durations_) d *= k;
   report.repairs.push_back("stretched the whole trajectory in time by " + format("%.1f%%", (k - 1.0) * 100.0));
   return std::string();

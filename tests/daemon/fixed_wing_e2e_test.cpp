@@ -2,10 +2,13 @@
 // into a trajectory that an independent sampler of the published samples accepts (minimum
 // airspeed, bank angle, path angles, clearance), starting and ending at cruise speed; a bad
 // fixed-wing value and an unknown model on the wire are refused naming the field; the daemon's
-// [vehicle] section makes a request that leaves the model to it a fixed wing.
+// [vehicle] section makes a request that leaves the model to it a fixed wing. A fixed wing whose
+// way is blocked (domain 192) holds by loitering: the revision the ground station gets never
+// drops below the minimum airspeed.
 #include <gtest/gtest.h>
 
 #include "service/dds/conversions.hpp"
+#include "service/mission_types.hpp"
 #include "tests/daemon/daemon_fixture.hpp"
 #include "tests/fixed_wing_sampler.hpp"
 
@@ -86,6 +89,51 @@ TEST_F(FixedWingE2E, TheDaemonsVehicleSectionMakesADefaultRequestAFixedWing) {
   const testing::FixedWingFlight f =
       testing::sampleFixedWing(*t, testing::envelopeOf(configured), [&](double e, double n) { return ground(e, n); });
   EXPECT_TRUE(f.violations.empty()) << testing::joined(f.violations);
+}
+
+// The goal closed by an obstacle half a minute ahead: no plan can help, so the daemon answers with
+// a hold, and for a fixed wing the hold is a loiter, checked here from the published samples
+// alone: never under the minimum airspeed, within the bank and path angles, above the clearance,
+// clear of the obstacle, and circling (it never comes to rest).
+TEST_F(FixedWingE2E, ABlockedWayIsAnsweredByALoiterThatNeverDropsBelowTheMinimumAirspeed) {
+  startDaemon(192);
+  MissionRequestData m = fixedWingMission("fw-loiter");
+  m.begin = above(-700, 0, 250);
+  m.points.clear();
+  m.end = above(700, 0, 250);  // 1.4 km: about a minute at cruise speed
+  const auto first = planned(m);
+  ASSERT_TRUE(first) << daemon_.err();
+  ObstacleUpdateData over_goal;
+  over_goal.obstacle.id = 31;
+  over_goal.obstacle.shape = ObstacleShape::kSphere;
+  over_goal.obstacle.size_m = Eigen::Vector3d(400.0, 0.0, 0.0);
+  over_goal.obstacle.center_m = m.end.enu_m;
+  over_goal.valid_from_utc_ns = utcNowNs();
+  ASSERT_TRUE(station_->obstacles->write(over_goal).ok());
+  auto holding = [&] {
+    for (const PlanStatusData& s : station_->status_log)
+      if (s.request_id == m.request_id && s.state == PlanState::kHolding) return true;
+    return false;
+  };
+  ASSERT_TRUE(station_->pumpUntil([&] { return holding() && station_->latest(m.vehicle_id)->revision > first->revision; },
+                                  30.0))
+      << daemon_.err();
+  const TrajectoryData hold = *station_->latest(m.vehicle_id);
+  for (const PlanStatusData& s : station_->status_log) {
+    if (s.request_id == m.request_id && s.state == PlanState::kHolding) {
+      EXPECT_NE(s.message.find("loiters"), std::string::npos) << s.message;
+    }
+  }
+  ASSERT_GT(hold.samples.size(), 100u);
+  const testing::FixedWingFlight f =
+      testing::sampleFixedWing(hold, testing::envelopeOf(m.limits), [&](double e, double n) { return ground(e, n); });
+  EXPECT_TRUE(f.violations.empty()) << testing::joined(f.violations);
+  EXPECT_GT(f.checked, hold.samples.size() / 2);
+  EXPECT_GE(f.min_speed_mps, m.limits.stall_speed_mps * m.limits.stall_margin);
+  EXPECT_GT(f.max_bank_deg, 15.0);  // it circles
+  EXPECT_GE(hold.samples.back().velocity_enu_mps.norm(), m.limits.stall_speed_mps * m.limits.stall_margin);
+  for (const TrajectorySampleData& s : hold.samples)
+    ASSERT_GT((s.position_enu_m - over_goal.obstacle.center_m).norm(), 400.0) << s.t_rel_s;
 }
 
 }  // namespace

@@ -149,6 +149,29 @@ TEST_F(FixedWingMissionTest, TheConfigurationsVehicleSectionFillsInWhatARequestL
   EXPECT_EQ(bad.error().field, "vehicle.max_bank_deg");
 }
 
+// The grid planners lift their paths to the flight band over the legs' ends, far steeper than a
+// fixed wing climbs: such a mission is refused naming the planner option (and the way out), not
+// handed to a trajectory stage that cannot fly it. A multirotor flies the same request
+// (engine_test's HabPpPlannersGoThroughTheSameTrajectoryStage).
+TEST_F(FixedWingMissionTest, AGridPlannersPathSteeperThanTheFixedWingClimbsIsRefusedNamingThePlanner) {
+  for (const std::string planner : {"hab-pp", "hab-pp-rrt"}) {
+    SCOPED_TRACE(planner);
+    MissionRequestData r = mission("grid-" + planner);
+    r.planner = planner;
+    r.begin = enu(-5000, -2000, 60);
+    r.points = {enu(0, -5500, 150)};
+    r.end = enu(5000, 2000, 60);
+    const auto [status, t] = plan(r);
+    ASSERT_EQ(status.state, PlanState::kFailed) << status.field << ": " << status.message;
+    EXPECT_EQ(status.field, "planner") << status.message;
+    EXPECT_NE(status.message.find(planner + "'s path of legs["), std::string::npos) << status.message;
+    EXPECT_NE(status.message.find("steeper than the fixed wing's 13.5 deg path angle"), std::string::npos)
+        << status.message;
+    EXPECT_NE(status.message.find("rrtstar-lospo"), std::string::npos) << status.message;
+    EXPECT_TRUE(t.samples.empty());
+  }
+}
+
 TEST_F(FixedWingMissionTest, TheMissionJsonCarriesTheModel) {
   const MissionRequestData r = mission("json");
   auto back = missionFromJson(missionToJson(r));
