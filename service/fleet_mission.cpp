@@ -296,6 +296,12 @@ std::optional<PlanError> validateFleetRequest(const FleetRequestData& r, const F
     if (auto e = checkPoint(r.tasks[j], indexed("tasks", j))) return e;
   }
   if (auto e = checkVehicleLimits(r.limits, options.limit_bounds)) return e;
+  if (r.limits.model.value_or(options.default_model) == VehicleModel::kFixedWing) {
+    return fail(PlanErrorCode::kInvalidArgument, "limits.model",
+                std::string(r.limits.model ? "is fixed_wing" : "is left to the service's vehicle.model, fixed_wing") +
+                    ": fleets fly multirotors only (their plans wait in place and stop at the depots, which a fixed "
+                    "wing cannot); give limits.model multirotor, or plan each fixed wing as a mission");
+  }
   if (!r.planner.empty() && r.planner != kFleetPlannerGreedy) {
     return fail(PlanErrorCode::kUnknownPlanner, "planner",
                 "'" + r.planner + "' is not a fleet planner (\"\" or \"" + kFleetPlannerGreedy + "\")");

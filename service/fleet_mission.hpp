@@ -65,6 +65,9 @@ struct FleetMissionOptions {
   RouteOptions route;               // the trajectory stage (route.trajectory)
   VehicleLimitBounds limit_bounds;  // what the shared limits may ask for
   TrajectorySizeBounds trajectory_bounds;  // each vehicle's trajectory, checked before sampling
+  // The model of requests that leave it to the service. Fleets fly multirotors only: their
+  // space-time plans wait in place and stop at depots, which a fixed wing cannot.
+  VehicleModel default_model = VehicleModel::kMultirotor;
 };
 
 struct FleetPlanOutput {

@@ -55,6 +55,7 @@ FleetMissionOptions fleetMissionOptions(const PipelineOptions& o) {
   fleet.route.trajectory = o.replan.route.trajectory;
   fleet.limit_bounds = o.bounds.limits;
   fleet.trajectory_bounds = o.bounds.trajectory;
+  fleet.default_model = o.vehicle.model;
   return fleet;
 }
 

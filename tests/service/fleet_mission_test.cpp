@@ -190,6 +190,9 @@ TEST_F(FleetMissionTest, BadInputNamesTheField) {
   r = threeByNine();
   r.limits.v_ref_mps = -1.0;
   expectError(r, PlanErrorCode::kLimitsOutOfRange, "limits.v_ref_mps");
+  r = threeByNine();
+  r.limits.model = VehicleModel::kFixedWing;  // a fleet's plans wait in place: no fixed wings
+  expectError(r, PlanErrorCode::kInvalidArgument, "limits.model");
 }
 
 // More vehicles than the tasks need: the idle one stays at its begin point (no climb to the cruise
