@@ -249,16 +249,20 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
   Eigen::Vector3d start_m = state.position_m;
   double new_start_s = takeover_s;
   bool from_rest = at_rest;
+  // The step aside and the wait begin at rest: a stop from the takeover state unless it is.
+  auto stopFirst = [&] {
+    if (at_rest) return true;
+    const std::optional<Segment> stop = stopSegment(state, limits_);
+    if (!stop) return false;
+    segments.push_back(*stop);
+    new_start_s += stop->duration_s;
+    start_m = stop->evaluate(stop->duration_s, Derivative::kPosition);
+    return true;
+  };
   if (escape) {
     // Off the obstacle's track at the altitude it is at: a stop, a step aside, a hold while the
     // obstacle goes by when asked for, then the climb to the band there.
-    if (!at_rest) {
-      const std::optional<Segment> stop = stopSegment(state, limits_);
-      if (!stop) return rejected(i, wait_s, "no stop from the takeover state");
-      segments.push_back(*stop);
-      new_start_s += stop->duration_s;
-      start_m = stop->evaluate(stop->duration_s, Derivative::kPosition);
-    }
+    if (!stopFirst()) return rejected(i, wait_s, "no stop from the takeover state");
     auto append = [&](const Trajectory& t) {
       segments.insert(segments.end(), t.segments().begin(), t.segments().end());
       new_start_s += t.duration_s();
@@ -294,13 +298,7 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
     }
     from_rest = true;
   } else if (wait_s > 0.0) {
-    if (!at_rest) {
-      const std::optional<Segment> stop = stopSegment(state, limits_);
-      if (!stop) return rejected(i, wait_s, "no stop from the takeover state");
-      segments.push_back(*stop);
-      new_start_s += stop->duration_s;
-      start_m = stop->evaluate(stop->duration_s, Derivative::kPosition);
-    }
+    if (!stopFirst()) return rejected(i, wait_s, "no stop from the takeover state");
     segments.push_back(holdSegment(start_m, wait_s));
     new_start_s += wait_s;
     from_rest = true;

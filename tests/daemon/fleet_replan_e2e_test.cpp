@@ -41,6 +41,17 @@ class FleetReplanE2E : public testing::FleetDaemonTest {
     return std::any_of(fleet_log_.begin(), fleet_log_.end(),
                        [&](const FleetStatusData& s) { return s.request_id == id && s.state == state; });
   }
+  // Sends the fleet request and waits (20 s) for its success and every vehicle's first plan.
+  bool planFleet(const FleetRequestData& r) {
+    if (!fleet_requests_->write(r).ok()) return false;
+    auto firstPlans = [&] {
+      std::size_t n = 0;
+      for (const TrajectoryData& t : station_->trajectory_log) n += t.request_id == r.request_id ? 1 : 0;
+      return n;
+    };
+    return station_->pumpUntil(
+        [&] { return reached(r.request_id, PlanState::kSucceeded) && firstPlans() == r.vehicle_ids.size(); }, 20.0);
+  }
   // Vehicles with a revision after the first plan, of request id.
   std::set<std::string> revised(const std::string& id) const {
     std::set<std::string> out;
@@ -61,14 +72,7 @@ TEST_F(FleetReplanE2E, CrossingObstaclesGetOnlyTheVehiclesTheyMeetNewRevisions) 
                                {-3000, 1000},  {-1500, 3000},  {0, 0},        {1500, 3500},  {-3500, -2500},
                                {2000, -500},   {-500, 1800},   {3500, 2800},  {-2000, 500},  {500, -1500}};
   for (const auto& s : spots) r.tasks.push_back(above(s[0], s[1], 150));
-  ASSERT_TRUE(fleet_requests_->write(r).ok());
-  auto firstPlans = [&] {
-    std::size_t n = 0;
-    for (const TrajectoryData& t : station_->trajectory_log) n += t.request_id == r.request_id ? 1 : 0;
-    return n;
-  };
-  ASSERT_TRUE(station_->pumpUntil([&] { return reached(r.request_id, PlanState::kSucceeded) && firstPlans() == 5; }, 20.0))
-      << daemon_.err();
+  ASSERT_TRUE(planFleet(r)) << daemon_.err();
   const FleetFlown planned(station_->trajectory_log, r.request_id);
 
   // Three columns (every altitude of the band), each aimed at where one vehicle will be 300, 450
@@ -173,14 +177,7 @@ TEST_F(FleetClimbE2E, AColumnCrossingAClimbIsSteppedAround) {
   r.ends = r.begins;
   const double spots[6][2] = {{-2500, -1500}, {-1000, -3000}, {1500, -2500}, {3000, -1000}, {-1500, 3000}, {1500, 3500}};
   for (const auto& s : spots) r.tasks.push_back(above(s[0], s[1], 150));
-  ASSERT_TRUE(fleet_requests_->write(r).ok());
-  auto firstPlans = [&] {
-    std::size_t n = 0;
-    for (const TrajectoryData& t : station_->trajectory_log) n += t.request_id == r.request_id ? 1 : 0;
-    return n;
-  };
-  ASSERT_TRUE(station_->pumpUntil([&] { return reached(r.request_id, PlanState::kSucceeded) && firstPlans() == 3; }, 20.0))
-      << daemon_.err();
+  ASSERT_TRUE(planFleet(r)) << daemon_.err();
   const FleetFlown planned(station_->trajectory_log, r.request_id);
   double cruise_m = 0.0;
   for (double t = planned.beginOf("fc-a"); t <= planned.endOf("fc-a"); t += 1.0)

@@ -12,27 +12,14 @@
 #include <gtest/gtest.h>
 
 #include "tests/trajectory/finite_differences.hpp"
+#include "tests/trajectory/fixed_wing_vehicle.hpp"
 #include "tests/trajectory/random_paths.hpp"
 #include "trajectory/trajectory_builder.hpp"
 
 namespace skyroute {
 namespace {
 
-VehicleLimits fixedWing() {
-  VehicleLimits l;
-  l.model = VehicleModel::kFixedWing;
-  l.v_ref_mps = 25.0;
-  l.max_speed_mps = 35.0;
-  l.max_accel_mps2 = 10.0;
-  l.max_climb_mps = 8.0;
-  l.max_descent_mps = 8.0;
-  l.stall_speed_mps = 15.0;
-  l.stall_margin = 1.3;
-  l.max_bank_deg = 35.0;
-  l.max_climb_angle_deg = 15.0;
-  l.max_descent_angle_deg = 15.0;
-  return l;
-}
+VehicleLimits fixedWing() { return testing::fixedWingVehicle(); }
 
 // The slowest speed measured from the positions alone.
 double slowestMps(const Trajectory& t) {

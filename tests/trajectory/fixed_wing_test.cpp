@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/trajectory/finite_differences.hpp"
+#include "tests/trajectory/fixed_wing_vehicle.hpp"
 #include "trajectory/trajectory_builder.hpp"
 
 namespace skyroute {
@@ -18,21 +19,7 @@ namespace {
 constexpr double kG = 9.80665;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
-VehicleLimits glider() {
-  VehicleLimits l;
-  l.model = VehicleModel::kFixedWing;
-  l.v_ref_mps = 25.0;
-  l.max_speed_mps = 35.0;
-  l.max_accel_mps2 = 10.0;
-  l.max_climb_mps = 8.0;
-  l.max_descent_mps = 8.0;
-  l.stall_speed_mps = 15.0;
-  l.stall_margin = 1.3;
-  l.max_bank_deg = 35.0;
-  l.max_climb_angle_deg = 15.0;
-  l.max_descent_angle_deg = 15.0;
-  return l;
-}
+VehicleLimits glider() { return testing::fixedWingVehicle(); }
 
 // Corners of about 106 degrees on 500 m legs, climbing gently then descending.
 std::vector<Eigen::Vector3d> zigZag() {

@@ -6,27 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/trajectory/fixed_wing_vehicle.hpp"
 #include "trajectory/feasibility.hpp"
 #include "trajectory/loiter.hpp"
 
 namespace skyroute {
 namespace {
 
-VehicleLimits fixedWing() {
-  VehicleLimits l;
-  l.model = VehicleModel::kFixedWing;
-  l.v_ref_mps = 25.0;
-  l.max_speed_mps = 35.0;
-  l.max_accel_mps2 = 10.0;
-  l.max_climb_mps = 8.0;
-  l.max_descent_mps = 8.0;
-  l.stall_speed_mps = 15.0;
-  l.stall_margin = 1.3;
-  l.max_bank_deg = 35.0;
-  l.max_climb_angle_deg = 15.0;
-  l.max_descent_angle_deg = 15.0;
-  return l;
-}
+VehicleLimits fixedWing() { return testing::fixedWingVehicle(); }
 
 // Flying north-east, climbing gently, already turning a little.
 TrajectoryState entryState() {
