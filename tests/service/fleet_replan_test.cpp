@@ -141,8 +141,12 @@ class FleetReplanTest : public testing::DefaultWorldTest {
     std::printf("closest pair %.1f m, closest obstacle axis %.1f m\n", closest_m, closest_obstacle_m);
   }
 
-  // The grid checker on the cells the vehicles occupy in the flight band, one sample per grid step.
-  void expectNoGridConflicts(const FleetRequestData& r, double cell_m, double step_s) const {
+  // The grid checker on the cells the vehicles occupy in the flight band, one sample per grid step
+  // (a cell of the plan's size, 99 m, flown at the cruise speed; the plan's own grid is checked
+  // only through the separation).
+  void expectNoGridConflicts(const FleetRequestData& r) const {
+    const double cell_m = 99.0;
+    const double step_s = cell_m / r.limits.v_ref_mps;
     const FleetFlown flown(sink_.trajectories, r.request_id);
     const GridLayer grid(static_cast<int>(std::ceil(heightfield_->boundsEn().sizes().x() / cell_m)) + 2,
                          static_cast<int>(std::ceil(heightfield_->boundsEn().sizes().y() / cell_m)) + 2, cell_m,
@@ -230,8 +234,7 @@ TEST_F(FleetReplanTest, ThreeCrossingObstaclesFiveVehiclesFifteenTasks) {
   for (const std::string& v : meeting) EXPECT_TRUE(revised.count(v) > 0) << v << " meets an obstacle and was not replanned";
 
   expectCleanFlight(r, updates);
-  const double cell_m = 99.0;  // checked against the plan's grid only through the separation
-  expectNoGridConflicts(r, cell_m, cell_m / r.limits.v_ref_mps);
+  expectNoGridConflicts(r);
   std::printf("meeting %zu vehicles, revised %zu, latency %.3f s\n", meeting.size(), revised.size(),
               status.planning_time_s);
 }
@@ -267,8 +270,7 @@ TEST_F(FleetReplanTest, AColumnCrossingAClimbIsSteppedAround) {
     EXPECT_TRUE(aside_below_band);
   }
   expectCleanFlight(r, {update});
-  const double cell_m = 99.0;
-  expectNoGridConflicts(r, cell_m, cell_m / r.limits.v_ref_mps);
+  expectNoGridConflicts(r);
 }
 
 // A column crosses uav-a's descent onto its end, when the vehicle is already descending: it
@@ -299,8 +301,7 @@ TEST_F(FleetReplanTest, AColumnCrossingADescentIsSteppedAround) {
     EXPECT_LT(highest_m, cruise_m - 100.0) << "it climbs back to the band";
   }
   expectCleanFlight(r, {update});
-  const double cell_m = 99.0;
-  expectNoGridConflicts(r, cell_m, cell_m / r.limits.v_ref_mps);
+  expectNoGridConflicts(r);
 }
 
 // An obstacle far from every vehicle's path: nothing is replanned, nothing published.
@@ -367,8 +368,7 @@ TEST_F(FleetReplanTest, ATaskAnObstacleCoversIsReallocatedAndServed) {
   for (const FleetVehicleAllocationData& v : taken.allocation) holders += static_cast<int>(std::count(v.tasks.begin(), v.tasks.end(), task));
   EXPECT_EQ(holders, 1);
   expectCleanFlight(r, {parked});
-  const double cell_m = 99.0;
-  expectNoGridConflicts(r, cell_m, cell_m / r.limits.v_ref_mps);
+  expectNoGridConflicts(r);
 }
 
 }  // namespace
