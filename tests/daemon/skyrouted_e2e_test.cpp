@@ -43,6 +43,83 @@ class SkyroutedE2E : public testing::DaemonFixture {
     }
     return ids;
   }
+
+  // Replays a cylinder crossing uav-r's route on `domain` and checks the daemon's new revisions:
+  // each avoids it, and the last reaches the end. Returns the revisions that came after it.
+  std::vector<TrajectoryData> replayCrossingObstacle(int domain) {
+    std::vector<TrajectoryData> after;
+    replayCrossingObstacleInto(domain, after);
+    return after;
+  }
+  void replayCrossingObstacleInto(int domain, std::vector<TrajectoryData>& after) {
+    MissionRequestData m = simpleMission("replay-1", "uav-r", 0.0);
+    m.limits.v_ref_mps = 50.0;  // seed 003's vehicle: at cruise within seconds
+    m.limits.max_speed_mps = 60.0;
+    m.limits.max_accel_mps2 = 10.0;
+    m.limits.max_climb_rate_mps = 15.0;
+    m.limits.max_descent_rate_mps = 15.0;
+    ASSERT_TRUE(station_->requests->write(m).ok());
+    ASSERT_TRUE(station_->waitTerminal({m.request_id}, 120.0)) << daemon_.err();
+    ASSERT_EQ(station_->terminal(m.request_id)->state, PlanState::kSucceeded);
+    ASSERT_TRUE(station_->pumpUntil([&] { return station_->latest("uav-r") != nullptr; }, 10.0));
+    const TrajectoryData first = *station_->latest("uav-r");
+
+    // A recorded feed: a cylinder that sweeps across the route and reaches the point 1.5 km ahead
+    // of the vehicle just when the vehicle does (it starts 1 km to the side).
+    const double now_rel_s = static_cast<double>(utcNowNs() - first.samples.front().utc_ns) * 1e-9;
+    const double dt_s = first.samples[1].t_rel_s - first.samples[0].t_rel_s;
+    const std::size_t now_k = static_cast<std::size_t>(now_rel_s / dt_s);
+    std::size_t k = now_k;
+    while (k + 1 < first.samples.size() &&
+           (first.samples[k].position_enu_m - first.samples[now_k].position_enu_m).norm() < 1500.0)
+      ++k;
+    const double meet_in_s = first.samples[k].t_rel_s - now_rel_s;
+    ASSERT_GT(meet_in_s, 10.0);
+    ASSERT_LT(meet_in_s, 40.0);  // inside the 45 s replanning horizon
+    const Eigen::Vector3d on_route = first.samples[k].position_enu_m;
+    const Eigen::Vector3d heading = first.samples[k].velocity_enu_mps.normalized();
+    const Eigen::Vector3d across(-heading.y(), heading.x(), 0.0);
+    FeedEntry entry;
+    entry.update.obstacle.id = 77;
+    entry.update.obstacle.shape = ObstacleShape::kCylinder;
+    entry.update.obstacle.size_m = Eigen::Vector3d(200.0, 0.0, 300.0);
+    entry.update.obstacle.center_m = on_route - 1000.0 * across;
+    entry.update.obstacle.motion =
+        BackAndForth{on_route - 1000.0 * across, on_route + 1000.0 * across, 1000.0 / meet_in_s, 0.0};
+    const std::string feed = tempPath("crossing.jsonl");
+    ASSERT_TRUE(writeObstacleFeed(feed, {entry}).ok());
+
+    ChildProcess replay = ChildProcess::spawn({SKYROUTE_CLI, "replay", feed, "--domain", std::to_string(domain), "--readers", "2"}, "replay");
+    ASSERT_EQ(replay.wait(30.0), 0) << replay.err();
+    ASSERT_TRUE(station_->pumpUntil([&] { return !station_->obstacle_log.empty(); }, 10.0));
+    const auto heard = std::chrono::steady_clock::now();
+    ASSERT_TRUE(station_->pumpUntil([&] { return station_->latest("uav-r")->revision >= 1; }, 20.0)) << daemon_.err();
+    const double reaction_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - heard).count();
+    std::printf("obstacle heard -> new revision received: %.3f s\n", reaction_s);
+    EXPECT_LT(reaction_s, 5.0) << daemon_.err();
+
+    // The first answer may be a hold: when a loaded machine cuts the replan at the cycle's
+    // deadline, the vehicle stops clear of the obstacle and the next cycles plan on from there. So
+    // every new revision must avoid the obstacle, and one of them must reach the end.
+    const Obstacle obstacle = worldObstacle(station_->obstacle_log.back(), 3600.0);
+    const auto reachesEnd = [&](const TrajectoryData& t) {
+      return (t.samples.back().position_enu_m - enuOf(m.end)).norm() < 0.01;
+    };
+    ASSERT_TRUE(station_->pumpUntil([&] { return reachesEnd(*station_->latest("uav-r")); }, 30.0))
+        << "no revision after the obstacle reaches the end; the last is revision "
+        << station_->latest("uav-r")->revision << "\n" << daemon_.err();
+    for (const TrajectoryData& t : station_->trajectory_log) {
+      if (t.vehicle_id != "uav-r" || t.revision < 1) continue;
+      EXPECT_EQ(t.plan_id, first.plan_id);
+      after.push_back(t);
+      for (const auto& s : t.samples) {
+        const double t_s = static_cast<double>(s.utc_ns) * 1e-9;
+        ASSERT_FALSE(obstacle.contains(s.position_enu_m, t_s, WorldModelOptions{}.vehicle_radius_m))
+            << "revision " << t.revision << " meets the obstacle at t_rel=" << s.t_rel_s;
+      }
+    }
+    std::filesystem::remove(feed);
+  }
 };
 
 TEST_F(SkyroutedE2E, MissionGivesACollisionFreeTrajectoryThroughEveryPointBeginFirstEndLast) {
@@ -109,62 +186,19 @@ TEST_F(SkyroutedE2E, LateJoiningGroundStationGetsEveryVehiclesCurrentTrajectory)
 
 TEST_F(SkyroutedE2E, ReplayedObstacleFeedCrossingTheRouteGivesANewRevisionThatAvoidsIt) {
   startDaemon(142);
-  MissionRequestData m = simpleMission("replay-1", "uav-r", 0.0);
-  m.limits.v_ref_mps = 50.0;  // seed 003's vehicle: at cruise within seconds
-  m.limits.max_speed_mps = 60.0;
-  m.limits.max_accel_mps2 = 10.0;
-  m.limits.max_climb_rate_mps = 15.0;
-  m.limits.max_descent_rate_mps = 15.0;
-  ASSERT_TRUE(station_->requests->write(m).ok());
-  ASSERT_TRUE(station_->waitTerminal({m.request_id}, 120.0)) << daemon_.err();
-  ASSERT_EQ(station_->terminal(m.request_id)->state, PlanState::kSucceeded);
-  ASSERT_TRUE(station_->pumpUntil([&] { return station_->latest("uav-r") != nullptr; }, 10.0));
-  const TrajectoryData first = *station_->latest("uav-r");
+  const std::vector<TrajectoryData> after = replayCrossingObstacle(142);
+  EXPECT_FALSE(after.empty());
+}
 
-  // A recorded feed: a cylinder that sweeps across the route and reaches the point 1.5 km ahead
-  // of the vehicle just when the vehicle does (it starts 1 km to the side).
-  const double now_rel_s = static_cast<double>(utcNowNs() - first.samples.front().utc_ns) * 1e-9;
-  const double dt_s = first.samples[1].t_rel_s - first.samples[0].t_rel_s;
-  const std::size_t now_k = static_cast<std::size_t>(now_rel_s / dt_s);
-  std::size_t k = now_k;
-  while (k + 1 < first.samples.size() &&
-         (first.samples[k].position_enu_m - first.samples[now_k].position_enu_m).norm() < 1500.0)
-    ++k;
-  const double meet_in_s = first.samples[k].t_rel_s - now_rel_s;
-  ASSERT_GT(meet_in_s, 10.0);
-  ASSERT_LT(meet_in_s, 40.0);  // inside the 45 s replanning horizon
-  const Eigen::Vector3d on_route = first.samples[k].position_enu_m;
-  const Eigen::Vector3d heading = first.samples[k].velocity_enu_mps.normalized();
-  const Eigen::Vector3d across(-heading.y(), heading.x(), 0.0);
-  FeedEntry entry;
-  entry.update.obstacle.id = 77;
-  entry.update.obstacle.shape = ObstacleShape::kCylinder;
-  entry.update.obstacle.size_m = Eigen::Vector3d(200.0, 0.0, 300.0);
-  entry.update.obstacle.center_m = on_route - 1000.0 * across;
-  entry.update.obstacle.motion =
-      BackAndForth{on_route - 1000.0 * across, on_route + 1000.0 * across, 1000.0 / meet_in_s, 0.0};
-  const std::string feed = tempPath("crossing.jsonl");
-  ASSERT_TRUE(writeObstacleFeed(feed, {entry}).ok());
-
-  ChildProcess replay = ChildProcess::spawn({SKYROUTE_CLI, "replay", feed, "--domain", "142", "--readers", "2"}, "replay");
-  ASSERT_EQ(replay.wait(30.0), 0) << replay.err();
-  ASSERT_TRUE(station_->pumpUntil([&] { return !station_->obstacle_log.empty(); }, 10.0));
-  const auto heard = std::chrono::steady_clock::now();
-  ASSERT_TRUE(station_->pumpUntil([&] { return station_->latest("uav-r")->revision >= 1; }, 20.0)) << daemon_.err();
-  const double reaction_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - heard).count();
-  std::printf("obstacle heard -> new revision received: %.3f s\n", reaction_s);
-  EXPECT_LT(reaction_s, 5.0) << daemon_.err();
-
-  const TrajectoryData& second = *station_->latest("uav-r");
-  EXPECT_EQ(second.plan_id, first.plan_id);
-  const Obstacle obstacle = worldObstacle(station_->obstacle_log.back(), 3600.0);
-  for (const auto& s : second.samples) {
-    const double t_s = static_cast<double>(s.utc_ns) * 1e-9;
-    ASSERT_FALSE(obstacle.contains(s.position_enu_m, t_s, WorldModelOptions{}.vehicle_radius_m))
-        << "revision " << second.revision << " meets the obstacle at t_rel=" << s.t_rel_s;
-  }
-  EXPECT_LT((second.samples.back().position_enu_m - enuOf(m.end)).norm(), 0.01);
-  std::filesystem::remove(feed);
+// A replan cut at its deadline (a 1 ms budget stands for a loaded machine) answers with a hold
+// that stops clear of the obstacle, and the cycles after it plan on to the end.
+TEST_F(SkyroutedE2E, ReplanCutAtItsDeadlineHoldsClearOfTheObstacleAndThenReachesTheEnd) {
+  startDaemonWithConfig(128, "[replanning]\nbudget_s = 0.001\n");
+  const std::vector<TrajectoryData> after = replayCrossingObstacle(128);
+  ASSERT_GE(after.size(), 2u);
+  EXPECT_GT((after.front().samples.back().position_enu_m - after.back().samples.back().position_enu_m).norm(), 100.0)
+      << "the first answer should be a hold short of the end";
+  EXPECT_LT(after.front().samples.back().velocity_enu_mps.norm(), 0.01) << "a hold ends at rest";
 }
 
 TEST_F(SkyroutedE2E, BadRequestsGetTheirErrorAndTheServiceGoesOnServing) {
