@@ -8,7 +8,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include <CLI/CLI.hpp>
 
@@ -55,13 +54,8 @@ void runCancel(const CancelOptions& o) {
   if (!statuses.waitForWriters(1, std::max(0.0, left_s()))) {
     fail(kTool, kExitServiceUnavailable, "the planning service has no status writer" + on_domain);
   }
-  // The service answers a cancel at once, and its status writer (volatile) reaches only the readers
-  // it has discovered. That we know its writer does not mean it knows our reader yet: the two
-  // sides' endpoint announcements travel on separate built-in topics, and a lost one is resent
-  // only at the next heartbeat (about 0.1 s). Left before then, the answer was lost (seen once in
-  // the end-to-end tests on a loaded machine): give discovery that long.
-  constexpr double kDiscoverySettleS = 0.5;
-  std::this_thread::sleep_for(std::chrono::duration<double>(std::min(kDiscoverySettleS, std::max(0.0, left_s()))));
+  // The service holds its answer until its status writer has matched our reader (up to 2 s):
+  // knowing its writer does not mean it knows our reader yet.
   const CancelRequestData cancel{o.request_id, o.vehicle, dds::entityGuid(writer.handle())};
   if (Status written = writer.write(cancel); !written) fail(kTool, kExitServiceUnavailable, written.error().describe());
   std::cout << "sent cancel" << (o.vehicle.empty() ? "" : " vehicle=" + o.vehicle)

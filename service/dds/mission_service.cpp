@@ -153,14 +153,18 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
         bad_samples_log_.warn("bad_request:" + e.field,
                               fmt::format("event=bad_request request={} vehicle={} field={} message=\"{}\"",
                                           identity.request_id, identity.vehicle_id, e.field, e.message));
-        publishStatus(PlanStatusData::failed(identity, toPlanError(e), 0.0));
+        const PlanStatusData refusal = PlanStatusData::failed(identity, toPlanError(e), 0.0);
+        answerWhenReachable(identity.requester, [this, refusal] { publishStatus(refusal); });
       });
   if (!added.ok()) return added.error();
   added = l.addWithRejects(
       *edge->cancels,
       [this](CancelRequestData&& cancel) {
-        // In a shard group only the vehicle's owner answers; every member forgets the mission.
-        if (!router_ || routeCancel(cancel)) engine_->cancel(cancel);
+        const std::string requester = cancel.requester;
+        answerWhenReachable(requester, [this, cancel = std::move(cancel)] {
+          // In a shard group only the vehicle's owner answers; every member forgets the mission.
+          if (!router_ || routeCancel(cancel)) engine_->cancel(cancel);
+        });
       },
       [this](const Error& e, const CancelRequestData& identity) {
         ++bad_samples_;
@@ -173,7 +177,8 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
         who.request_id = identity.request_id;
         who.vehicle_id = identity.vehicle_id;
         who.requester = identity.requester;
-        publishStatus(PlanStatusData::failed(who, toPlanError(e), 0.0));
+        const PlanStatusData refusal = PlanStatusData::failed(who, toPlanError(e), 0.0);
+        answerWhenReachable(identity.requester, [this, refusal] { publishStatus(refusal); });
       });
   if (!added.ok()) return added.error();
   // A refused obstacle or zone has no reply topic: counted and logged (rate-limited per field).
@@ -395,6 +400,43 @@ void MissionService::stopDdsThread() {
   if (!dds_thread_.joinable()) return;
   edge_->loop->stop();
   dds_thread_.join();
+  answerReachable(Clock::now(), /*all=*/true);  // nothing read is left unanswered
+}
+
+void MissionService::answerWhenReachable(const std::string& requester, std::function<void()> answer) {
+  const bool queued_before = std::any_of(pending_answers_.begin(), pending_answers_.end(),
+                                         [&](const PendingAnswer& p) { return p.requester == requester; });
+  if (requester.empty() || (!queued_before && reachesParticipantOf(edge_->statuses->handle(), requester))) {
+    answer();
+    return;
+  }
+  pending_answers_.push_back({Clock::now() + seconds(kAnswerWaitS), requester, std::move(answer)});
+}
+
+void MissionService::answerReachable(Clock::time_point now, bool all) {
+  std::set<std::string> waiting;  // requesters with an earlier answer still held: keep the order
+  std::vector<PendingAnswer> held;
+  std::vector<PendingAnswer> pending = std::move(pending_answers_);
+  pending_answers_.clear();
+  for (PendingAnswer& p : pending) {
+    const bool due = all || now >= p.give_up_at ||
+                     (!waiting.count(p.requester) && reachesParticipantOf(edge_->statuses->handle(), p.requester));
+    if (!due) {
+      waiting.insert(p.requester);
+      held.push_back(std::move(p));
+      continue;
+    }
+    if (now >= p.give_up_at && !all) {
+      spdlog::warn("event=answer_unreached requester={} waited_s={:.1f} message=\"no status reader of the client "
+                   "matched; answering anyway\"",
+                   p.requester, kAnswerWaitS);
+    }
+    p.answer();
+  }
+  // Answers may queue more (a cancel's engine call does not, but keep them after the held ones).
+  held.insert(held.end(), std::make_move_iterator(pending_answers_.begin()),
+              std::make_move_iterator(pending_answers_.end()));
+  pending_answers_ = std::move(held);
 }
 
 Status MissionService::deactivate() {
@@ -693,6 +735,7 @@ void MissionService::ddsThread() {
     const auto now = Clock::now();
     republishDue(now);
     shardCheckDue(now);
+    if (!pending_answers_.empty()) answerReachable(now, /*all=*/false);
     if (now >= next_heartbeat) {
       publishHeartbeat();
       scheduleShardCheck();  // a restarted member's first heartbeat makes it live again
@@ -704,6 +747,8 @@ void MissionService::ddsThread() {
     }
     auto wake = republish_at_.empty() ? next_heartbeat : std::min(next_heartbeat, republish_at_.front());
     if (!shard_check_at_.empty()) wake = std::min(wake, shard_check_at_.front());
+    constexpr auto kReachCheckPeriod = std::chrono::milliseconds(20);
+    if (!pending_answers_.empty()) wake = std::min(wake, Clock::now() + kReachCheckPeriod);
     const double wait_s = std::chrono::duration<double>(wake - Clock::now()).count();
     auto outcome = loop.runOnce(std::max(wait_s, 0.0));
     if (!outcome.ok()) {

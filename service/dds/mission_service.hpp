@@ -101,6 +101,13 @@ class MissionService final : public EngineSink {
   // A standby whose partner's heartbeat writer lost its liveliness: schedules the republishing.
   void checkPartnerLoss();
   void republishDue(std::chrono::steady_clock::time_point now);  // DDS thread
+  // An answer addressed to one client (to its cancel, or a refusal of its request) waits until our
+  // status writer has matched that client's reader, up to kAnswerWaitS. The client's reader and
+  // our writer discover each other separately, and a volatile status written before our side
+  // knows the reader is lost to it. A client's answers keep their order.
+  static constexpr double kAnswerWaitS = 2.0;
+  void answerWhenReachable(const std::string& requester, std::function<void()> answer);  // DDS thread
+  void answerReachable(std::chrono::steady_clock::time_point now, bool all);               // DDS thread
   // A standby keeps the primary's last revision of each vehicle from the wire and, taking over,
   // numbers its own on from it (Engine::followRevision) before it republishes.
   void noteWireRevision(const TrajectoryData& trajectory);  // DDS thread
@@ -156,6 +163,12 @@ class MissionService final : public EngineSink {
   std::vector<std::string> partners_logged_;        // DDS thread only
   std::uint32_t alive_heartbeat_writers_ = 0;       // DDS thread only
   std::vector<std::chrono::steady_clock::time_point> republish_at_;  // DDS thread only, in order
+  struct PendingAnswer {
+    std::chrono::steady_clock::time_point give_up_at;  // answered then even if still unreached
+    std::string requester;
+    std::function<void()> answer;
+  };
+  std::vector<PendingAnswer> pending_answers_;  // DDS thread only, in arrival order
   struct WireRevision {
     std::string plan_id;
     std::uint32_t revision = 0;

@@ -82,6 +82,27 @@ std::string entityGuid(dds_entity_t entity) {
   return guidText(guid);
 }
 
+bool reachesParticipantOf(dds_entity_t writer, const std::string& endpoint_guid) {
+  constexpr std::size_t kPrefixDigits = 24;  // 12 bytes of GUID prefix
+  if (endpoint_guid.size() != 32) return false;
+  std::vector<dds_instance_handle_t> handles(16);
+  for (;;) {
+    const dds_return_t n = dds_get_matched_subscriptions(writer, handles.data(), handles.size());
+    if (n < 0) return false;
+    // More matches than room: only the first handles.size() were filled; ask again with room.
+    if (static_cast<std::size_t>(n) > handles.size()) {
+      handles.resize(static_cast<std::size_t>(n));
+      continue;
+    }
+    for (dds_return_t i = 0; i < n; ++i) {
+      const Endpoint reader(dds_get_matched_subscription_data(writer, handles[static_cast<std::size_t>(i)]));
+      if (reader && guidText(reader->participant_key).compare(0, kPrefixDigits, endpoint_guid, 0, kPrefixDigits) == 0)
+        return true;
+    }
+    return false;
+  }
+}
+
 std::string remoteWriterGuid(dds_entity_t reader, dds_instance_handle_t publication) {
   const Endpoint endpoint = matchedPublication(reader, publication);
   return endpoint ? guidText(endpoint->key) : "";

@@ -27,6 +27,9 @@ uint32_t matchedWriters(dds_entity_t reader);
 std::string guidText(const dds_guid_t& guid);
 // The GUID of one of this process's entities ("" on a DDS error).
 std::string entityGuid(dds_entity_t entity);
+// Whether `writer` has matched a reader of the participant that owns the endpoint `endpoint_guid`
+// (32 hex digits, as guidText writes them; a participant is its GUID's first 12 bytes).
+bool reachesParticipantOf(dds_entity_t writer, const std::string& endpoint_guid);
 // The GUID of the remote writer a sample came from (its sample info's publication handle); ""
 // when it is no longer matched.
 std::string remoteWriterGuid(dds_entity_t reader, dds_instance_handle_t publication);

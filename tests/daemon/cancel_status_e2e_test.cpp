@@ -4,6 +4,7 @@
 // Without a daemon both exit 4.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <string>
 #include <vector>
 
@@ -108,6 +109,42 @@ TEST_F(CancelStatusE2E, WithoutADaemonBothExitFourAndCancelNeedsATarget) {
   const std::string mission = testing::projectDataPath("missions/demo_mission.json");
   expectExit(runCli({"request", "--domain", "214", "--file", mission, "--wait", "5", "--progress"}, "request_progress"),
              4, "waiting on domain 214: 0 planning services discovered, 0 with a heartbeat; ");
+}
+
+// A client's status reader and the daemon's status writer discover each other separately, and a
+// volatile answer written before the daemon knows the reader is lost to it. The daemon holds the
+// answer (up to 2 s) until its writer has matched a reader of the client's participant: here the
+// client makes its reader only after the daemon has read its cancel, and still gets the answer.
+TEST_F(CancelStatusE2E, TheAnswerWaitsForTheClientsStatusReader) {
+  startDaemon(129);
+  ASSERT_TRUE(station_->requests->write(simpleMission("fly-late", "uav-l", 0.0)).ok());
+  ASSERT_TRUE(station_->waitState("fly-late", PlanState::kSucceeded, 120.0)) << daemon_.err();
+
+  auto participant = dds::createParticipant(129);
+  ASSERT_TRUE(participant.ok());
+  auto cancels = dds::Writer<CancelRequestData>::create(participant->get());
+  ASSERT_TRUE(cancels.ok());
+  ASSERT_TRUE(cancels->waitForReaders(1, 20.0).ok());
+  ASSERT_TRUE(cancels->write(CancelRequestData{"", "uav-l", ""}).ok());
+  ASSERT_TRUE(cancels->waitForAcks(5.0).ok());  // the daemon has the cancel
+
+  auto statuses = dds::Reader<PlanStatusData>::create(participant->get());
+  ASSERT_TRUE(statuses.ok());
+  auto loop = dds::WaitLoop::create(participant->get());
+  ASSERT_TRUE(loop.ok());
+  bool cancelled = false;
+  ASSERT_TRUE(loop->add(
+                      *statuses,
+                      [&](PlanStatusData&& st) {
+                        cancelled = cancelled || (st.request_id == "fly-late" && st.state == PlanState::kCancelled);
+                      },
+                      [](const Error&) {})
+                  .ok());
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (!cancelled && std::chrono::steady_clock::now() < deadline) ASSERT_TRUE(loop->runOnce(0.05).ok());
+  EXPECT_TRUE(cancelled) << "the answer to the cancel never reached the client's late reader\n" << daemon_.err();
+  // The fixture's station saw it too: the mission was cancelled, not just answered.
+  EXPECT_TRUE(station_->waitState("fly-late", PlanState::kCancelled, 5.0));
 }
 
 }  // namespace
