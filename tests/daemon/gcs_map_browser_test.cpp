@@ -105,10 +105,18 @@ TEST(GcsMapBrowser, PageFollowsTheDaemonsRevisionsAsTheyArrive) {
   obstacle.obstacle.size_m = Eigen::Vector3d(150.0, 0.0, 3000.0);
   obstacle.obstacle.center_m = first.samples[k].position_enu_m;
   ASSERT_TRUE(station->obstacles->write(obstacle).ok());
-  ASSERT_TRUE(eventually([&] { return revisionShown(*browser) == "1"; }, 20.0)) << pageText(*browser) << daemon.err();
+  // A loaded machine may answer with a hold first (a replan cut at the cycle's deadline) and the
+  // route one cycle later: any revision after the first will do, as long as the vehicle's list
+  // entry and the revision shown agree.
+  ASSERT_TRUE(eventually(
+      [&] {
+        const std::string shown = revisionShown(*browser);
+        return !shown.empty() && shown != "0" && pageText(*browser).find(kVehicle + " · rev " + shown) != std::string::npos;
+      },
+      20.0))
+      << pageText(*browser) << daemon.err();
   EXPECT_TRUE(exists(*browser, "#obstacles li[data-obstacle=\"91\"]")) << pageText(*browser);
   EXPECT_TRUE(exists(*browser, "#obstacle-91"));
-  EXPECT_NE(pageText(*browser).find(kVehicle + " · rev 1"), std::string::npos) << pageText(*browser);
 
   // No-fly zones are not in the product yet: the state's list is empty, and a zone in the shape
   // the state reserves for them is drawn once one comes.
