@@ -21,6 +21,9 @@ Status validateReplanOptions(const ReplanOptions& options) {
   if (!(options.replan_budget_ms >= 0.0)) {
     return make_error(ErrorCode::kInvalidArgument, "replan_budget_ms", "must be zero (none) or positive");
   }
+  if (options.replan_budget_attempts < 0) {
+    return make_error(ErrorCode::kInvalidArgument, "replan_budget_attempts", "must be zero (none) or positive");
+  }
   if (!(options.max_commit_s >= 0.0) || !std::isfinite(options.max_commit_s)) {
     return make_error(ErrorCode::kInvalidArgument, "max_commit_s", "must be zero (none) or positive and finite");
   }
@@ -155,11 +158,15 @@ bool samePath(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Ve
 
 Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
     const std::function<std::optional<AttemptPlan>(int)>& plan_of, double at_world_s, const TrajectoryState* state,
-    const TerminationCondition& stop, bool first_only, const LegPathPlanner& legs) const {
+    const TerminationCondition& outer_stop, bool first_only, const LegPathPlanner& legs) const {
   std::optional<Candidate> best;
   std::optional<Error> last_error;
   std::vector<std::vector<Eigen::Vector3d>> tried;
+  // With an attempt budget, a deadline already passed once the cycle's attempts are spent.
+  TerminationCondition expired = TerminationCondition::after(std::chrono::nanoseconds(0));
+  if (outer_stop.cancelFlag()) expired.withCancelFlag(outer_stop.sharedCancelFlag());
   for (int attempt = 0; attempt < std::max(1, options_.max_attempts); ++attempt) {
+    const TerminationCondition& stop = deadlinePassed(outer_stop) ? expired : outer_stop;
     if (auto reason = stop.reason(); reason != TerminationCondition::Reason::kNone) {
       std::string message = "stopped after " + std::to_string(attempt) + " attempts";
       if (last_error) message += " (last: " + last_error->describe() + ")";
@@ -169,6 +176,7 @@ Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
     }
     std::optional<AttemptPlan> plan = plan_of(attempt);
     if (!plan) continue;
+    ++cycle_attempts_;
     const RouteOptions route =
         attemptOptions(plan->points, at_world_s, state, attempt, plan->variant, plan->conflict_in_s, plan->rejoin);
     const auto attempt_started = std::chrono::steady_clock::now();
@@ -517,7 +525,14 @@ TerminationCondition FlightReplanner::cycleStop(std::chrono::steady_clock::time_
                                         std::chrono::steady_clock::now()))
                                   : TerminationCondition();
   if (options_.cancel) stop.withCancelFlag(options_.cancel);
+  // An attempt budget alone still needs a deadline for the cycle to count attempts against.
+  if (options_.replan_budget_attempts > 0 && !stop.hasDeadline()) stop.withDeadlineAfter(std::chrono::hours(24));
   return stop;
+}
+
+bool FlightReplanner::deadlinePassed(const TerminationCondition& stop) const {
+  if (stop.reason() == TerminationCondition::Reason::kDeadline) return true;
+  return stop.hasDeadline() && options_.replan_budget_attempts > 0 && cycle_attempts_ >= options_.replan_budget_attempts;
 }
 
 ReplanStep FlightReplanner::step(double now_s) {
@@ -550,6 +565,7 @@ ReplanStep FlightReplanner::stepOnce(double now_s) {
   if (points.size() < 2) return result;  // already at the goal
   // The deadline counts from the start of the cycle: the check above is part of the latency.
   TerminationCondition stop = cycleStop(started);
+  cycle_attempts_ = 0;
   const std::vector<Eigen::Vector3d> ahead = waypointsAhead(state.position_m, takeover_s);
   Result<Candidate> best = make_error(ErrorCode::kInternal, "replan", "not run");
   // A hold is no route to rejoin: plan the whole rest from it.
@@ -569,7 +585,7 @@ ReplanStep FlightReplanner::stepOnce(double now_s) {
     // never: plan on past the deadline until a first candidate, or the vehicle might wait at
     // its hold for as long as the machine is too loaded to plan within the budget.
     if ((!options_.hold_fallback || holding_) && !best.ok() && best.error().code == ErrorCode::kTimeout &&
-        stop.reason() == TerminationCondition::Reason::kDeadline) {
+        deadlinePassed(stop)) {
       TerminationCondition cancel_only;
       if (options_.cancel) cancel_only.withCancelFlag(options_.cancel);
       best = bestCandidate(whole, takeover_s, &state, cancel_only, true);

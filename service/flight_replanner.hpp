@@ -93,6 +93,10 @@ struct ReplanOptions {
   // reproducible).
   // The first plan (start()) has no such deadline.
   double replan_budget_ms = 12.0;
+  // A reproducible stand-in for that budget (tests, benchmarks): a replan's deadline counts as
+  // passed once this many of its attempts (local and whole together) have run, as the wall clock
+  // would pass it on a loaded machine. 0 = none.
+  int replan_budget_attempts = 0;
   // RRT* iterations per leg when replanning; 0 = route.leg_max_iterations.
   std::uint64_t replan_leg_max_iterations = 0;
   // Trajectory repair rounds when replanning (at most route.trajectory.max_repair_rounds; < 0 =
@@ -176,6 +180,8 @@ class FlightReplanner {
   // The cycle's stop: the replan budget counted from `started` (the start of the cycle), and the
   // cancel flag.
   TerminationCondition cycleStop(std::chrono::steady_clock::time_point started) const;
+  // Whether the cycle's deadline has passed: `stop`'s own, or ReplanOptions::replan_budget_attempts.
+  bool deadlinePassed(const TerminationCondition& stop) const;
   FlightReplanner() = default;
   // Where a local repair joins the current trajectory again.
   struct Rejoin {
@@ -260,6 +266,7 @@ class FlightReplanner {
   double start_world_s_ = 0.0;
   std::uint32_t revision_ = 0;
   int failed_cycles_ = 0;  // replanning cycles in a row that found nothing better
+  mutable int cycle_attempts_ = 0;  // attempts run in this cycle (ReplanOptions::replan_budget_attempts)
   bool holding_ = false;
   std::optional<LoiterCircle> loiter_circle_;  // the loiter in force
   double loiter_end_rad_ = 0.0;               // where its last arc ends

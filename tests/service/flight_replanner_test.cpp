@@ -379,6 +379,7 @@ TEST(FlightReplanner, BadCommitAndHoldOptionsAreRefusedByName) {
       {"max_commit_s", [](ReplanOptions& o) { o.max_commit_s = std::numeric_limits<double>::infinity(); }},
       {"calm_accel_share", [](ReplanOptions& o) { o.calm_jerk_mps3 = 0.0; }},
       {"replan_accel_fraction", [](ReplanOptions& o) { o.replan_accel_fraction = 1.5; }},
+      {"replan_budget_attempts", [](ReplanOptions& o) { o.replan_budget_attempts = -1; }},
   };
   for (const auto& [field, spoil] : cases) {
     ReplanOptions options = scenarioReplanOptions();
