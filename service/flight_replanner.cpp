@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include <Eigen/Geometry>
 #include <spdlog/spdlog.h>
@@ -13,6 +15,16 @@
 namespace skyroute {
 
 namespace {
+
+// Room a hold keeps from every obstacle where it comes to rest, when it can, and that a plan
+// leaving a clear hold keeps from every obstacle within the horizon (m).
+constexpr double kHoldRoomM = 30.0;
+
+std::string formatRoomM(double room_m) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", room_m);
+  return text;
+}
 
 Status validateReplanOptions(const ReplanOptions& options) {
   if (!(options.period_s > 0.0) || !(options.horizon_s > 0.0) || !(options.check_step_s > 0.0)) {
@@ -514,6 +526,42 @@ double FlightReplanner::firstConflictS(const Trajectory& trajectory, double star
   return std::numeric_limits<double>::infinity();
 }
 
+double FlightReplanner::roomAlong(const Trajectory& trajectory, double start_world_s, double from_s, double horizon_s,
+                                  double cap_m) const {
+  const double end = std::min(from_s + horizon_s, start_world_s + trajectory.duration_s());
+  const std::vector<Obstacle> obstacles = world_->obstacles();
+  // Coarse first, as firstConflictS: a chord whose box stays clear of every obstacle's box round
+  // the stretch of track it covers meanwhile, grown by the vehicle radius and the cap (and a
+  // metre for the curve's bulge off the chord), has at least the cap; only the others are sampled.
+  const double grow_m = world_->options().vehicle_radius_m + cap_m + 1.0;
+  // Fine enough that the room between two samples is at most a few metres less than at them
+  // (the vehicle and the obstacles close in at up to about 150 m/s in the seed-003 scenario).
+  const double fine_step_s = options_.check_step_s / 10.0;
+  auto at = [&](double t) { return trajectory.evaluate(t - start_world_s, Derivative::kPosition); };
+  double room_m = cap_m;
+  for (double t0 = from_s; t0 < end; t0 += options_.check_step_s) {
+    const double t1 = std::min(t0 + options_.check_step_s, end);
+    Eigen::AlignedBox3d chord(at(t0));
+    chord.extend(at(t1));
+    bool near = false;
+    for (const Obstacle& o : obstacles) {
+      const auto [a, b] = o.trackDuring(t0, t1);
+      Eigen::AlignedBox3d swept(a);
+      swept.extend(b);
+      const Eigen::Vector3d grow = halfExtents(o) + Eigen::Vector3d::Constant(grow_m);
+      swept.min() -= grow;
+      swept.max() += grow;
+      near = near || swept.intersects(chord);
+    }
+    if (!near) continue;
+    for (double t = t0; t <= t1 + 1e-9; t += fine_step_s) {
+      const double s = std::min(t, t1);
+      room_m = std::min(room_m, world_->obstacleDistance(at(s), s));
+    }
+  }
+  return room_m;
+}
+
 bool FlightReplanner::clearAhead(double now_s, double horizon_s) const {
   return std::isinf(firstConflictS(route_.built.trajectory, start_world_s_, now_s, horizon_s));
 }
@@ -595,6 +643,24 @@ ReplanStep FlightReplanner::stepOnce(double now_s) {
     best = make_error(ErrorCode::kUnreachable, "replan",
                       holding_ ? "no candidate is clear of the obstacles within the horizon"
                                : "no candidate meets its first obstacle later than the current trajectory");
+  }
+  // A clear hold is safe to wait in, so it is left only for a plan that keeps room from the
+  // obstacles. The conflict check keeps the vehicle's radius and no more, and a hold plans again
+  // every cycle: the first candidate it lets through is then typically one that slips past an
+  // obstacle by a hair (after a replan cut short by its budget, plans leaving the hold passed
+  // 0.1-5.2 m beyond the vehicle's radius from an obstacle in the seed-003 scenario).
+  if (best.ok() && holding_ && std::isinf(current_conflict)) {
+    const double room_m = roomAlong(best->route.built.trajectory, takeover_s, takeover_s, options_.horizon_s, kHoldRoomM);
+    if (room_m < kHoldRoomM) {
+      // Unless waiting comes closer still (an obstacle will pass the hold nearer than that).
+      const double hold_room_m = roomAlong(route_.built.trajectory, start_world_s_, now_s, options_.horizon_s, kHoldRoomM);
+      if (!(room_m > hold_room_m)) {
+        best = make_error(ErrorCode::kUnreachable, "replan",
+                          "the candidate clear of the obstacles passes " + formatRoomM(room_m) +
+                              " m from one, the hold " + formatRoomM(hold_room_m) +
+                              " m (a clear hold is left with " + formatRoomM(kHoldRoomM) + " m, or more than it keeps)");
+      }
+    }
   }
   if (!best.ok()) {
     result.failure = best.error();
@@ -679,13 +745,6 @@ FlightReplanner::Candidate FlightReplanner::withKeptPart(Candidate c, double fro
   if (!c.points.empty()) c.points.front() = knots.front();
   return c;
 }
-
-namespace {
-
-// Room a hold keeps from every obstacle where it comes to rest, when it can (m).
-constexpr double kHoldRoomM = 30.0;
-
-}  // namespace
 
 bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict_s) {
   const auto hold_started = std::chrono::steady_clock::now();

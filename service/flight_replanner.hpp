@@ -56,8 +56,10 @@ struct ReplanOptions {
   double replan_accel_fraction = 0.5;
   // No better trajectory within the cycle: adopt the hold (keep the current one as far as it is
   // clear, then stop) instead of keeping a trajectory that meets an obstacle; from the hold the
-  // next cycles plan past the deadline until a first candidate. Off = the current trajectory
-  // stays in force and the cycle plans past its deadline until a first candidate at once.
+  // next cycles plan past the deadline until a first candidate. A clear hold is left only for a
+  // candidate clear of the obstacles that keeps 30 m from them over the horizon (or more room
+  // than the hold keeps). Off = the current trajectory stays in force and the cycle plans past
+  // its deadline until a first candidate at once.
   bool hold_fallback = true;
   // A fixed wing's loiter circle: its radius over the tightest turn at the loiter speed (>= 1;
   // 1.3 flies a 35-degree bank limit at about 28 degrees), tried first and then 1.6 times wider.
@@ -175,6 +177,11 @@ class FlightReplanner {
   // World time of the first conflict of `trajectory` (started at start_world_s) in
   // [from_s, from_s + horizon_s]; infinity when there is none.
   double firstConflictS(const Trajectory& trajectory, double start_world_s, double from_s, double horizon_s) const;
+  // The least room between the vehicle's sphere on `trajectory` and any obstacle over
+  // [from_s, from_s + horizon_s] (CollisionWorld::obstacleDistance, sampled finely near them),
+  // at most cap_m.
+  double roomAlong(const Trajectory& trajectory, double start_world_s, double from_s, double horizon_s,
+                   double cap_m) const;
 
  private:
   // The cycle's stop: the replan budget counted from `started` (the start of the cycle), and the

@@ -29,7 +29,8 @@ ReplanOptions scenarioReplanOptions() {
   options.route.corridor_margin_m = 4000.0;
   // No wall-clock budget for the replans either, so that a run is the same on a loaded machine:
   // with the default 12 ms, a replan cut short there once took another route, one that passed
-  // 3.2 m from an obstacle (clear of it, but under this test's 20 m).
+  // 3.2 m from an obstacle (clear of it, but under this test's 20 m). The cut itself, made
+  // reproducible, is flight_replanner_budget_cut_test's.
   options.replan_budget_ms = 0.0;
   return options;
 }
