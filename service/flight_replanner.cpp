@@ -756,6 +756,7 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
   double best_conflict = conflict_s;
   double best_stop_s = 0.0;
   double best_room_m = -1.0;
+  bool best_off_tracks = false;
   std::vector<double> stop_times;
   // At most 6 stop times (the hold is built within the cycle, after the plan's deadline).
   const double step_s = std::max(1.0, (conflict_s - 2.0 - takeover_s) / 5.0);
@@ -798,15 +799,23 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
     const double conflict = firstConflictS(hold, from_s, stop_s, now_s + options_.horizon_s - stop_s);
     gentle_clear = brake_share <= 0.5 && std::isinf(conflict);
     // Among clear stops, the latest with room to spare where it comes to rest, else the one with
-    // the most room (the latest clear stop tends to end as close as the check allows).
+    // the most room (the latest clear stop tends to end as close as the check allows). First
+    // those that rest off every moving obstacle's track (its whole sweep, with that room): the
+    // vehicle may wait there longer than the horizon, and the latest clear stop tends to be at
+    // the edge of the track an obstacle comes back along (after a replan cut by its budget,
+    // resting vehicles were passed at 0.5 m beyond their radius).
     const double at_rest_s = from_s + hold.duration_s() - rest.duration_s;
-    const double room_m = std::isinf(conflict) ? world_->obstacleDistance(end, at_rest_s) : -1.0;
-    if (conflict > best_conflict || (std::isinf(conflict) && room_m > best_room_m)) {
+    const bool clear = std::isinf(conflict);
+    const double room_m = clear ? world_->obstacleDistance(end, at_rest_s) : -1.0;
+    const bool off_tracks = clear && world_->isPointValid(end, std::nullopt, kHoldRoomM);
+    const bool roomier = off_tracks != best_off_tracks ? off_tracks : room_m > best_room_m;
+    if (conflict > best_conflict || (clear && roomier)) {
       best_conflict = conflict;
       best = std::move(hold);
       best_stop_s = stop_s;
       best_room_m = room_m;
-      if (room_m >= kHoldRoomM) break;
+      best_off_tracks = off_tracks;
+      if (room_m >= kHoldRoomM && off_tracks) break;
     }
   }
   if (!best) {

@@ -56,9 +56,10 @@ struct ReplanOptions {
   double replan_accel_fraction = 0.5;
   // No better trajectory within the cycle: adopt the hold (keep the current one as far as it is
   // clear, then stop) instead of keeping a trajectory that meets an obstacle; from the hold the
-  // next cycles plan past the deadline until a first candidate. A clear hold is left only for a
-  // candidate clear of the obstacles that keeps 30 m from them over the horizon (or more room
-  // than the hold keeps). Off = the current trajectory stays in force and the cycle plans past
+  // next cycles plan past the deadline until a first candidate. The stop comes to rest off the
+  // moving obstacles' tracks when it can (the wait may outlast the horizon), and a clear hold is
+  // left only for a candidate clear of the obstacles that keeps 30 m from them over the horizon
+  // (or more room than the hold keeps). Off = the current trajectory stays in force and the cycle plans past
   // its deadline until a first candidate at once.
   bool hold_fallback = true;
   // A fixed wing's loiter circle: its radius over the tightest turn at the loiter speed (>= 1;
