@@ -11,6 +11,8 @@
 //                         [--timeline FROM_S TO_S]
 // (MS: replan_budget_ms, default 0 = none; N: attempts per replan, default 0 = none; the timeline
 // prints every cycle's outcome between FROM_S and TO_S of the first seed)
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -71,7 +73,7 @@ int main(int argc, char** argv) {
   std::printf("budget %.1f ms, cut after %d attempts\n", budget_ms, cut_attempts);
   std::printf("| seed | arrived | arrival s | replans | failed | holds | collisions | min sep m | at s | holding then | min sep not holding m | "
               "nearest obstacle | failures by kind |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int k = 0; k < seeds; ++k) {
     const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(k);
     const ReplanOptions options = scenarioOptions(seed, budget_ms, cut_attempts);
@@ -82,6 +84,7 @@ int main(int argc, char** argv) {
     }
     FlightReplanner& r = **started;
     int replans = 0, failed = 0, holds = 0, collisions = 0;
+    double max_cycle_ms = 0.0;  // wall time of the slowest step
     std::map<std::string, int> kinds;
     double min_sep_m = std::numeric_limits<double>::infinity(), min_sep_s = 0.0;
     double moving_sep_m = std::numeric_limits<double>::infinity();  // while no hold is in force
@@ -89,7 +92,10 @@ int main(int argc, char** argv) {
     std::uint64_t nearest_id = 0;
     double t = 0.0;
     for (; t < 1200.0 && !r.finished(t); t += options.period_s) {
+      const auto cycle_started = std::chrono::steady_clock::now();
       const ReplanStep step = r.step(t);
+      max_cycle_ms = std::max(max_cycle_ms,
+                              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cycle_started).count());
       replans += step.replanned ? 1 : 0;
       holds += step.holding ? 1 : 0;
       if (step.failure) {
@@ -128,9 +134,9 @@ int main(int argc, char** argv) {
     }
     std::string by_kind;
     for (const auto& [kind, n] : kinds) by_kind += std::to_string(n) + " x " + kind + "; ";
-    std::printf("| %llu | %s | %.1f | %d | %d | %d | %d | %.1f | %.1f | %s | %.1f | %llu | %s |\n",
+    std::printf("| %llu | %s | %.1f | %d | %d | %d | %d | %.1f | %.1f | %s | %.1f | %.1f | %llu | %s |\n",
                 static_cast<unsigned long long>(seed), r.finished(t) ? "yes" : "NO", r.arrivalWorldS(), replans, failed,
-                holds, collisions, min_sep_m, min_sep_s, min_sep_holding ? "yes" : "no", moving_sep_m,
+                holds, collisions, min_sep_m, min_sep_s, min_sep_holding ? "yes" : "no", moving_sep_m, max_cycle_ms,
                 static_cast<unsigned long long>(nearest_id), by_kind.c_str());
     std::fflush(stdout);
   }
