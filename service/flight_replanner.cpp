@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include <Eigen/Geometry>
 #include <spdlog/spdlog.h>
@@ -14,12 +16,25 @@ namespace skyroute {
 
 namespace {
 
+// Room a hold keeps from every obstacle where it comes to rest, when it can, and that a plan
+// leaving a clear hold keeps from every obstacle within the horizon (m).
+constexpr double kHoldRoomM = 30.0;
+
+std::string formatRoomM(double room_m) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", room_m);
+  return text;
+}
+
 Status validateReplanOptions(const ReplanOptions& options) {
   if (!(options.period_s > 0.0) || !(options.horizon_s > 0.0) || !(options.check_step_s > 0.0)) {
     return make_error(ErrorCode::kInvalidArgument, "replan", "period, horizon and check step must be positive");
   }
   if (!(options.replan_budget_ms >= 0.0)) {
     return make_error(ErrorCode::kInvalidArgument, "replan_budget_ms", "must be zero (none) or positive");
+  }
+  if (options.replan_budget_attempts < 0) {
+    return make_error(ErrorCode::kInvalidArgument, "replan_budget_attempts", "must be zero (none) or positive");
   }
   if (!(options.max_commit_s >= 0.0) || !std::isfinite(options.max_commit_s)) {
     return make_error(ErrorCode::kInvalidArgument, "max_commit_s", "must be zero (none) or positive and finite");
@@ -155,11 +170,15 @@ bool samePath(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Ve
 
 Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
     const std::function<std::optional<AttemptPlan>(int)>& plan_of, double at_world_s, const TrajectoryState* state,
-    const TerminationCondition& stop, bool first_only, const LegPathPlanner& legs) const {
+    const TerminationCondition& outer_stop, bool first_only, const LegPathPlanner& legs) const {
   std::optional<Candidate> best;
   std::optional<Error> last_error;
   std::vector<std::vector<Eigen::Vector3d>> tried;
+  // With an attempt budget, a deadline already passed once the cycle's attempts are spent.
+  TerminationCondition expired = TerminationCondition::after(std::chrono::nanoseconds(0));
+  if (outer_stop.cancelFlag()) expired.withCancelFlag(outer_stop.sharedCancelFlag());
   for (int attempt = 0; attempt < std::max(1, options_.max_attempts); ++attempt) {
+    const TerminationCondition& stop = deadlinePassed(outer_stop) ? expired : outer_stop;
     if (auto reason = stop.reason(); reason != TerminationCondition::Reason::kNone) {
       std::string message = "stopped after " + std::to_string(attempt) + " attempts";
       if (last_error) message += " (last: " + last_error->describe() + ")";
@@ -169,6 +188,7 @@ Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
     }
     std::optional<AttemptPlan> plan = plan_of(attempt);
     if (!plan) continue;
+    ++cycle_attempts_;
     const RouteOptions route =
         attemptOptions(plan->points, at_world_s, state, attempt, plan->variant, plan->conflict_in_s, plan->rejoin);
     const auto attempt_started = std::chrono::steady_clock::now();
@@ -506,6 +526,42 @@ double FlightReplanner::firstConflictS(const Trajectory& trajectory, double star
   return std::numeric_limits<double>::infinity();
 }
 
+double FlightReplanner::roomAlong(const Trajectory& trajectory, double start_world_s, double from_s, double horizon_s,
+                                  double cap_m) const {
+  const double end = std::min(from_s + horizon_s, start_world_s + trajectory.duration_s());
+  const std::vector<Obstacle> obstacles = world_->obstacles();
+  // Coarse first, as firstConflictS: a chord whose box stays clear of every obstacle's box round
+  // the stretch of track it covers meanwhile, grown by the vehicle radius and the cap (and a
+  // metre for the curve's bulge off the chord), has at least the cap; only the others are sampled.
+  const double grow_m = world_->options().vehicle_radius_m + cap_m + 1.0;
+  // Fine enough that the room between two samples is at most a few metres less than at them
+  // (the vehicle and the obstacles close in at up to about 150 m/s in the seed-003 scenario).
+  const double fine_step_s = options_.check_step_s / 10.0;
+  auto at = [&](double t) { return trajectory.evaluate(t - start_world_s, Derivative::kPosition); };
+  double room_m = cap_m;
+  for (double t0 = from_s; t0 < end; t0 += options_.check_step_s) {
+    const double t1 = std::min(t0 + options_.check_step_s, end);
+    Eigen::AlignedBox3d chord(at(t0));
+    chord.extend(at(t1));
+    bool near = false;
+    for (const Obstacle& o : obstacles) {
+      const auto [a, b] = o.trackDuring(t0, t1);
+      Eigen::AlignedBox3d swept(a);
+      swept.extend(b);
+      const Eigen::Vector3d grow = halfExtents(o) + Eigen::Vector3d::Constant(grow_m);
+      swept.min() -= grow;
+      swept.max() += grow;
+      near = near || swept.intersects(chord);
+    }
+    if (!near) continue;
+    for (double t = t0; t <= t1 + 1e-9; t += fine_step_s) {
+      const double s = std::min(t, t1);
+      room_m = std::min(room_m, world_->obstacleDistance(at(s), s));
+    }
+  }
+  return room_m;
+}
+
 bool FlightReplanner::clearAhead(double now_s, double horizon_s) const {
   return std::isinf(firstConflictS(route_.built.trajectory, start_world_s_, now_s, horizon_s));
 }
@@ -517,7 +573,14 @@ TerminationCondition FlightReplanner::cycleStop(std::chrono::steady_clock::time_
                                         std::chrono::steady_clock::now()))
                                   : TerminationCondition();
   if (options_.cancel) stop.withCancelFlag(options_.cancel);
+  // An attempt budget alone still needs a deadline for the cycle to count attempts against.
+  if (options_.replan_budget_attempts > 0 && !stop.hasDeadline()) stop.withDeadlineAfter(std::chrono::hours(24));
   return stop;
+}
+
+bool FlightReplanner::deadlinePassed(const TerminationCondition& stop) const {
+  if (stop.reason() == TerminationCondition::Reason::kDeadline) return true;
+  return stop.hasDeadline() && options_.replan_budget_attempts > 0 && cycle_attempts_ >= options_.replan_budget_attempts;
 }
 
 ReplanStep FlightReplanner::step(double now_s) {
@@ -550,6 +613,7 @@ ReplanStep FlightReplanner::stepOnce(double now_s) {
   if (points.size() < 2) return result;  // already at the goal
   // The deadline counts from the start of the cycle: the check above is part of the latency.
   TerminationCondition stop = cycleStop(started);
+  cycle_attempts_ = 0;
   const std::vector<Eigen::Vector3d> ahead = waypointsAhead(state.position_m, takeover_s);
   Result<Candidate> best = make_error(ErrorCode::kInternal, "replan", "not run");
   // A hold is no route to rejoin: plan the whole rest from it.
@@ -569,7 +633,7 @@ ReplanStep FlightReplanner::stepOnce(double now_s) {
     // never: plan on past the deadline until a first candidate, or the vehicle might wait at
     // its hold for as long as the machine is too loaded to plan within the budget.
     if ((!options_.hold_fallback || holding_) && !best.ok() && best.error().code == ErrorCode::kTimeout &&
-        stop.reason() == TerminationCondition::Reason::kDeadline) {
+        deadlinePassed(stop)) {
       TerminationCondition cancel_only;
       if (options_.cancel) cancel_only.withCancelFlag(options_.cancel);
       best = bestCandidate(whole, takeover_s, &state, cancel_only, true);
@@ -579,6 +643,24 @@ ReplanStep FlightReplanner::stepOnce(double now_s) {
     best = make_error(ErrorCode::kUnreachable, "replan",
                       holding_ ? "no candidate is clear of the obstacles within the horizon"
                                : "no candidate meets its first obstacle later than the current trajectory");
+  }
+  // A clear hold is safe to wait in, so it is left only for a plan that keeps room from the
+  // obstacles. The conflict check keeps the vehicle's radius and no more, and a hold plans again
+  // every cycle: the first candidate it lets through is then typically one that slips past an
+  // obstacle by a hair (after a replan cut short by its budget, plans leaving the hold passed
+  // 0.1-5.2 m beyond the vehicle's radius from an obstacle in the seed-003 scenario).
+  if (best.ok() && holding_ && std::isinf(current_conflict)) {
+    const double room_m = roomAlong(best->route.built.trajectory, takeover_s, takeover_s, options_.horizon_s, kHoldRoomM);
+    if (room_m < kHoldRoomM) {
+      // Unless waiting comes closer still (an obstacle will pass the hold nearer than that).
+      const double hold_room_m = roomAlong(route_.built.trajectory, start_world_s_, now_s, options_.horizon_s, kHoldRoomM);
+      if (!(room_m > hold_room_m)) {
+        best = make_error(ErrorCode::kUnreachable, "replan",
+                          "the candidate clear of the obstacles passes " + formatRoomM(room_m) +
+                              " m from one, the hold " + formatRoomM(hold_room_m) +
+                              " m (a clear hold is left with " + formatRoomM(kHoldRoomM) + " m, or more than it keeps)");
+      }
+    }
   }
   if (!best.ok()) {
     result.failure = best.error();
@@ -664,13 +746,6 @@ FlightReplanner::Candidate FlightReplanner::withKeptPart(Candidate c, double fro
   return c;
 }
 
-namespace {
-
-// Room a hold keeps from every obstacle where it comes to rest, when it can (m).
-constexpr double kHoldRoomM = 30.0;
-
-}  // namespace
-
 bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict_s) {
   const auto hold_started = std::chrono::steady_clock::now();
   const Trajectory& current = route_.built.trajectory;
@@ -681,6 +756,7 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
   double best_conflict = conflict_s;
   double best_stop_s = 0.0;
   double best_room_m = -1.0;
+  bool best_off_tracks = false;
   std::vector<double> stop_times;
   // At most 6 stop times (the hold is built within the cycle, after the plan's deadline).
   const double step_s = std::max(1.0, (conflict_s - 2.0 - takeover_s) / 5.0);
@@ -723,15 +799,23 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
     const double conflict = firstConflictS(hold, from_s, stop_s, now_s + options_.horizon_s - stop_s);
     gentle_clear = brake_share <= 0.5 && std::isinf(conflict);
     // Among clear stops, the latest with room to spare where it comes to rest, else the one with
-    // the most room (the latest clear stop tends to end as close as the check allows).
+    // the most room (the latest clear stop tends to end as close as the check allows). First
+    // those that rest off every moving obstacle's track (its whole sweep, with that room): the
+    // vehicle may wait there longer than the horizon, and the latest clear stop tends to be at
+    // the edge of the track an obstacle comes back along (after a replan cut by its budget,
+    // resting vehicles were passed at 0.5 m beyond their radius).
     const double at_rest_s = from_s + hold.duration_s() - rest.duration_s;
-    const double room_m = std::isinf(conflict) ? world_->obstacleDistance(end, at_rest_s) : -1.0;
-    if (conflict > best_conflict || (std::isinf(conflict) && room_m > best_room_m)) {
+    const bool clear = std::isinf(conflict);
+    const double room_m = clear ? world_->obstacleDistance(end, at_rest_s) : -1.0;
+    const bool off_tracks = clear && world_->isPointValid(end, std::nullopt, kHoldRoomM);
+    const bool roomier = off_tracks != best_off_tracks ? off_tracks : room_m > best_room_m;
+    if (conflict > best_conflict || (clear && roomier)) {
       best_conflict = conflict;
       best = std::move(hold);
       best_stop_s = stop_s;
       best_room_m = room_m;
-      if (room_m >= kHoldRoomM) break;
+      best_off_tracks = off_tracks;
+      if (room_m >= kHoldRoomM && off_tracks) break;
     }
   }
   if (!best) {

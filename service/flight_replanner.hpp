@@ -56,8 +56,11 @@ struct ReplanOptions {
   double replan_accel_fraction = 0.5;
   // No better trajectory within the cycle: adopt the hold (keep the current one as far as it is
   // clear, then stop) instead of keeping a trajectory that meets an obstacle; from the hold the
-  // next cycles plan past the deadline until a first candidate. Off = the current trajectory
-  // stays in force and the cycle plans past its deadline until a first candidate at once.
+  // next cycles plan past the deadline until a first candidate. The stop comes to rest off the
+  // moving obstacles' tracks when it can (the wait may outlast the horizon), and a clear hold is
+  // left only for a candidate clear of the obstacles that keeps 30 m from them over the horizon
+  // (or more room than the hold keeps). Off = the current trajectory stays in force and the cycle plans past
+  // its deadline until a first candidate at once.
   bool hold_fallback = true;
   // A fixed wing's loiter circle: its radius over the tightest turn at the loiter speed (>= 1;
   // 1.3 flies a 35-degree bank limit at about 28 degrees), tried first and then 1.6 times wider.
@@ -93,6 +96,10 @@ struct ReplanOptions {
   // reproducible).
   // The first plan (start()) has no such deadline.
   double replan_budget_ms = 12.0;
+  // A reproducible stand-in for that budget (tests, benchmarks): a replan's deadline counts as
+  // passed once this many of its attempts (local and whole together) have run, as the wall clock
+  // would pass it on a loaded machine. 0 = none.
+  int replan_budget_attempts = 0;
   // RRT* iterations per leg when replanning; 0 = route.leg_max_iterations.
   std::uint64_t replan_leg_max_iterations = 0;
   // Trajectory repair rounds when replanning (at most route.trajectory.max_repair_rounds; < 0 =
@@ -171,11 +178,18 @@ class FlightReplanner {
   // World time of the first conflict of `trajectory` (started at start_world_s) in
   // [from_s, from_s + horizon_s]; infinity when there is none.
   double firstConflictS(const Trajectory& trajectory, double start_world_s, double from_s, double horizon_s) const;
+  // The least room between the vehicle's sphere on `trajectory` and any obstacle over
+  // [from_s, from_s + horizon_s] (CollisionWorld::obstacleDistance, sampled finely near them),
+  // at most cap_m.
+  double roomAlong(const Trajectory& trajectory, double start_world_s, double from_s, double horizon_s,
+                   double cap_m) const;
 
  private:
   // The cycle's stop: the replan budget counted from `started` (the start of the cycle), and the
   // cancel flag.
   TerminationCondition cycleStop(std::chrono::steady_clock::time_point started) const;
+  // Whether the cycle's deadline has passed: `stop`'s own, or ReplanOptions::replan_budget_attempts.
+  bool deadlinePassed(const TerminationCondition& stop) const;
   FlightReplanner() = default;
   // Where a local repair joins the current trajectory again.
   struct Rejoin {
@@ -260,6 +274,7 @@ class FlightReplanner {
   double start_world_s_ = 0.0;
   std::uint32_t revision_ = 0;
   int failed_cycles_ = 0;  // replanning cycles in a row that found nothing better
+  mutable int cycle_attempts_ = 0;  // attempts run in this cycle (ReplanOptions::replan_budget_attempts)
   bool holding_ = false;
   std::optional<LoiterCircle> loiter_circle_;  // the loiter in force
   double loiter_end_rad_ = 0.0;               // where its last arc ends

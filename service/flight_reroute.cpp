@@ -33,6 +33,7 @@ ReplanStep FlightReplanner::reroute(double now_s, const std::vector<Eigen::Vecto
   }
   if (points.size() < 2) return done(make_error(ErrorCode::kInvalidArgument, "reroute", "no point left to fly to"));
   TerminationCondition stop = cycleStop(started);
+  cycle_attempts_ = 0;
   auto whole = [&](int attempt) {
     // The current path goes through the old order: no candidate can repeat it.
     AttemptPlan plan = wholePlan(points, {}, attempt);
@@ -40,7 +41,7 @@ ReplanStep FlightReplanner::reroute(double now_s, const std::vector<Eigen::Vecto
     return std::optional<AttemptPlan>(std::move(plan));
   };
   Result<Candidate> best = bestCandidate(whole, takeover_s, &state, stop);
-  if (!best.ok() && best.error().code == ErrorCode::kTimeout && stop.reason() == TerminationCondition::Reason::kDeadline) {
+  if (!best.ok() && best.error().code == ErrorCode::kTimeout && deadlinePassed(stop)) {
     TerminationCondition cancel_only;
     if (options_.cancel) cancel_only.withCancelFlag(options_.cancel);
     best = bestCandidate(whole, takeover_s, &state, cancel_only, true);

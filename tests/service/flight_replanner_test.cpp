@@ -29,7 +29,8 @@ ReplanOptions scenarioReplanOptions() {
   options.route.corridor_margin_m = 4000.0;
   // No wall-clock budget for the replans either, so that a run is the same on a loaded machine:
   // with the default 12 ms, a replan cut short there once took another route, one that passed
-  // 3.2 m from an obstacle (clear of it, but under this test's 20 m).
+  // 3.2 m from an obstacle (clear of it, but under this test's 20 m). The cut itself, made
+  // reproducible, is flight_replanner_budget_cut_test's.
   options.replan_budget_ms = 0.0;
   return options;
 }
@@ -379,6 +380,7 @@ TEST(FlightReplanner, BadCommitAndHoldOptionsAreRefusedByName) {
       {"max_commit_s", [](ReplanOptions& o) { o.max_commit_s = std::numeric_limits<double>::infinity(); }},
       {"calm_accel_share", [](ReplanOptions& o) { o.calm_jerk_mps3 = 0.0; }},
       {"replan_accel_fraction", [](ReplanOptions& o) { o.replan_accel_fraction = 1.5; }},
+      {"replan_budget_attempts", [](ReplanOptions& o) { o.replan_budget_attempts = -1; }},
   };
   for (const auto& [field, spoil] : cases) {
     ReplanOptions options = scenarioReplanOptions();
