@@ -64,15 +64,15 @@ int main(int argc, char** argv) {
     }
   }
   const CollisionWorldOptions world_options = seed003ScenarioWorldOptions();
-  auto world = skyroute::bench::loadSeed003World();
-  if (!world) return 1;
-  const MovingObstacleScenario scenario = seed003Table1Scenario(*world->heightfield);
-  for (const Obstacle& o : scenario.obstacles) world->collision->upsertObstacle(o);
+  auto flight = skyroute::bench::loadSeed003Flight();
+  if (!flight) return 1;
+  TerrainWorld* world = &flight->world;
+  const MovingObstacleScenario& scenario = flight->scenario;
   const VehicleLimits limits = seed003ScenarioLimits();
 
   std::printf("budget %.1f ms, cut after %d attempts\n", budget_ms, cut_attempts);
   std::printf("| seed | arrived | arrival s | replans | failed | holds | collisions | min sep m | at s | holding then | min sep not holding m | "
-              "nearest obstacle | failures by kind |\n");
+              "slowest cycle ms | nearest obstacle | failures by kind |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int k = 0; k < seeds; ++k) {
     const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(k);

@@ -119,10 +119,10 @@ int main(int argc, char** argv) {
     }
   }
   const CollisionWorldOptions world_options = seed003ScenarioWorldOptions();
-  auto world = skyroute::bench::loadSeed003World();
-  if (!world) return 1;
-  const MovingObstacleScenario scenario = seed003Table1Scenario(*world->heightfield);
-  for (const Obstacle& o : scenario.obstacles) world->collision->upsertObstacle(o);
+  auto flight = skyroute::bench::loadSeed003Flight();
+  if (!flight) return 1;
+  TerrainWorld* world = &flight->world;
+  const MovingObstacleScenario& scenario = flight->scenario;
   const VehicleLimits limits = seed003ScenarioLimits();
 
   // The first legs by the configuration's default planner, as the pipeline picks it.

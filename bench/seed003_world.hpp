@@ -24,4 +24,17 @@ inline std::optional<TerrainWorld> loadSeed003World() {
   return std::move(world.value());
 }
 
+// The world with the scenario's obstacles in it, and the scenario (its start, goal and obstacles).
+struct Seed003Flight {
+  TerrainWorld world;
+  MovingObstacleScenario scenario;
+};
+inline std::optional<Seed003Flight> loadSeed003Flight() {
+  auto world = loadSeed003World();
+  if (!world) return std::nullopt;
+  MovingObstacleScenario scenario = seed003Table1Scenario(*world->heightfield);
+  for (const Obstacle& o : scenario.obstacles) world->collision->upsertObstacle(o);
+  return Seed003Flight{std::move(*world), std::move(scenario)};
+}
+
 }  // namespace skyroute::bench
