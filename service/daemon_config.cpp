@@ -41,6 +41,7 @@ struct IntegerShadow {
   std::int64_t tree_reuse_nodes;
   std::int64_t reorder_threads;
   std::string vehicle_model;
+  std::string time_allocation;
 };
 
 IntegerShadow shadowOf(const DaemonConfig& c) {
@@ -64,7 +65,8 @@ IntegerShadow shadowOf(const DaemonConfig& c) {
                        std::string(to_string(p.replan.route.trajectory.fixed_waypoint_mode)),
                        static_cast<std::int64_t>(p.replan.route.tree_reuse.max_nodes),
                        static_cast<std::int64_t>(p.reorder.repair_threads),
-                       std::string(to_string(p.vehicle.model))};
+                       std::string(to_string(p.vehicle.model)),
+                       std::string(to_string(p.replan.route.trajectory.time_allocation.method))};
 }
 
 void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
@@ -91,6 +93,9 @@ void applyShadow(const IntegerShadow& s, DaemonConfig& c) {
   p.replan.route.trajectory.fixed_waypoint_mode =
       parseFixedWaypointMode(s.mission_point_mode).value_or(p.replan.route.trajectory.fixed_waypoint_mode);
   p.vehicle.model = parseVehicleModel(s.vehicle_model).value_or(p.vehicle.model);
+  for (const TimeAllocationMethod method : {TimeAllocationMethod::kTrapezoidal, TimeAllocationMethod::kConstantSpeed}) {
+    if (s.time_allocation == to_string(method)) p.replan.route.trajectory.time_allocation.method = method;
+  }
 }
 
 std::vector<std::string> plannerChoices() {
@@ -188,6 +193,11 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
        "allows, and come to rest there only where passing cannot be made to fly (a turn no rounding fits, or a "
        "limit no repair meets; the plan's status names the point); stop = come to rest at every point",
        &s.mission_point_mode, -kInf, kInf, {"pass", "stop"}},
+      {"planning", "time_allocation",
+       "times of the trajectory's segments: trapezoidal = a speed profile per segment that accelerates and brakes "
+       "at a share of the acceleration limit, cruises at v_ref and slows before sharp turns; constant_speed = "
+       "seed 003's equation 3, each segment's length over v_ref",
+       &s.time_allocation, -kInf, kInf, {"trapezoidal", "constant_speed"}},
       {"planning", "grid_window_segments",
        "the grid planners' output re-planned in windows of this many segments (0 = off; hab-pp, hab-pp-rrt)",
        &s.grid_window_segments, 0, 1000},

@@ -126,5 +126,15 @@ TEST_F(PlanIdentityE2E, NoFlyZoneFromTheConfigurationShapesBothTrajectoriesAlike
   std::filesystem::remove(zones);
 }
 
+// Seed 003's timing (equation 3: each segment's length over V_ref) chosen in the configuration:
+// both programs fly it alike, and not as they fly the default trapezoidal profile.
+TEST_F(PlanIdentityE2E, SeedThreeTimingFromTheConfigurationGivesBothTheSameTrajectory) {
+  const std::string planning = "[planning]\nseed = 11\nsample_dt_s = 0.25\n";
+  const auto [a, b] = planAndPublish(planning + "time_allocation = \"constant_speed\"\n", "135", "eq3");
+  expectSameSamples(a, b);
+  const auto [trapezoidal_a, trapezoidal_b] = planAndPublish(planning, "135", "trapezoidal");
+  EXPECT_NE(a, trapezoidal_a) << "the timing changed nothing";
+}
+
 }  // namespace
 }  // namespace skyroute

@@ -42,6 +42,18 @@ TEST(DaemonConfig, EmptyFileKeepsTheDefaults) {
   EXPECT_EQ(describeDaemonConfig(*parsed), describeDaemonConfig(DaemonConfig{}));
 }
 
+// Seed 003's equation 3 is selectable beside the trapezoidal profile (the default).
+TEST(DaemonConfig, TimeAllocationIsReadAndPrinted) {
+  EXPECT_EQ(DaemonConfig{}.engine.pipeline.replan.route.trajectory.time_allocation.method,
+            TimeAllocationMethod::kTrapezoidal);
+  auto parsed = parseDaemonConfig("[planning]\ntime_allocation = \"constant_speed\"\n", "eq3.toml");
+  ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
+  EXPECT_EQ(parsed->engine.pipeline.replan.route.trajectory.time_allocation.method,
+            TimeAllocationMethod::kConstantSpeed);
+  EXPECT_NE(describeDaemonConfig(*parsed).find("time_allocation = \"constant_speed\""), std::string::npos)
+      << describeDaemonConfig(*parsed);
+}
+
 TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
   struct Case {
     std::string text, field;
@@ -54,6 +66,7 @@ TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
       {"[planning]\nsample_dt_s = -1\n", "planning.sample_dt_s", ErrorCode::kInvalidArgument},
       {"[planning]\nthreads = 0\n", "planning.threads", ErrorCode::kInvalidArgument},
       {"[planning]\ndefault_planner = \"magic\"\n", "planning.default_planner", ErrorCode::kInvalidArgument},
+      {"[planning]\ntime_allocation = \"eq3\"\n", "planning.time_allocation", ErrorCode::kInvalidArgument},
       {"[planning]\nleg_max_iterations = 0\nleg_time_cap_s = 0\n", "planning.leg_max_iterations",
        ErrorCode::kInvalidArgument},
       {"[dds]\ndomain = 300\n", "dds.domain", ErrorCode::kInvalidArgument},
