@@ -127,6 +127,16 @@ class HotStandbyE2E : public DaemonFixture {
         },
         timeout_s);
   }
+  // Waits until the station holds a trajectory from the standby among those logged from `mark` on.
+  bool waitStandbySamplesSince(std::size_t mark, double timeout_s) {
+    return pump(
+        [&] {
+          for (std::size_t i = mark; i < station_->trajectory_log.size(); ++i)
+            if (station_->trajectory_log[i].source_role == "standby") return true;
+          return false;
+        },
+        timeout_s);
+  }
 
   // An obstacle on the trajectory the station holds, at least 20 s and distance_m ahead of where
   // the vehicle is now (clear of it, within the replanning horizon): every daemon replans around it.
@@ -228,13 +238,7 @@ TEST_F(HotStandbyE2E, KilledPrimaryHandsEveryRevisionToTheStandbyWithinOneSecond
   const auto killed = killPrimaryWhileReplanning(3);
   ++revision;
   // The standby's samples arrive within the bound, the revision of the update just sent among them.
-  ASSERT_TRUE(pump(
-      [&] {
-        for (std::size_t i = before_kill; i < station_->trajectory_log.size(); ++i)
-          if (station_->trajectory_log[i].source_role == "standby") return true;
-        return false;
-      },
-      10.0))
+  ASSERT_TRUE(waitStandbySamplesSince(before_kill, 10.0))
       << standby_.err();
   std::size_t first_standby = before_kill;
   while (station_->trajectory_log[first_standby].source_role != "standby") ++first_standby;
@@ -332,13 +336,7 @@ TEST_F(HotStandbyE2E, StandbyWhoseRevisionsDriftedNumbersItsFirstFromThePrimarys
     killed_log_ = gone.err();
   }
   // The standby's samples: the next revision of the same plan, nothing older, nothing skipped.
-  ASSERT_TRUE(pump(
-      [&] {
-        for (std::size_t i = before_kill; i < station_->trajectory_log.size(); ++i)
-          if (station_->trajectory_log[i].source_role == "standby") return true;
-        return false;
-      },
-      10.0))
+  ASSERT_TRUE(waitStandbySamplesSince(before_kill, 10.0))
       << logs();
   station_->pumpUntil([] { return false; }, 1.0);  // the second republishing too
   std::size_t from_standby = 0;
