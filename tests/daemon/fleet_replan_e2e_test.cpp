@@ -61,6 +61,18 @@ class FleetReplanE2E : public testing::FleetDaemonTest {
   }
 };
 
+// The least distance between two of `vehicles` on the trajectories in force, every 0.1 s from
+// from_s to to_s (m).
+double closestPairM(const FleetFlown& flown, const std::vector<std::string>& vehicles, double from_s, double to_s) {
+  double closest_m = std::numeric_limits<double>::infinity();
+  for (double t = from_s; t <= to_s; t += 0.1) {
+    for (std::size_t a = 0; a < vehicles.size(); ++a)
+      for (std::size_t b = a + 1; b < vehicles.size(); ++b)
+        closest_m = std::min(closest_m, (flown.positionAt(vehicles[a], t) - flown.positionAt(vehicles[b], t)).norm());
+  }
+  return closest_m;
+}
+
 TEST_F(FleetReplanE2E, CrossingObstaclesGetOnlyTheVehiclesTheyMeetNewRevisions) {
   FleetRequestData r;
   r.request_id = "fleet-replan-e2e";
@@ -153,12 +165,7 @@ TEST_F(FleetReplanE2E, CrossingObstaclesGetOnlyTheVehiclesTheyMeetNewRevisions) 
         ASSERT_FALSE(obstacles[k].contains(flown.positionAt(v, t), t, kVehicleRadiusM)) << v << " in obstacle " << k;
     }
   }
-  double closest_m = std::numeric_limits<double>::infinity();
-  for (double t = now_s; t <= last_end_s; t += 0.1) {
-    for (std::size_t a = 0; a < r.vehicle_ids.size(); ++a)
-      for (std::size_t b = a + 1; b < r.vehicle_ids.size(); ++b)
-        closest_m = std::min(closest_m, (flown.positionAt(r.vehicle_ids[a], t) - flown.positionAt(r.vehicle_ids[b], t)).norm());
-  }
+  const double closest_m = closestPairM(flown, r.vehicle_ids, now_s, last_end_s);
   EXPECT_GE(closest_m, last.min_separation_m - 1.0);
   std::printf("fleet replan over DDS: met %zu (maybe %zu), revised %zu, replan %.3f s, closest pair %.0f m (min %.0f)\n",
               surely.size(), maybe.size(), got.size(), last.planning_time_s, closest_m, last.min_separation_m);
@@ -220,12 +227,7 @@ TEST_F(FleetClimbE2E, AColumnCrossingAClimbIsSteppedAround) {
     for (double t = std::max(now_s, flown.beginOf(v)); t <= flown.endOf(v); t += 0.05)
       ASSERT_FALSE(column.contains(flown.positionAt(v, t), t, kVehicleRadiusM)) << v << " in the column at " << t;
   }
-  double closest_m = std::numeric_limits<double>::infinity();
-  for (double t = now_s; t <= last_end_s; t += 0.1) {
-    for (std::size_t a = 0; a < r.vehicle_ids.size(); ++a)
-      for (std::size_t b = a + 1; b < r.vehicle_ids.size(); ++b)
-        closest_m = std::min(closest_m, (flown.positionAt(r.vehicle_ids[a], t) - flown.positionAt(r.vehicle_ids[b], t)).norm());
-  }
+  const double closest_m = closestPairM(flown, r.vehicle_ids, now_s, last_end_s);
   EXPECT_GE(closest_m, last.min_separation_m - 1.0);
   std::printf("climb over DDS: revised %zu, replan %.3f s, closest pair %.0f m (min %.0f)\n", revised(r.request_id).size(),
               last.planning_time_s, closest_m, last.min_separation_m);
