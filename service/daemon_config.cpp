@@ -13,6 +13,7 @@
 #include <toml++/toml.h>
 
 #include "service/planner_registry.hpp"
+#include "service/text_bounds.hpp"
 #include "service/toml_precheck.hpp"
 
 namespace skyroute {
@@ -396,6 +397,14 @@ std::int32_t ownershipStrength(const DaemonConfig& config) {
 }
 
 Status validateDaemonConfig(const DaemonConfig& config) {
+  // The strings first (text_bounds.hpp): the service id names the daemon on the wire and in logs.
+  if (auto e = checkId(config.service_id, "dds.service_id")) return *e;
+  if (auto e = checkOptionalId(config.shard_group, "service.shard_group")) return *e;
+  for (const auto& [path, key] : {std::pair{&config.dem_path, "terrain.dem"}, std::pair{&config.nofly_path, "terrain.nofly"},
+                                  std::pair{&config.state_dir, "service.state_dir"},
+                                  std::pair{&config.security_dir, "security.dir"}}) {
+    if (auto e = checkFreeText(*path, key)) return *e;
+  }
   if (config.role != "primary" && config.role != "standby") {
     return make_error(ErrorCode::kInvalidArgument, "service.role", "'" + config.role + "' is not one of primary, standby");
   }

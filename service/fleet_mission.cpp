@@ -12,6 +12,7 @@
 #include "service/fleet_vehicle_route.hpp"
 #include "service/mission_point_check.hpp"
 #include "service/request_footprint.hpp"
+#include "service/text_bounds.hpp"
 #include "service/trajectory_data.hpp"
 #include "terrain/grid_from_terrain.hpp"
 
@@ -262,7 +263,8 @@ Eigen::Vector3d FleetPlanOutput::positionAt(std::size_t i, double t_s) const {
 }
 
 std::optional<PlanError> validateFleetRequest(const FleetRequestData& r, const FleetMissionOptions& options) {
-  if (r.request_id.empty()) return fail(PlanErrorCode::kInvalidArgument, "request_id", "is empty");
+  if (auto e = checkId(r.request_id, "request_id", kMaxRequestIdChars)) return toPlanError(*e);
+  if (auto e = checkName(r.planner, "planner")) return toPlanError(*e);
   if (r.vehicle_ids.empty()) return fail(PlanErrorCode::kEmptyMission, "vehicle_ids", "no vehicles given");
   if (r.vehicle_ids.size() > options.max_vehicles) {
     return fail(PlanErrorCode::kMissionTooLarge, "vehicle_ids",
@@ -270,7 +272,7 @@ std::optional<PlanError> validateFleetRequest(const FleetRequestData& r, const F
   }
   std::set<std::string> seen;
   for (std::size_t i = 0; i < r.vehicle_ids.size(); ++i) {
-    if (r.vehicle_ids[i].empty()) return fail(PlanErrorCode::kInvalidArgument, indexed("vehicle_ids", i), "is empty");
+    if (auto e = checkId(r.vehicle_ids[i], indexed("vehicle_ids", i))) return toPlanError(*e);
     if (!seen.insert(r.vehicle_ids[i]).second) {
       return fail(PlanErrorCode::kInvalidArgument, indexed("vehicle_ids", i), "duplicate vehicle id '" + r.vehicle_ids[i] + "'");
     }

@@ -4,6 +4,7 @@
 #include "planning/core/field_problem.hpp"
 
 #include "service/number_text.hpp"
+#include "service/text_bounds.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -224,8 +225,11 @@ std::optional<PlanError> checkVehicleLimits(const VehicleLimitsData& l, const Ve
 }
 
 std::optional<PlanError> validateMissionRequest(const MissionRequestData& request, const MissionRequestBounds& bounds) {
-  if (request.request_id.empty()) return problem(PlanErrorCode::kInvalidArgument, "request_id", "is missing (empty)");
-  if (request.vehicle_id.empty()) return problem(PlanErrorCode::kInvalidArgument, "vehicle_id", "is missing (empty)");
+  // The strings first: nothing else may see an id that could not name a topic or a log line.
+  // The vehicle id first: a tool may have made the request id from it.
+  if (auto e = checkId(request.vehicle_id, "vehicle_id")) return toPlanError(*e);
+  if (auto e = checkId(request.request_id, "request_id", kMaxRequestIdChars)) return toPlanError(*e);
+  if (auto e = checkName(request.planner, "planner")) return toPlanError(*e);
   if (request.points.size() > bounds.max_points)
     return problem(PlanErrorCode::kMissionTooLarge, "points",
                    "has " + std::to_string(request.points.size()) + " points, more than the limit of " + std::to_string(bounds.max_points));

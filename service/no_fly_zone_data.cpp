@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "service/text_bounds.hpp"
+
 namespace skyroute {
 namespace {
 
@@ -10,6 +12,8 @@ constexpr double kNsPerS = 1e9;
 }  // namespace
 
 Result<NoFlyZone> toNoFlyZone(const NoFlyZoneData& data, const LocalFrame& frame) {
+  // The id first: it names the zone in logs, answers and the journal (text_bounds.hpp).
+  if (auto bad = checkId(data.zone_id, "zone_id")) return *bad;
   NoFlyZone zone;
   zone.name = data.zone_id;
   const std::string field = "zone '" + data.zone_id + "'";

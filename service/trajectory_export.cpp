@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <string_view>
 
 namespace skyroute {
 
@@ -22,6 +23,19 @@ void writeRow(std::ostream& out, const TrajectorySampleData& s, double alt_ellip
                 s.position_enu_m.z(), s.velocity_enu_mps.x(), s.velocity_enu_mps.y(), s.velocity_enu_mps.z(),
                 s.heading_deg, alt_ellipsoid_m);
   out << line;
+}
+
+// A text field of a CSV row (RFC 4180): quoted when it holds a comma, a quote or a line break,
+// and prefixed with ' when a spreadsheet would read it as a formula (=, +, -, @). Vehicle ids are
+// bounded ids that need neither (text_bounds.hpp); a file written from any source stays one row
+// per sample all the same.
+std::string csvTextField(const std::string& text) {
+  std::string field = text;
+  if (!field.empty() && std::string_view("=+-@").find(field.front()) != std::string_view::npos) field.insert(0, "'");
+  if (field.find_first_of(",\"\r\n") == std::string::npos) return field;
+  std::string quoted = "\"";
+  for (char c : field) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
 }
 
 Result<std::vector<double>> ellipsoidHeights(const TrajectoryData& trajectory, const Egm96Geoid& geoid) {
@@ -131,7 +145,7 @@ Status writeTrajectoriesCsv(const std::string& path, const std::vector<Trajector
   out << "vehicle_id," << kTrajectoryDataCsvHeader << '\n';
   for (std::size_t k = 0; k < trajectories.size(); ++k)
     for (std::size_t i = 0; i < trajectories[k].samples.size(); ++i) {
-      out << trajectories[k].vehicle_id << ',';
+      out << csvTextField(trajectories[k].vehicle_id) << ',';
       writeRow(out, trajectories[k].samples[i], heights[k][i]);
       out << '\n';
     }

@@ -2,6 +2,7 @@
 
 #include "planning/core/assign_result.hpp"
 #include "service/number_text.hpp"
+#include "service/text_bounds.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -92,6 +93,25 @@ std::optional<Error> required(const char* s, const std::string& field) {
 }
 
 std::string text(const char* s) { return s != nullptr ? std::string(s) : std::string(); }
+
+// The text bounds (service/text_bounds.hpp) on a wire string, checked before it is copied.
+std::optional<Error> wireId(const char* s, const char* field, std::size_t max_chars = kMaxIdChars) {
+  return checkId(s != nullptr ? std::string_view(s) : std::string_view(), field, max_chars);
+}
+std::optional<Error> wireOptionalId(const char* s, const char* field, std::size_t max_chars = kMaxIdChars) {
+  return checkOptionalId(s != nullptr ? std::string_view(s) : std::string_view(), field, max_chars);
+}
+std::optional<Error> wireName(const char* s, const char* field) {
+  return checkName(s != nullptr ? std::string_view(s) : std::string_view(), field);
+}
+std::optional<Error> wireFreeText(const char* s, const char* field) {
+  return checkFreeText(s != nullptr ? std::string_view(s) : std::string_view(), field);
+}
+// An id as it may be echoed in a refusal: itself when valid, else its safe echo.
+std::string echoedId(const char* s, std::size_t max_chars) {
+  const std::string_view id = s != nullptr ? std::string_view(s) : std::string_view();
+  return isValidId(id, max_chars) || id.empty() ? std::string(id) : echoOfUntrusted(id);
+}
 
 // A wire enum's value as an integer, read from its bytes: a sample may carry any value, and
 // loading one outside the enumerators through the enum type is undefined (UBSan flags it).
@@ -253,8 +273,9 @@ void toWire(const MissionRequestData& in, skyroute_msgs_MissionRequest& out) {
 }
 
 Result<MissionRequestData> fromWire(const skyroute_msgs_MissionRequest& in) {
-  if (auto e = required(in.request_id, "request_id")) return *e;
-  if (auto e = required(in.vehicle_id, "vehicle_id")) return *e;
+  if (auto e = wireId(in.vehicle_id, "vehicle_id")) return *e;
+  if (auto e = wireId(in.request_id, "request_id", kMaxRequestIdChars)) return *e;
+  if (auto e = wireName(in.planner, "planner")) return *e;
   MissionRequestData out;
   SKYROUTE_MISSION_REQUEST_MEMBERS(SKYROUTE_MEMBER_FROM_WIRE)
   if (auto e = assignResult(pointFromWire(in.begin, "begin"), out.begin)) return *e;
@@ -308,8 +329,9 @@ std::optional<Error> sampleFiniteness(const skyroute_msgs_TrajectorySample& s, u
 }  // namespace
 
 Result<TrajectoryData> fromWire(const skyroute_msgs_Trajectory& in) {
-  if (auto e = required(in.vehicle_id, "vehicle_id")) return *e;
-  if (auto e = required(in.plan_id, "plan_id")) return *e;
+  if (auto e = wireId(in.vehicle_id, "vehicle_id")) return *e;
+  if (auto e = wireId(in.plan_id, "plan_id", kMaxDerivedIdChars)) return *e;
+  if (auto e = wireOptionalId(in.request_id, "request_id", kMaxDerivedIdChars)) return *e;
   TrajectoryData out;
   SKYROUTE_TRAJECTORY_MEMBERS(SKYROUTE_MEMBER_FROM_WIRE)
   out.visiting_order.assign(in.visiting_order._buffer, in.visiting_order._buffer + in.visiting_order._length);
@@ -340,6 +362,9 @@ Result<TrajectoryData> fromWire(const skyroute_msgs_Trajectory& in) {
 
 void toWire(const PlanStatusData& in, skyroute_msgs_PlanStatus& out) {
   SKYROUTE_PLAN_STATUS_MEMBERS(SKYROUTE_MEMBER_TO_WIRE)
+  // A message is free text: within its bound on the wire, however long the reason grew.
+  dds_string_free(out.message);
+  out.message = dup(boundedFreeText(in.message));
 }
 
 // The plain enums list their values in the IDL's order; these pin that down at compile time.
@@ -359,6 +384,14 @@ Result<PlanStatusData> fromWire(const skyroute_msgs_PlanStatus& in) {
   if (text(in.request_id).empty() && text(in.vehicle_id).empty()) {
     return invalid("request_id", "and vehicle_id are both missing (empty)");
   }
+  // A refusal echoes what it refused: ids as sent when valid, else their safe echo.
+  if (auto e = wireFreeText(in.request_id, "request_id")) return *e;
+  if (auto e = wireFreeText(in.vehicle_id, "vehicle_id")) return *e;
+  if (auto e = wireFreeText(in.field, "field")) return *e;
+  if (auto e = wireFreeText(in.message, "message")) return *e;
+  if (auto e = wireOptionalId(in.service_id, "service_id")) return *e;
+  if (auto e = wireFreeText(in.service_instance, "service_instance")) return *e;
+  if (auto e = wireFreeText(in.requester, "requester")) return *e;
   if (auto e = enumInRange(in.state, skyroute_msgs_STATE_REORDERED, "state")) return *e;
   if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_DUPLICATE_REQUEST, "error_code")) return *e;
   if (auto e = enumInRange(in.stage, skyroute_msgs_STAGE_REPLAN, "stage")) return *e;
@@ -431,6 +464,8 @@ Result<CancelRequestData> fromWire(const skyroute_msgs_CancelRequest& in) {
   if (text(in.request_id).empty() && text(in.vehicle_id).empty()) {
     return invalid("vehicle_id", "and request_id are both missing (empty)");
   }
+  if (auto e = wireOptionalId(in.request_id, "request_id", kMaxRequestIdChars)) return *e;
+  if (auto e = wireOptionalId(in.vehicle_id, "vehicle_id")) return *e;
   return CancelRequestData{text(in.request_id), text(in.vehicle_id)};
 }
 
@@ -439,7 +474,11 @@ void toWire(const ServiceStatusData& in, skyroute_msgs_ServiceStatus& out) {
 }
 
 Result<ServiceStatusData> fromWire(const skyroute_msgs_ServiceStatus& in) {
-  if (auto e = required(in.service_id, "service_id")) return *e;
+  if (auto e = wireId(in.service_id, "service_id")) return *e;
+  if (auto e = wireFreeText(in.instance_id, "instance_id")) return *e;
+  if (auto e = wireFreeText(in.terrain_name, "terrain_name")) return *e;
+  if (auto e = wireName(in.service_version, "service_version")) return *e;
+  if (auto e = wireName(in.idl_version, "idl_version")) return *e;
   if (auto e = finite(in.heartbeat_period_s, "heartbeat_period_s")) return *e;
   ServiceStatusData out;
   SKYROUTE_SERVICE_STATUS_MEMBERS(SKYROUTE_MEMBER_FROM_WIRE)
@@ -457,12 +496,13 @@ void toWire(const FleetRequestData& in, skyroute_msgs_FleetRequest& out) {
 }
 
 Result<FleetRequestData> fromWire(const skyroute_msgs_FleetRequest& in) {
-  if (auto e = required(in.request_id, "request_id")) return *e;
+  if (auto e = wireId(in.request_id, "request_id", kMaxRequestIdChars)) return *e;
+  if (auto e = wireName(in.planner, "planner")) return *e;
   FleetRequestData out;
   out.request_id = in.request_id;
   for (uint32_t i = 0; i < in.vehicle_ids._length; ++i) {
     const std::string field = "vehicle_ids[" + std::to_string(i) + "]";
-    if (auto e = required(in.vehicle_ids._buffer[i], field)) return *e;
+    if (auto e = wireId(in.vehicle_ids._buffer[i], field.c_str())) return *e;
     out.vehicle_ids.emplace_back(in.vehicle_ids._buffer[i]);
   }
   if (auto e = assignResult(pointsFromWire(in.begins, "begins"), out.begins)) return *e;
@@ -475,23 +515,25 @@ Result<FleetRequestData> fromWire(const skyroute_msgs_FleetRequest& in) {
 
 MissionRequestData identityFromWire(const skyroute_msgs_MissionRequest& in) {
   MissionRequestData out;
-  out.request_id = text(in.request_id);
-  out.vehicle_id = text(in.vehicle_id);
+  out.request_id = echoedId(in.request_id, kMaxRequestIdChars);
+  out.vehicle_id = echoedId(in.vehicle_id, kMaxIdChars);
   return out;
 }
 
 CancelRequestData identityFromWire(const skyroute_msgs_CancelRequest& in) {
-  return CancelRequestData{text(in.request_id), text(in.vehicle_id)};
+  return CancelRequestData{echoedId(in.request_id, kMaxRequestIdChars), echoedId(in.vehicle_id, kMaxIdChars)};
 }
 
 FleetRequestData identityFromWire(const skyroute_msgs_FleetRequest& in) {
   FleetRequestData out;
-  out.request_id = text(in.request_id);
+  out.request_id = echoedId(in.request_id, kMaxRequestIdChars);
   return out;
 }
 
 void toWire(const FleetStatusData& in, skyroute_msgs_FleetStatus& out) {
   SKYROUTE_FLEET_STATUS_MEMBERS(SKYROUTE_MEMBER_TO_WIRE)
+  dds_string_free(out.message);
+  out.message = dup(boundedFreeText(in.message));
   using WireAllocation = skyroute_msgs_FleetVehicleAllocation;
   sequenceToWire<WireAllocation>(in.allocation, out.allocation, [](const FleetVehicleAllocationData& a) {
     WireAllocation wire{};
@@ -504,6 +546,9 @@ void toWire(const FleetStatusData& in, skyroute_msgs_FleetStatus& out) {
 
 Result<FleetStatusData> fromWire(const skyroute_msgs_FleetStatus& in) {
   if (auto e = required(in.request_id, "request_id")) return *e;
+  if (auto e = wireFreeText(in.request_id, "request_id")) return *e;
+  if (auto e = wireFreeText(in.field, "field")) return *e;
+  if (auto e = wireFreeText(in.message, "message")) return *e;
   if (auto e = enumInRange(in.state, skyroute_msgs_STATE_HOLDING, "state")) return *e;
   if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_DUPLICATE_REQUEST, "error_code")) return *e;
   if (auto e = finite(in.makespan_s, "makespan_s")) return *e;
@@ -515,7 +560,7 @@ Result<FleetStatusData> fromWire(const skyroute_msgs_FleetStatus& in) {
   for (uint32_t i = 0; i < in.allocation._length; ++i) {
     const skyroute_msgs_FleetVehicleAllocation& w = in.allocation._buffer[i];
     const std::string field = "allocation[" + std::to_string(i) + "]";
-    if (auto e = required(w.vehicle_id, field + ".vehicle_id")) return *e;
+    if (auto e = wireId(w.vehicle_id, (field + ".vehicle_id").c_str())) return *e;
     if (auto e = finite(w.delay_s, field + ".delay_s")) return *e;
     FleetVehicleAllocationData a;
     a.vehicle_id = w.vehicle_id;

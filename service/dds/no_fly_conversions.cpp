@@ -6,6 +6,8 @@
 
 #include <dds/dds.h>
 
+#include "service/text_bounds.hpp"
+
 namespace skyroute::dds {
 namespace {
 
@@ -32,7 +34,8 @@ void toWire(const NoFlyZoneData& in, skyroute_msgs_NoFlyZone& out) {
 
 Result<NoFlyZoneData> fromWire(const skyroute_msgs_NoFlyZone& in) {
   NoFlyZoneData out;
-  if (in.zone_id == nullptr || in.zone_id[0] == '\0') return badMember("zone_id", "is missing");
+  if (auto bad = checkId(in.zone_id != nullptr ? std::string_view(in.zone_id) : std::string_view(), "zone_id"))
+    return *bad;
   out.zone_id = in.zone_id;
   out.remove = in.remove;
   if (out.remove) return out;

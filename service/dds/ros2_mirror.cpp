@@ -9,6 +9,7 @@
 #include "service/dds/qos.hpp"
 #include "service/dds/ros2_messages.hpp"
 #include "service/height_datum.hpp"
+#include "service/text_bounds.hpp"
 
 namespace skyroute::dds {
 
@@ -76,6 +77,13 @@ void Ros2Mirror::write(const std::string& vehicle_id, Vehicle& vehicle) {
 }
 
 void Ros2Mirror::publish(const TrajectoryData& trajectory) {
+  // Every id that reaches here passed the text bounds; the mirror still never makes a topic of
+  // one that did not (libddsc crashed on a topic name past 64 KiB).
+  if (!isValidId(trajectory.vehicle_id)) {
+    spdlog::error("event=ros2_vehicle_refused vehicle={} reason=\"not a bounded id\"",
+                  echoOfUntrusted(trajectory.vehicle_id));
+    return;
+  }
   std::lock_guard<std::mutex> lock(mutex_);
   const RosNameRegistry::Assignment assignment = names_.assign(trajectory.vehicle_id);
   if (assignment.displaced_vehicle) {

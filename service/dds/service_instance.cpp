@@ -10,6 +10,7 @@
 #include "service/dds/dds_entities.hpp"
 #include "service/mission_types.hpp"
 #include "service/number_text.hpp"
+#include "service/text_bounds.hpp"
 
 namespace skyroute::dds {
 namespace {
@@ -89,7 +90,11 @@ std::optional<ServiceInstance> ServiceInstance::fromUserData(std::string_view te
     }
     at = end;
   }
-  if (s.service_id.empty() || s.instance_id.empty()) return std::nullopt;
+  // Another participant's USER_DATA is untrusted text: its ids must be bounded ids, its other
+  // words bounded names (text_bounds.hpp), or it is no skyroute service.
+  if (!isValidId(s.service_id) || !isValidId(s.instance_id)) return std::nullopt;
+  if (checkName(s.host, "host") || checkName(s.role, "role") || checkOptionalId(s.shard_group, "shard_group"))
+    return std::nullopt;
   return s;
 }
 
