@@ -17,6 +17,9 @@ using engine_detail::cancelledStatus;
 
 namespace {
 
+// Plans of one request on a world that changed while each ran (see Engine::plan), at most.
+constexpr int kPlansOnAChangingWorld = 3;
+
 double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
@@ -456,11 +459,24 @@ void Engine::plan(Job& job) {
     error = *too_large;
   } else {
     const MissionPipeline pipeline(world_model, options.pipeline);
-    const std::uint64_t changes_planned = world_model->version();  // the world the plan sees
     TerminationCondition stop;
     stop.withCancelFlag(job.cancel);
+    // The collision worlds change in place when an obstacle or a zone arrives: a plan that ran
+    // while one did may have found its path in one world and checked it in the next (the path then
+    // "is not a valid motion"). Such a failure is no answer about the request: it is planned again
+    // on the world as it is now, a bounded number of times. A plan that succeeded across a change
+    // is checked by the next replanning cycle (changes_checked below).
+    std::uint64_t changes_planned = world_model->version();  // the world the plan sees
     auto planned = pipeline.plan(PipelineRequest{r, std::nullopt, std::nullopt}, static_cast<double>(clock_()) * 1e-9,
                                  stop);
+    for (int retry = 1; retry <= kPlansOnAChangingWorld - 1 && !planned.ok() &&
+                        planned.error().code != PlanErrorCode::kCancelled && world_model->version() != changes_planned;
+         ++retry) {
+      spdlog::info("event=plan_retried request={} vehicle={} attempt={} reason=world_changed code={} field={}",
+                   r.request_id, r.vehicle_id, retry + 1, to_string(planned.error().code), planned.error().field);
+      changes_planned = world_model->version();
+      planned = pipeline.plan(PipelineRequest{r, std::nullopt, std::nullopt}, static_cast<double>(clock_()) * 1e-9, stop);
+    }
     if (planned.ok()) {
       mission = std::make_shared<Mission>();
       mission->request = r;
