@@ -106,23 +106,23 @@ TEST(DaemonConfig, BadInputNamesTheKeyOrLine) {
       << quote.error().message;
   // In a multi-line basic string, a non-ASCII character right after a backslash, or first after a
   // line-ending backslash, is refused at its place; elsewhere in such a string it is text.
-  for (const char* text : {"[dds]\nservice_id = \"\"\"in\\\xC8\xA3\"\"\"\n",
-                           "[dds]\nservice_id = \"\"\"in\\ \n  \n \xC8\xA3\"\"\"\n",
-                           "[dds]\nservice_id = \"\"\"in\\  \xC8\xA3\"\"\"\n"}) {
+  for (const char* text : {"[terrain]\ndem = \"\"\"in\\\xC8\xA3\"\"\"\n",
+                           "[terrain]\ndem = \"\"\"in\\ \n  \n \xC8\xA3\"\"\"\n",
+                           "[terrain]\ndem = \"\"\"in\\  \xC8\xA3\"\"\"\n"}) {
     auto escaped = parseDaemonConfig(text, "ml.toml");
     ASSERT_FALSE(escaped.ok()) << text;
     EXPECT_NE(escaped.error().message.find("ml.toml:"), std::string::npos) << escaped.error().message;
     EXPECT_NE(escaped.error().message.find("non-ASCII character after a backslash"), std::string::npos)
         << escaped.error().message;
   }
-  auto multi = parseDaemonConfig("[dds]\nservice_id = \"\"\"a\\\\\n\xC8\xA3\\\n  b\xC3\xA4\"\"\"\n", "ml.toml");
+  auto multi = parseDaemonConfig("[terrain]\ndem = \"\"\"a\\\\\n\xC8\xA3\\\n  b\xC3\xA4\"\"\"\n", "ml.toml");
   ASSERT_TRUE(multi.ok()) << multi.error().describe();
-  EXPECT_EQ(multi->service_id, "a\\\n\xC8\xA3" "b\xC3\xA4");
-  EXPECT_TRUE(parseDaemonConfig("[dds]\nservice_id = 'l\xC3\xA4' # \xC3\xA4\n[planning]\nseed = 3\n", "q.toml").ok());
-  EXPECT_TRUE(parseDaemonConfig("\xEF\xBB\xBF[dds]\nservice_id = \"bom\"\n", "bom.toml").ok());
-  auto fine = parseDaemonConfig("# h\xC3\xB6he \xEF\xBB\xBF\n[dds]\nservice_id = \"s\xC3\xBC" "d\"\n", "fine.toml");
+  EXPECT_EQ(multi->dem_path, "a\\\n\xC8\xA3" "b\xC3\xA4");
+  EXPECT_TRUE(parseDaemonConfig("[terrain]\ndem = 'l\xC3\xA4' # \xC3\xA4\n[planning]\nseed = 3\n", "q.toml").ok());
+  EXPECT_TRUE(parseDaemonConfig("\xEF\xBB\xBF[terrain]\ndem = \"bom\"\n", "bom.toml").ok());
+  auto fine = parseDaemonConfig("# h\xC3\xB6he \xEF\xBB\xBF\n[terrain]\ndem = \"s\xC3\xBC" "d\"\n", "fine.toml");
   ASSERT_TRUE(fine.ok()) << fine.error().describe();
-  EXPECT_EQ(fine->service_id, "s\xC3\xBC" "d");
+  EXPECT_EQ(fine->dem_path, "s\xC3\xBC" "d");
   auto missing = loadDaemonConfig("/nonexistent/skyrouted.toml");
   ASSERT_FALSE(missing.ok());
   EXPECT_EQ(missing.error().code, ErrorCode::kFileNotFound);
@@ -177,6 +177,11 @@ TEST(DaemonConfig, HotStandbyRoleAndStrengthsAreReadAndChecked) {
 
 TEST(DaemonConfig, ShardGroupIsReadPrintedAndRefusedWithAStandby) {
   EXPECT_EQ(DaemonConfig{}.shard_group, "") << "not sharded unless asked";
+  // The service id names the daemon on the wire and in every log line: an id (text_bounds.hpp).
+  auto spaced = parseDaemonConfig("[dds]\nservice_id = \"my daemon\"\n", "id.toml");
+  ASSERT_FALSE(spaced.ok());
+  EXPECT_EQ(spaced.error().field, "dds.service_id");
+  EXPECT_NE(spaced.error().message.find("may hold only A-Z a-z 0-9 _ - ."), std::string::npos) << spaced.error().message;
   auto sharded = parseDaemonConfig("[service]\nshard_group = \"east\"\n[dds]\nservice_id = \"shard-1\"\n", "shard.toml");
   ASSERT_TRUE(sharded.ok()) << sharded.error().describe();
   EXPECT_EQ(sharded->shard_group, "east");
