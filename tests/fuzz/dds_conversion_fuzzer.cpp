@@ -17,6 +17,7 @@
 #include "service/engine.hpp"
 #include "service/fleet_mission.hpp"
 #include "service/obstacle_feed.hpp"
+#include "service/text_bounds.hpp"
 #include "service/world_model.hpp"
 #include "tests/fuzz/finding.hpp"
 #include "tests/fuzz/fuzz_bytes.hpp"
@@ -116,10 +117,16 @@ void missionRequest(FuzzBytes& in) {
   if (!request) {  // the daemon answers with a failed status naming the field
     const PlanError error = toPlanError(request.error());
     if (error.field.empty()) finding("a rejected request names no field: " + error.message);
+    // The refusal echoes the ids it could not take bounded: never a topic name or log line of 64 KiB.
+    const MissionRequestData who = dds::identityFromWire(m);
+    if (who.vehicle_id.size() > 2 * kMaxIdChars || who.request_id.size() > 2 * kMaxRequestIdChars)
+      finding("a refusal echoes an unbounded id (" + std::to_string(who.vehicle_id.size()) + " characters)");
     dds::WireSample<skyroute_msgs_PlanStatus> status(&skyroute_msgs_PlanStatus_desc);
-    dds::toWire(PlanStatusData::failed(dds::identityFromWire(m), error, 0.0), status.msg());
+    dds::toWire(PlanStatusData::failed(who, error, 0.0), status.msg());
     return;
   }
+  if (!isValidId(request->vehicle_id) || !isValidId(request->request_id, kMaxRequestIdChars))
+    finding("an accepted request's id is outside the text bounds");
   if (auto problem = validateMissionRequest(*request, EngineOptions{}.pipeline.bounds); problem && problem->field.empty())
     finding("a refused request names no field: " + problem->message);
   // What the daemon took in is what a client sending it would have sent.
