@@ -88,7 +88,7 @@ Result<std::unique_ptr<StateJournal>> StateJournal::open(const std::string& dir)
 }
 
 template <typename Body>
-Status StateJournal::transaction(const Body& body) {
+Status StateJournal::transaction(const Body& body, bool adds) {
   const auto started = std::chrono::steady_clock::now();
   std::lock_guard lock(mutex_);
   const auto attempt = [&](bool& full) {
@@ -114,6 +114,7 @@ Status StateJournal::transaction(const Body& body) {
   ++stats_.writes;
   stats_.total_ms += ms;
   stats_.max_ms = std::max(stats_.max_ms, ms);
+  if (outcome.ok() && !adds) return outcome;  // a removal says nothing of room for new rows
   const bool was_writable = writable_.exchange(outcome.ok());
   if (was_writable && !outcome.ok()) {
     spdlog::error("event=journal_unavailable path={} disk_full={} message=\"{}\" effect=\"new requests, fleets and cancels "
@@ -167,7 +168,7 @@ Status StateJournal::recordCancel(const std::string& vehicle_id, const std::stri
     if (!s.ok()) return s;
     return runSql(*db_, "DELETE FROM missions WHERE (?1 = '' OR vehicle_id = ?1) AND (?2 = '' OR request_id = ?2)",
                   [&](SqliteStatement& q) { q.bind(1, vehicle_id).bind(2, request_id); });
-  });
+  }, /*adds=*/false);
 }
 
 Status StateJournal::writeTrajectoryLocked(const TrajectoryData& t) {
@@ -227,22 +228,22 @@ Status StateJournal::pruneLocked(std::int64_t now_utc_ns) {
 Status StateJournal::recordRetracted(const std::string& vehicle_id) {
   return transaction([&] {
     return runSql(*db_, "DELETE FROM trajectories WHERE vehicle_id = ?1", [&](SqliteStatement& q) { q.bind(1, vehicle_id); });
-  });
+  }, /*adds=*/false);
 }
 
 Status StateJournal::recordFinished(const std::string& vehicle_id, const std::string& request_id) {
   return transaction([&] {
     return runSql(*db_, "DELETE FROM missions WHERE vehicle_id = ?1 AND request_id = ?2",
                   [&](SqliteStatement& q) { q.bind(1, vehicle_id).bind(2, request_id); });
-  });
+  }, /*adds=*/false);
 }
 
 Status StateJournal::recordObstacle(const ObstacleUpdateData& update) {
   const auto id = static_cast<std::int64_t>(update.obstacle.id);
   if (update.remove) {
-    return transaction([&] {
-      return runSql(*db_, "DELETE FROM obstacles WHERE obstacle_id = ?1", [&](SqliteStatement& q) { q.bind(1, id); });
-    });
+    return transaction(
+        [&] { return runSql(*db_, "DELETE FROM obstacles WHERE obstacle_id = ?1", [&](SqliteStatement& q) { q.bind(1, id); }); },
+        /*adds=*/false);
   }
   const std::string text = obstacleRecordToJson(update).dump();
   return transaction([&] {
@@ -305,7 +306,7 @@ Status StateJournal::forgetShardRequests(const std::vector<std::string>& keys) {
       if (!s.ok()) return s;
     }
     return Status::success();
-  });
+  }, /*adds=*/false);
 }
 
 Status StateJournal::forgetShardMission(const std::string& vehicle_id, const std::string& request_id) {
@@ -314,7 +315,7 @@ Status StateJournal::forgetShardMission(const std::string& vehicle_id, const std
                   "DELETE FROM shard_requests WHERE kind = 'mission' AND (?1 = '' OR vehicle_id = ?1) "
                   "AND (?2 = '' OR request_id = ?2)",
                   [&](SqliteStatement& q) { q.bind(1, vehicle_id).bind(2, request_id); });
-  });
+  }, /*adds=*/false);
 }
 
 Status StateJournal::beginShardLife(std::int64_t started_utc_ns) {
@@ -340,7 +341,7 @@ Status StateJournal::recordShardCoverage(std::int64_t started_utc_ns, std::int64
 }
 
 Result<JournalState> StateJournal::load(std::int64_t now_utc_ns) {
-  if (Status s = transaction([&] { return pruneLocked(now_utc_ns); }); !s.ok()) {
+  if (Status s = transaction([&] { return pruneLocked(now_utc_ns); }, /*adds=*/false); !s.ok()) {
     // A full disk must not keep the daemon from recovering what it holds: the ended rows are read
     // too (an ended flight is found finished at once), and pruned at a later write.
     spdlog::warn("event=journal_prune_failed path={} message=\"{}\"", db_->path(), s.error().message);

@@ -142,14 +142,16 @@ class StateJournal {
 
   JournalWriteStats writeStats() const;
   // False while writes fail (the last write failed: a full disk, an I/O error); true again after
-  // the next write that succeeds. Transitions are logged (event=journal_unavailable / _available).
+  // the next write that adds a row and succeeds. Transitions are logged (event=journal_unavailable / _available).
   bool writable() const { return writable_.load(); }
 
  private:
   StateJournal(std::unique_ptr<SqliteDb> db, int found_version) : db_(std::move(db)), found_version_(found_version) {}
-  // Runs `body` in one transaction (rolled back when it fails) and times it.
+  // Runs `body` in one transaction (rolled back when it fails) and times it. A transaction that
+  // only removes rows (`adds` false) can succeed on a full disk: it marks the journal unwritable
+  // when it fails, but does not mark it writable again.
   template <typename Body>
-  Status transaction(const Body& body);
+  Status transaction(const Body& body, bool adds = true);
   Status pruneLocked(std::int64_t now_utc_ns);
   Status writeTrajectoryLocked(const TrajectoryData& trajectory);
 

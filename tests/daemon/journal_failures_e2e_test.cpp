@@ -318,7 +318,8 @@ TEST_F(JournalFailuresE2E, ARecordRefusedTodayIsQuarantinedAndTheRestResumes) {
   // A mission no request could bring in today (more points than the bound of 64), flying, as an
   // older or laxer skyrouted would have journaled it.
   MissionRequestData bad = simpleMission("bad-1", "uav-bad", 1500.0);
-  bad.points.assign(70, above(0, 1700, 400));
+  bad.points.clear();
+  for (int i = 0; i < 70; ++i) bad.points.push_back(above(-3500 + 100 * i, 1700, 400));
   TrajectoryData bad_flight = published["uav-good"];
   bad_flight.vehicle_id = "uav-bad";
   bad_flight.request_id = "bad-1";
