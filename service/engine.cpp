@@ -87,6 +87,18 @@ std::optional<PlanError> checkObstacleOrder(const ObstacleUpdateData& update, co
 
 }  // namespace
 
+std::optional<PlanError> checkMissionAdmission(const MissionRequestData& request, const WorldModel& world,
+                                               const EngineOptions& options) {
+  std::optional<PlanError> problem = validateMissionRequest(request, options.pipeline.bounds);
+  if (!problem && !request.planner.empty()) problem = findRoutePlanner(request.planner, nullptr);
+  if (!problem) problem = checkRequestSize(request, world, options);
+  return problem;
+}
+
+std::optional<PlanError> checkFleetAdmission(const FleetRequestData& request, const EngineOptions& options) {
+  return validateFleetRequest(request, fleetMissionOptions(options.pipeline));
+}
+
 namespace engine_detail {
 
 PlanStatusData cancelledStatus(const MissionRequestData& r, const std::string& why) {
@@ -246,14 +258,13 @@ std::optional<PlanError> Engine::submit(MissionRequestData request) {
                           "request_id '" + request.request_id + "' is already queued or being planned for vehicle '" +
                               request.vehicle_id + "': a request id names one plan; use a new id"};
     } else if (!(stored = registry_.finished(request.vehicle_id, request.request_id))) {
-      problem = validateMissionRequest(request, options_.pipeline.bounds);
-      if (!problem && !request.planner.empty()) problem = findRoutePlanner(request.planner, nullptr);
-      if (!problem) problem = checkRequestSize(request, *world_, options_);
+      problem = checkMissionAdmission(request, *world_, options_);
       if (!problem) problem = queueRefusal();
       if (!problem) {
         if (Status recorded = sink_.recordAccepted(request); !recorded.ok()) {
-          problem = PlanError{PlanErrorCode::kInternal, "service.state_dir",
-                              "the request could not be recorded in the state journal: " + recorded.error().message};
+          problem = PlanError{PlanErrorCode::kJournalUnavailable, "service.state_dir",
+                              "refused: the state journal cannot record the request (" + recorded.error().message +
+                                  "); nothing was planned, retry when the journal can write"};
         }
       }
       if (!problem) {
@@ -293,6 +304,7 @@ bool Engine::cancel(const CancelRequestData& request) {
   std::vector<std::shared_ptr<Mission>> ended;
   std::vector<std::string> retracted;
   bool matched = false;
+  std::optional<Error> unrecorded;  // the journal could not record the cancel
   {
     std::lock_guard lock(mutex_);
     // A cancel names a vehicle, a request, or both; a fleet job's request is empty: never matches.
@@ -300,7 +312,16 @@ bool Engine::cancel(const CancelRequestData& request) {
       return !r.vehicle_id.empty() && (request.vehicle_id.empty() || r.vehicle_id == request.vehicle_id) &&
              (request.request_id.empty() || r.request_id == request.request_id);
     };
-    for (auto it = queue_.begin(); it != queue_.end();) {
+    // Write-ahead: a cancel the journal cannot record is refused before anything changes (a
+    // mission cancelled without its record would fly again after a restart).
+    const bool matches_any =
+        std::any_of(queue_.begin(), queue_.end(), [&](const auto& job) { return matches(job->request); }) ||
+        std::any_of(in_flight_.begin(), in_flight_.end(), [&](const Job* job) { return matches(job->request); }) ||
+        std::any_of(missions_.begin(), missions_.end(), [&](const auto& entry) { return matches(entry.second->request); });
+    if (matches_any) {
+      if (Status recorded = sink_.recordCancel(request); !recorded.ok()) unrecorded = recorded.error();
+    }
+    for (auto it = queue_.begin(); !unrecorded && it != queue_.end();) {
       if (matches((*it)->request)) {
         if ((*it)->resume) retracted.push_back((*it)->request.vehicle_id);  // its trajectory was republished
         cancelled.push_back((*it)->request);
@@ -310,12 +331,12 @@ bool Engine::cancel(const CancelRequestData& request) {
       }
     }
     for (Job* job : in_flight_) {
-      if (matches(job->request)) {
+      if (!unrecorded && matches(job->request)) {
         job->cancel->store(true);  // its worker answers with the cancelled status
         matched = true;
       }
     }
-    for (auto it = missions_.begin(); it != missions_.end();) {
+    for (auto it = missions_.begin(); !unrecorded && it != missions_.end();) {
       if (matches(it->second->request)) {
         ended.push_back(it->second);
         it = missions_.erase(it);
@@ -323,6 +344,19 @@ bool Engine::cancel(const CancelRequestData& request) {
         ++it;
       }
     }
+  }
+  if (unrecorded) {
+    const PlanError error{PlanErrorCode::kJournalUnavailable, "service.state_dir",
+                          "cancel refused: the state journal cannot record it (" + unrecorded->message +
+                              "); the mission goes on, retry when the journal can write"};
+    spdlog::warn("event=cancel_rejected vehicle={} request={} code={} message=\"{}\"", request.vehicle_id,
+                 request.request_id, to_string(error.code), error.message);
+    MissionRequestData identity;
+    identity.request_id = request.request_id;
+    identity.vehicle_id = request.vehicle_id;
+    identity.requester = request.requester;
+    sink_.publishStatus(PlanStatusData::failed(identity, error, 0.0));
+    return false;
   }
   // Mission locks are never taken under the engine lock (the replanning loop holds a mission's
   // lock while it plans).
@@ -510,18 +544,38 @@ void Engine::plan(Job& job) {
   }
   // Registered and published under the mission's lock, so the replanning loop cannot publish
   // revision 1 before revision 0 is out. Registered under the engine's lock only when no cancel
-  // or stop came first: after stop() began, a plan is answered cancelled, never succeeded.
+  // or stop came first: after stop() began, a plan is answered cancelled, never succeeded; and
+  // only once the journal recorded it (under the same lock, so no cancel comes between).
   std::unique_lock mission_lock(mission->mutex);
+  TrajectoryData data = trajectoryOf(*mission);  // its plan id is given below
   std::shared_ptr<Mission> replaced;
   bool registered = false;
+  std::optional<Error> unrecorded;
   {
     std::lock_guard lock(mutex_);
     if (!job.cancel->load() && !stopping_) {
       mission->plan_id = r.vehicle_id + "-" + (plan_id_tag_.empty() ? "" : plan_id_tag_ + "-") + std::to_string(++plan_counter_);
-      if (auto it = missions_.find(r.vehicle_id); it != missions_.end()) replaced = it->second;
-      missions_[r.vehicle_id] = mission;
-      registered = true;
+      data.plan_id = mission->plan_id;
+      if (Status recorded = sink_.recordTrajectory(data); !recorded.ok()) {
+        unrecorded = recorded.error();
+      } else {
+        if (auto it = missions_.find(r.vehicle_id); it != missions_.end()) replaced = it->second;
+        missions_[r.vehicle_id] = mission;
+        registered = true;
+      }
     }
+  }
+  if (unrecorded) {
+    // Nothing is published that the journal did not store: the vehicle's mission in force, if
+    // any, flies on as it was.
+    mission_lock.unlock();
+    const PlanError error{PlanErrorCode::kJournalUnavailable, "service.state_dir",
+                          "refused: the state journal cannot record the trajectory (" + unrecorded->message +
+                              "); nothing was published, retry when the journal can write"};
+    spdlog::warn("event=plan_not_journaled request={} vehicle={} plan={} message=\"{}\" time_s={:.3f}", r.request_id,
+                 r.vehicle_id, data.plan_id, unrecorded->message, planning_s);
+    finish(PlanStatusData::failed(r, error, planning_s));
+    return;
   }
   if (!registered) {
     mission_lock.unlock();
@@ -534,7 +588,6 @@ void Engine::plan(Job& job) {
     std::lock_guard old_lock(replaced->mutex);
     replaced->ended = true;
   }
-  const TrajectoryData data = trajectoryOf(*mission);
   sink_.publishTrajectory(data);
   mission_lock.unlock();
   spdlog::info("event=plan_succeeded request={} vehicle={} plan={} duration_s={:.1f} samples={} time_s={:.3f}",

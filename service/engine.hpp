@@ -57,6 +57,14 @@ struct EngineOptions {
   ObstacleBounds obstacles;             // what an obstacle update may describe
 };
 
+// The checks a new mission gets before it is accepted (besides the queue's room): its fields and
+// bounds (validateMissionRequest), its planner, its points on the terrain and its footprint; and
+// a new fleet's (validateFleetRequest). The journal's records are checked with the same at a
+// restart (journal_screening.hpp), so a record that would be refused today is never replayed.
+std::optional<PlanError> checkMissionAdmission(const MissionRequestData& request, const WorldModel& world,
+                                               const EngineOptions& options);
+std::optional<PlanError> checkFleetAdmission(const FleetRequestData& request, const EngineOptions& options);
+
 // The footprint bounds and estimates of the engine's options (request_footprint.hpp).
 FootprintOptions footprintOptions(const EngineOptions& options);
 // kInvalidArgument naming the option (planning_threads, sample_dt_s, ...) when it is unusable.
@@ -74,13 +82,35 @@ class EngineSink {
   virtual void publishFleetStatus(const FleetStatusData& status) { (void)status; }
 
   // Write-ahead hooks (the state journal, journaling_sink.hpp): each is called before its event is
-  // published or takes effect. recordAccepted is called under the engine's lock, before the
-  // request is queued, so no worker can answer a request before it is recorded; when it fails the
-  // request is refused.
+  // published or takes effect, and what a hook did not record is neither published nor acted on.
+  // recordAccepted is called under the engine's lock, before the request is queued, so no worker
+  // can answer a request before it is recorded; when it fails the request is refused
+  // (journal_unavailable). recordTrajectory: a new plan (under the engine's lock, before it is
+  // registered: when it fails the request fails journal_unavailable and the vehicle's mission in
+  // force stays) or a new revision (under the mission's lock: when it fails the flight goes back to
+  // the revision in force, which stays published). recordFleetPlan: a fleet's trajectories and
+  // allocation together, all or none. recordCancel: under the engine's lock, before a cancel that
+  // matches something takes effect (when it fails the cancel is refused journal_unavailable).
   virtual Status recordAccepted(const MissionRequestData& request) {
     (void)request;
     return Status::success();
   }
+  virtual Status recordTrajectory(const TrajectoryData& trajectory) {
+    (void)trajectory;
+    return Status::success();
+  }
+  virtual Status recordFleetPlan(const std::vector<TrajectoryData>& trajectories, const FleetStatusData& status) {
+    (void)trajectories;
+    (void)status;
+    return Status::success();
+  }
+  virtual Status recordCancel(const CancelRequestData& cancel) {
+    (void)cancel;
+    return Status::success();
+  }
+  // Whether recordTrajectory can fail: the engine then keeps a copy of each flight before a
+  // replanning step, to go back to when the new revision is not recorded.
+  virtual bool recordsTrajectories() const { return false; }
   virtual void recordObstacle(const ObstacleUpdateData& update) { (void)update; }
   virtual void recordNoFlyZone(const NoFlyZoneData& zone) { (void)zone; }
 };
@@ -195,6 +225,12 @@ class Engine {
   // The cycle's look at the flying fleets: a fleet whose world changed gets a replan job.
   void queueFleetReplans(std::uint64_t changes, double now_s);
   void planResumed(Job& job);  // a recovered flying mission's flight (engine_recovery.cpp)
+  // Write-ahead of a flying mission's new revision `data` (under the mission's lock): true when
+  // recorded; otherwise the flight (and the order) go back to `before`, the revision in force
+  // stays, the requester is told once per change of the world (a non-terminal status with
+  // journal_unavailable), and false.
+  struct FlightSnapshot;
+  bool recordRevision(Mission& mission, const TrajectoryData& data, FlightSnapshot& before, double latency_ms);
   void status(const MissionRequestData& request, PlanState state, double planning_time_s = 0.0);
   // Publishes a request's final status and records it for duplicates of the request.
   void finish(const PlanStatusData& status);

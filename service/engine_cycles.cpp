@@ -35,6 +35,7 @@ std::size_t Engine::replanCycle() {
   }
   const auto started = std::chrono::steady_clock::now();
   std::size_t published = 0;
+  const bool journaled = sink_.recordsTrajectories();
   for (const std::shared_ptr<Mission>& mission : missions) {
     if (stopping_) break;
     std::unique_lock mission_lock(mission->mutex);
@@ -57,10 +58,17 @@ std::size_t Engine::replanCycle() {
       ++published;
       continue;  // a new revision this cycle; the next cycle checks it like any other
     }
+    FlightSnapshot before;
+    if (journaled) before.flight = std::make_unique<FlightReplanner>(*mission->plan.flight);
     const ReplanStep step = mission->plan.flight->step(now_s);
+    std::optional<TrajectoryData> made;  // a new revision, recorded before it goes out
+    if (step.holding || step.replanned) {
+      made = trajectoryOf(*mission);
+      if (!recordRevision(*mission, *made, before, step.latency_ms)) continue;
+    }
     if (step.holding) {
       mission->failure_answered = true;  // the hold is the answer to this change of the world
-      const TrajectoryData data = trajectoryOf(*mission);
+      const TrajectoryData& data = *made;
       sink_.publishTrajectory(data);
       mission_lock.unlock();
       ++published;
@@ -71,7 +79,7 @@ std::size_t Engine::replanCycle() {
       publishHold(mission->request, step, data.revision);
     } else if (step.replanned) {
       mission->failure_answered = false;
-      const TrajectoryData data = trajectoryOf(*mission);
+      const TrajectoryData& data = *made;
       sink_.publishTrajectory(data);
       mission_lock.unlock();
       ++replans_;
@@ -103,6 +111,31 @@ std::size_t Engine::replanCycle() {
   spdlog::debug("event=replan_cycle flights={} replanned={} world_version={} ms={:.1f}", missions.size(), published,
                 changes, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count());
   return published;
+}
+
+bool Engine::recordRevision(Mission& mission, const TrajectoryData& data, FlightSnapshot& before, double latency_ms) {
+  const Status recorded = sink_.recordTrajectory(data);
+  if (recorded.ok()) return true;
+  // Not published: the flight goes back to the revision in force, which the vehicle flies on,
+  // and the next cycles try again.
+  if (before.flight) mission.plan.flight = std::move(before.flight);
+  if (before.order) mission.plan.mission = std::move(*before.order);
+  const MissionRequestData& r = mission.request;
+  const std::uint32_t revision = mission.revision_base + mission.plan.flight->revision();
+  throttle_.warn("revision_not_journaled:" + r.vehicle_id,
+                 fmt::format("event=revision_not_journaled request={} vehicle={} plan={} revision={} message=\"{}\"",
+                             r.request_id, r.vehicle_id, mission.plan_id, data.revision, recorded.error().message));
+  if (!mission.failure_answered && !stopping_) {
+    mission.failure_answered = true;  // told once per change of the world, as a failed replan
+    PlanError error{PlanErrorCode::kJournalUnavailable, "service.state_dir",
+                    "no new revision: the state journal cannot record it (" + recorded.error().message + "); revision " +
+                        std::to_string(revision) + " stays in force"};
+    error.stage = PlanStage::kReplan;
+    PlanStatusData s = PlanStatusData::failed(r, error, latency_ms * 1e-3);
+    s.state = mission.plan.flight->holding() ? PlanState::kHolding : PlanState::kReplanned;
+    sink_.publishStatus(s);  // under the mission's lock: a status only, nothing takes that lock
+  }
+  return false;
 }
 
 void Engine::publishReplanFailure(const MissionRequestData& request, const Error& failure, std::uint32_t revision,

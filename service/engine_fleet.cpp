@@ -39,7 +39,7 @@ std::optional<PlanError> Engine::submitFleet(FleetRequestData request) {
   auto job = std::make_unique<Job>();
   job->fleet = request;
   const std::optional<PlanError> problem = enqueue(
-      std::move(job), [&](const EngineOptions& o) { return validateFleetRequest(request, fleetMissionOptions(o.pipeline)); });
+      std::move(job), [&](const EngineOptions& o) { return checkFleetAdmission(request, o); });
   if (problem) {
     throttle_.warn("fleet_rejected:" + std::string(to_string(problem->code)) + ":" + problem->field,
                    fmt::format("event=fleet_rejected request={} code={} field={} message=\"{}\"", request.request_id,
@@ -94,11 +94,15 @@ void Engine::planFleetJob(Job& job) {
   // Decided under the lock, so a stop that began meanwhile is answered cancelled, never succeeded.
   std::vector<std::shared_ptr<Mission>> replaced;
   bool stopped = false;
+  std::optional<Error> unrecorded;  // write-ahead: nothing replaced or published without the record
   {
     std::lock_guard lock(mutex_);
     stopped = job.cancel->load() || stopping_;
+    if (!stopped) {
+      if (Status recorded = sink_.recordFleetPlan(out.trajectories, out.status); !recorded.ok()) unrecorded = recorded.error();
+    }
     for (const std::string& vehicle : r.vehicle_ids) {
-      if (stopped) break;
+      if (stopped || unrecorded) break;
       if (auto it = missions_.find(vehicle); it != missions_.end()) {
         replaced.push_back(it->second);
         missions_.erase(it);
@@ -113,13 +117,21 @@ void Engine::planFleetJob(Job& job) {
         }
       }
     }
-    if (!stopped && flying) {
+    if (!stopped && !unrecorded && flying) {
       if (auto it = fleets_.find(r.request_id); it != fleets_.end()) it->second->ended = true;
       fleets_[r.request_id] = flying;
     }
   }
   if (stopped) {
     sink_.publishFleetStatus(fleetFailed(r.request_id, PlanError{PlanErrorCode::kCancelled, "", "cancelled during planning"}));
+    return;
+  }
+  if (unrecorded) {
+    spdlog::warn("event=fleet_not_journaled request={} message=\"{}\"", r.request_id, unrecorded->message);
+    sink_.publishFleetStatus(fleetFailed(
+        r.request_id, PlanError{PlanErrorCode::kJournalUnavailable, "service.state_dir",
+                                "refused: the state journal cannot record the fleet's trajectories (" + unrecorded->message +
+                                    "); nothing was published, retry when the journal can write"}));
     return;
   }
   for (const std::shared_ptr<Mission>& m : replaced) {
@@ -196,6 +208,18 @@ void Engine::replanFleetJob(Job& job) {
       spdlog::info("event=fleet_completed request={}", fleet.request_id);
     }
     if (stopping_) return;
+  }
+  const bool allocation_changed = answer && (status.state == PlanState::kSucceeded || status.state == PlanState::kReplanned);
+  if (!revisions.empty() || allocation_changed) {
+    if (Status recorded = sink_.recordFleetPlan(revisions, status); !recorded.ok()) {
+      // The fleet replanner has moved on to revisions that are not published and cannot be
+      // undone: the fleet flies on with the revisions in force and is no longer replanned.
+      fleet.ended = true;
+      spdlog::warn("event=fleet_replan_not_journaled request={} changed={} message=\"the state journal cannot record "
+                   "the fleet's new revisions ({}); the revisions in force stay and the fleet is no longer replanned\"",
+                   fleet.request_id, revisions.size(), recorded.error().message);
+      return;
+    }
   }
   for (const TrajectoryData& t : revisions) sink_.publishTrajectory(t);
   replans_ += revisions.size();

@@ -61,7 +61,12 @@ void Engine::recover(const JournalState& state) {
       queue_.push_back(std::move(job));
     }
   }
-  for (const TrajectoryData& t : state.trajectories) sink_.publishTrajectory(t);
+  for (const TrajectoryData& t : state.trajectories) {
+    // Each is in the journal already, or (a primary that caught up with its standby) on the bus
+    // already: recorded again for the latter, and published either way.
+    (void)sink_.recordTrajectory(t);
+    sink_.publishTrajectory(t);
+  }
   for (const FleetStatusData& fleet : state.fleets) sink_.publishFleetStatus(fleet);
   spdlog::info("event=recovered trajectories={} flights_resumed={} missions_replanned={} obstacles={} zones={} "
                "fleets={} plan_counter={}",
@@ -109,18 +114,32 @@ void Engine::planResumed(Job& job) {
   const bool same = sameSamples(pipeline.sample(mission->plan, identity), published);
   mission->revision_base = same ? published.revision : published.revision + 1;
   if (same) mission->recovered = published;
+  const TrajectoryData rebuilt = same ? TrajectoryData{} : trajectoryOf(*mission);
   std::unique_lock mission_lock(mission->mutex);
   bool registered = false;
+  std::optional<Error> unrecorded;
   {
     std::lock_guard lock(mutex_);
     // A new plan for the vehicle since the restart takes precedence.
     if (!stopping_ && !job.cancel->load() && missions_.find(r.vehicle_id) == missions_.end()) {
-      missions_[r.vehicle_id] = mission;
-      registered = true;
+      // Write-ahead, under the lock as a new plan's: a rebuilt revision the journal cannot record
+      // is not published, and the flight is not kept (the published trajectory stays in force).
+      if (!same) {
+        if (Status recorded = sink_.recordTrajectory(rebuilt); !recorded.ok()) unrecorded = recorded.error();
+      }
+      if (!unrecorded) {
+        missions_[r.vehicle_id] = mission;
+        registered = true;
+      }
     }
   }
-  if (registered && !same) sink_.publishTrajectory(trajectoryOf(*mission));
+  if (registered && !same) sink_.publishTrajectory(rebuilt);
   mission_lock.unlock();
+  if (unrecorded) {
+    spdlog::warn("event=resume_not_journaled request={} vehicle={} plan={} revision={} message=\"the state journal cannot "
+                 "record the rebuilt revision ({}); revision {} stays in force and is not replanned\"",
+                 r.request_id, r.vehicle_id, published.plan_id, rebuilt.revision, unrecorded->message, published.revision);
+  }
   spdlog::info("event=flight_resumed request={} vehicle={} plan={} revision={} registered={} same_samples={} time_s={:.3f}",
                r.request_id, r.vehicle_id, published.plan_id, mission->revision_base, registered, same, time_s);
   replan_cv_.notify_one();

@@ -18,6 +18,11 @@ bool Engine::reorderMission(Mission& mission, std::unique_lock<std::mutex>& lock
   const MissionPipeline pipeline(mission.world_model, options().pipeline);
   TerminationCondition stop;
   stop.withCancelFlag(mission.cancel);
+  FlightSnapshot before;  // a new order the journal does not record is undone
+  if (sink_.recordsTrajectories()) {
+    before.flight = std::make_unique<FlightReplanner>(*mission.plan.flight);
+    before.order = mission.plan.mission;
+  }
   const ReorderOutcome outcome = pipeline.reorder(mission.plan, now_s, stop);
   const ReorderCheck& check = outcome.check;
   const MissionRequestData& r = mission.request;
@@ -36,8 +41,9 @@ bool Engine::reorderMission(Mission& mission, std::unique_lock<std::mutex>& lock
                  outcome.step.failure ? outcome.step.failure->describe() : std::string());
     return false;
   }
-  mission.failure_answered = false;
   const TrajectoryData data = trajectoryOf(mission);
+  if (!recordRevision(mission, data, before, check.time_ms + outcome.step.latency_ms)) return false;
+  mission.failure_answered = false;
   sink_.publishTrajectory(data);
   lock.unlock();
   ++replans_;

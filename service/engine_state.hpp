@@ -64,6 +64,13 @@ struct Engine::Mission {
   std::uint64_t order_checked = 0;
 };
 
+// What a replanning step may change in a flying mission, kept before it when the sink's records
+// can fail (EngineSink::recordsTrajectories): a revision the journal does not record is undone.
+struct Engine::FlightSnapshot {
+  std::unique_ptr<FlightReplanner> flight;
+  std::optional<OrderedMission> order;  // kept before a look at the order (engine_reorder.cpp)
+};
+
 namespace engine_detail {
 
 // A request answered cancelled, saying why.

@@ -10,20 +10,37 @@ namespace {
 
 constexpr const char* kCurrentSchema = R"sql(
 CREATE TABLE schema_version(version INTEGER NOT NULL);
-CREATE TABLE meta(key TEXT PRIMARY KEY, value INTEGER NOT NULL);
+CREATE TABLE meta(key TEXT PRIMARY KEY, value INTEGER NOT NULL, checksum INTEGER NOT NULL DEFAULT 0);
 CREATE TABLE missions(vehicle_id TEXT NOT NULL, request_id TEXT NOT NULL, request_json TEXT NOT NULL,
                       state TEXT NOT NULL, accepted_utc_ns INTEGER NOT NULL DEFAULT 0,
-                      flight_start_utc_ns INTEGER NOT NULL DEFAULT 0, PRIMARY KEY(vehicle_id, request_id));
+                      flight_start_utc_ns INTEGER NOT NULL DEFAULT 0, checksum INTEGER NOT NULL DEFAULT 0,
+                      PRIMARY KEY(vehicle_id, request_id));
 CREATE TABLE trajectories(vehicle_id TEXT PRIMARY KEY, plan_id TEXT NOT NULL, revision INTEGER NOT NULL,
-                          request_id TEXT NOT NULL, record BLOB NOT NULL, ends_utc_ns INTEGER NOT NULL DEFAULT 0);
+                          request_id TEXT NOT NULL, record BLOB NOT NULL, ends_utc_ns INTEGER NOT NULL DEFAULT 0,
+                          checksum INTEGER NOT NULL DEFAULT 0);
 CREATE TABLE obstacles(obstacle_id INTEGER PRIMARY KEY, update_json TEXT NOT NULL,
-                       valid_until_utc_ns INTEGER NOT NULL DEFAULT 0);
-CREATE TABLE no_fly_zones(zone_id TEXT PRIMARY KEY, zone_json TEXT NOT NULL, valid_until_utc_ns INTEGER NOT NULL);
-CREATE TABLE fleet_allocations(request_id TEXT PRIMARY KEY, status_json TEXT NOT NULL);
-CREATE TABLE owner(instance_id TEXT NOT NULL);
+                       valid_until_utc_ns INTEGER NOT NULL DEFAULT 0, checksum INTEGER NOT NULL DEFAULT 0);
+CREATE TABLE no_fly_zones(zone_id TEXT PRIMARY KEY, zone_json TEXT NOT NULL, valid_until_utc_ns INTEGER NOT NULL,
+                          checksum INTEGER NOT NULL DEFAULT 0);
+CREATE TABLE fleet_allocations(request_id TEXT PRIMARY KEY, status_json TEXT NOT NULL,
+                               checksum INTEGER NOT NULL DEFAULT 0);
+CREATE TABLE owner(instance_id TEXT NOT NULL, checksum INTEGER NOT NULL DEFAULT 0);
 CREATE TABLE shard_requests(key TEXT PRIMARY KEY, kind TEXT NOT NULL, vehicle_id TEXT NOT NULL,
-                            request_id TEXT NOT NULL, request_json TEXT NOT NULL, seen_utc_ns INTEGER NOT NULL);
-CREATE TABLE shard_lives(started_utc_ns INTEGER PRIMARY KEY, covered_until_utc_ns INTEGER NOT NULL);
+                            request_id TEXT NOT NULL, request_json TEXT NOT NULL, seen_utc_ns INTEGER NOT NULL,
+                            checksum INTEGER NOT NULL DEFAULT 0);
+CREATE TABLE shard_lives(started_utc_ns INTEGER PRIMARY KEY, covered_until_utc_ns INTEGER NOT NULL,
+                         checksum INTEGER NOT NULL DEFAULT 0);
+CREATE TABLE quarantine(id INTEGER PRIMARY KEY AUTOINCREMENT, source_table TEXT NOT NULL, record_key TEXT NOT NULL,
+                        reason TEXT NOT NULL, record BLOB, quarantined_utc_ns INTEGER NOT NULL);
+)sql";
+
+// Version 3 -> 4: the quarantine table; every record gets its checksum (the column is added
+// where it is missing), computed from what it holds now: a record damaged before the migration
+// cannot be told.
+constexpr const char* kMigrateV3ToV4 = R"sql(
+CREATE TABLE IF NOT EXISTS quarantine(id INTEGER PRIMARY KEY AUTOINCREMENT, source_table TEXT NOT NULL,
+                                      record_key TEXT NOT NULL, reason TEXT NOT NULL, record BLOB,
+                                      quarantined_utc_ns INTEGER NOT NULL);
 )sql";
 
 // Version 2 -> 3: a shard's copies of every request it read and its lives (empty for a daemon
@@ -32,7 +49,6 @@ constexpr const char* kMigrateV2ToV3 = R"sql(
 CREATE TABLE shard_requests(key TEXT PRIMARY KEY, kind TEXT NOT NULL, vehicle_id TEXT NOT NULL,
                             request_id TEXT NOT NULL, request_json TEXT NOT NULL, seen_utc_ns INTEGER NOT NULL);
 CREATE TABLE shard_lives(started_utc_ns INTEGER PRIMARY KEY, covered_until_utc_ns INTEGER NOT NULL);
-UPDATE schema_version SET version = 3;
 )sql";
 
 // Version 1 -> 2: the new columns and tables; each trajectory's end and each obstacle's end of
@@ -105,12 +121,38 @@ Status migrateV1ToV2(SqliteDb& db) {
   for (const auto& [id, until] : untils) {
     if (Status s = set_until->bind(1, id).bind(2, until).run(); !s.ok()) return s;
   }
-  return db.exec("UPDATE schema_version SET version = 2");
+  return Status::success();
 }
 
 }  // namespace
 
+const std::vector<JournalTable>& journalTables() {
+  static const std::vector<JournalTable> tables = {
+      {"missions", {"vehicle_id", "request_id"}, "request_json",
+       "row_checksum(vehicle_id, request_id, request_json, state, accepted_utc_ns, flight_start_utc_ns)"},
+      {"trajectories", {"vehicle_id"}, "record",
+       "row_checksum(vehicle_id, plan_id, revision, request_id, record, ends_utc_ns)"},
+      {"obstacles", {"obstacle_id"}, "update_json", "row_checksum(obstacle_id, update_json, valid_until_utc_ns)"},
+      {"no_fly_zones", {"zone_id"}, "zone_json", "row_checksum(zone_id, zone_json, valid_until_utc_ns)"},
+      {"fleet_allocations", {"request_id"}, "status_json", "row_checksum(request_id, status_json)"},
+      {"meta", {"key"}, "value", "row_checksum(key, value)"},
+      {"owner", {"instance_id"}, "instance_id", "row_checksum(instance_id)"},
+      {"shard_requests", {"key"}, "request_json",
+       "row_checksum(key, kind, vehicle_id, request_id, request_json, seen_utc_ns)"},
+      {"shard_lives", {"started_utc_ns"}, "covered_until_utc_ns", "row_checksum(started_utc_ns, covered_until_utc_ns)"},
+  };
+  return tables;
+}
+
+const JournalTable& journalTable(const std::string& name) {
+  for (const JournalTable& t : journalTables()) {
+    if (name == t.name) return t;
+  }
+  return journalTables().front();  // never: callers name the tables above
+}
+
 Result<int> prepareJournalSchema(SqliteDb& db) {
+  if (Status s = db.defineRowChecksum(); !s.ok()) return s.error();
   auto verdict = quickCheck(db);
   if (!verdict.ok()) return refused(db, "not a readable SQLite database (" + verdict.error().message + ")");
   if (*verdict != "ok") return refused(db, "the database is damaged (" + *verdict + ")");
@@ -141,7 +183,18 @@ Result<int> prepareJournalSchema(SqliteDb& db) {
   if (*version == kJournalSchemaVersion) return static_cast<int>(*version);
   if (Status s = db.exec("BEGIN IMMEDIATE"); !s.ok()) return s.error();
   Status migrated = *version < 2 ? migrateV1ToV2(db) : Status::success();
-  if (migrated.ok()) migrated = db.exec(kMigrateV2ToV3);
+  if (migrated.ok() && *version < 3) migrated = db.exec(kMigrateV2ToV3);
+  if (migrated.ok()) migrated = db.exec(kMigrateV3ToV4);
+  for (const JournalTable& table : journalTables()) {
+    if (!migrated.ok()) break;
+    auto has = countOf(db, std::string("SELECT count(*) FROM pragma_table_info('") + table.name + "') WHERE name = 'checksum'");
+    if (!has.ok()) migrated = has.error();
+    if (migrated.ok() && *has == 0) {
+      migrated = db.exec(std::string("ALTER TABLE ") + table.name + " ADD COLUMN checksum INTEGER NOT NULL DEFAULT 0");
+    }
+    if (migrated.ok()) migrated = db.exec(std::string("UPDATE ") + table.name + " SET checksum = " + table.checksum);
+  }
+  if (migrated.ok()) migrated = db.exec("UPDATE schema_version SET version = 4");
   if (!migrated.ok()) {
     (void)db.exec("ROLLBACK");
     return migrated.error();

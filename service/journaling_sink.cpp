@@ -6,8 +6,9 @@ namespace skyroute {
 
 namespace {
 
-void logFailed(const char* event, const Status& s) {
+const Status& logFailed(const char* event, const Status& s) {
   if (!s.ok()) spdlog::error("event=journal_write_failed what={} message=\"{}\"", event, s.error().message);
+  return s;
 }
 
 }  // namespace
@@ -23,26 +24,31 @@ void JournalingSink::publishStatus(const PlanStatusData& status) {
   next_.publishStatus(status);
 }
 
-void JournalingSink::publishTrajectory(const TrajectoryData& trajectory) {
-  logFailed("trajectory", journal_->recordTrajectory(trajectory, clock_()));
-  next_.publishTrajectory(trajectory);
-}
+// Recorded by the engine first (recordTrajectory, recordFleetPlan), or read from the journal.
+void JournalingSink::publishTrajectory(const TrajectoryData& trajectory) { next_.publishTrajectory(trajectory); }
 
 void JournalingSink::retractTrajectory(const std::string& vehicle_id) {
   logFailed("retracted", journal_->recordRetracted(vehicle_id));
   next_.retractTrajectory(vehicle_id);
 }
 
-void JournalingSink::publishFleetStatus(const FleetStatusData& status) {
-  // A replanned fleet's allocation replaces the first one: a restart republishes what is in force.
-  if (status.state == PlanState::kSucceeded || status.state == PlanState::kReplanned) {
-    logFailed("fleet", journal_->recordFleet(status));
-  }
-  next_.publishFleetStatus(status);
-}
+// A fleet's allocation is recorded with its trajectories (recordFleetPlan).
+void JournalingSink::publishFleetStatus(const FleetStatusData& status) { next_.publishFleetStatus(status); }
 
 Status JournalingSink::recordAccepted(const MissionRequestData& request) {
-  return journal_->recordAccepted(request, clock_());
+  return logFailed("accepted", journal_->recordAccepted(request, clock_()));
+}
+
+Status JournalingSink::recordTrajectory(const TrajectoryData& trajectory) {
+  return logFailed("trajectory", journal_->recordTrajectory(trajectory, clock_()));
+}
+
+Status JournalingSink::recordFleetPlan(const std::vector<TrajectoryData>& trajectories, const FleetStatusData& status) {
+  return logFailed("fleet", journal_->recordFleetPlan(trajectories, status, clock_()));
+}
+
+Status JournalingSink::recordCancel(const CancelRequestData& cancel) {
+  return logFailed("cancel", journal_->recordCancel(cancel.vehicle_id, cancel.request_id));
 }
 
 void JournalingSink::recordObstacle(const ObstacleUpdateData& update) {

@@ -71,6 +71,7 @@ std::string_view to_string(PlanErrorCode code) {
     case PlanErrorCode::kInternal: return "internal";
     case PlanErrorCode::kTooLarge: return "too_large";
     case PlanErrorCode::kDuplicateRequest: return "duplicate_request";
+    case PlanErrorCode::kJournalUnavailable: return "journal_unavailable";
   }
   return "unknown";
 }

@@ -147,6 +147,7 @@ enum class PlanErrorCode {
   kInternal,
   kTooLarge,          // the plan would exceed a size bound: duration, samples or memory share
   kDuplicateRequest,  // the request_id is already queued or being planned for this vehicle
+  kJournalUnavailable,  // the state journal cannot record it (a full disk): refused, nothing changed
 };
 std::string_view to_string(PlanErrorCode code);
 
@@ -272,6 +273,7 @@ struct ServiceStatusData {
   std::int64_t started_utc_ns = 0;  // when the instance started
   double heartbeat_period_s = 1.0;  // the next heartbeat is due this long after this one
   std::uint32_t obstacles = 0;      // obstacles in force
+  bool journal_ok = true;           // false while the state journal's writes fail (none kept: true)
 };
 
 struct FleetRequestData {

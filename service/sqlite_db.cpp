@@ -1,6 +1,11 @@
 #include "service/sqlite_db.hpp"
 
 #include <sqlite3.h>
+#include <zlib.h>
+
+#include <array>
+#include <cstdint>
+#include <cstring>
 
 namespace skyroute {
 
@@ -9,6 +14,40 @@ namespace {
 Error sqliteError(sqlite3* db, const std::string& path, const std::string& doing) {
   const char* message = db ? sqlite3_errmsg(db) : "out of memory";
   return make_error(ErrorCode::kParseError, path, path + ": " + doing + ": " + message);
+}
+
+void rowChecksum(sqlite3_context* context, int argc, sqlite3_value** argv) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  const auto add = [&crc](const void* bytes, std::size_t n) {
+    crc = crc32(crc, static_cast<const Bytef*>(bytes), static_cast<uInt>(n));
+  };
+  for (int i = 0; i < argc; ++i) {
+    const int type = sqlite3_value_type(argv[i]);
+    const auto tag = static_cast<unsigned char>(type);
+    add(&tag, 1);
+    std::array<unsigned char, 8> little{};
+    const auto put = [&little](std::uint64_t v) {
+      for (std::size_t b = 0; b < 8; ++b) little[b] = static_cast<unsigned char>(v >> (8 * b));
+    };
+    if (type == SQLITE_INTEGER) {
+      put(static_cast<std::uint64_t>(sqlite3_value_int64(argv[i])));
+      add(little.data(), little.size());
+    } else if (type == SQLITE_FLOAT) {
+      const double value = sqlite3_value_double(argv[i]);
+      std::uint64_t bits = 0;
+      static_assert(sizeof bits == sizeof value);
+      std::memcpy(&bits, &value, sizeof bits);
+      put(bits);
+      add(little.data(), little.size());
+    } else if (type != SQLITE_NULL) {
+      const void* bytes = sqlite3_value_blob(argv[i]);
+      const auto n = static_cast<std::size_t>(sqlite3_value_bytes(argv[i]));
+      put(n);
+      add(little.data(), little.size());
+      if (n > 0) add(bytes, n);
+    }
+  }
+  sqlite3_result_int64(context, static_cast<sqlite3_int64>(crc));
 }
 
 }  // namespace
@@ -95,5 +134,15 @@ Result<SqliteStatement> SqliteDb::prepare(const std::string& sql) {
 }
 
 Error SqliteDb::error(const std::string& doing) const { return sqliteError(db_, path_, doing); }
+
+Status SqliteDb::defineRowChecksum() {
+  if (sqlite3_create_function_v2(db_, "row_checksum", -1, SQLITE_UTF8 | SQLITE_DETERMINISTIC, nullptr, rowChecksum,
+                                 nullptr, nullptr, nullptr) != SQLITE_OK) {
+    return error("defining row_checksum");
+  }
+  return Status::success();
+}
+
+bool SqliteDb::lastFailureWasFull() const { return (sqlite3_extended_errcode(db_) & 0xff) == SQLITE_FULL; }
 
 }  // namespace skyroute

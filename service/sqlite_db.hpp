@@ -55,6 +55,13 @@ class SqliteDb {
   Result<SqliteStatement> prepare(const std::string& sql);
   // An error naming the file, what was being done and SQLite's last message.
   Error error(const std::string& doing) const;
+  // Whether the last failure was the disk (or the file's size limit) being full: SQLITE_FULL.
+  bool lastFailureWasFull() const;
+  // Defines the SQL function row_checksum(a, b, ...) on this connection: the CRC-32 (zlib) of its
+  // arguments, each taken as a type tag, its length and its bytes (integers as 8 little-endian
+  // bytes, text and blobs as they are, NULL as the tag alone), so ('ab', 'c') and ('a', 'bc')
+  // differ. A record's checksum is written with it and checked against it when read.
+  Status defineRowChecksum();
 
  private:
   SqliteDb(sqlite3* db, std::string path) : db_(db), path_(std::move(path)) {}

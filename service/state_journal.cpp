@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
 
 #include "service/journal_codec.hpp"
 #include "service/journal_schema.hpp"
@@ -27,12 +28,6 @@ Status runSql(SqliteDb& db, const std::string& sql, const Bind& bind) {
   if (!statement.ok()) return statement.error();
   bind(*statement);
   return statement->run();
-}
-
-Error damagedRow(const SqliteDb& db, const std::string& row, const Error& why) {
-  return make_error(ErrorCode::kParseError, db.path(),
-                    "state journal " + db.path() + ": " + row + " is damaged (" + why.message +
-                        "); skyrouted will not start on it (move the file aside to start with an empty journal)");
 }
 
 // Reads every row of `sql`, handing each to `read` (which returns an error for a bad row).
@@ -73,7 +68,16 @@ Result<std::unique_ptr<StateJournal>> StateJournal::open(const std::string& dir)
   if (ec) {
     return make_error(ErrorCode::kFileNotFound, dir, "state directory " + dir + " cannot be made: " + ec.message());
   }
-  auto db = SqliteDb::open((std::filesystem::path(dir) / kFileName).string());
+  const std::filesystem::path file = std::filesystem::path(dir) / kFileName;
+  // SQLite takes an empty file for a new database: a journal cut to nothing (a failed copy, a
+  // truncation) would start the daemon silently with nothing. Only a missing file starts empty.
+  if (std::filesystem::is_regular_file(file, ec) && std::filesystem::file_size(file, ec) == 0 && !ec) {
+    return make_error(ErrorCode::kParseError, file.string(),
+                      "state journal " + file.string() +
+                          " is empty (0 bytes): it held no state or was cut to nothing; skyrouted will not start on it "
+                          "(remove the file to start with an empty journal, or put the right one back)");
+  }
+  auto db = SqliteDb::open(file.string());
   if (!db.ok()) return db.error();
   auto found = prepareJournalSchema(**db);
   if (!found.ok()) return found.error();
@@ -84,17 +88,41 @@ Result<std::unique_ptr<StateJournal>> StateJournal::open(const std::string& dir)
 }
 
 template <typename Body>
-Status StateJournal::transaction(const Body& body) {
+Status StateJournal::transaction(const Body& body, bool adds) {
   const auto started = std::chrono::steady_clock::now();
   std::lock_guard lock(mutex_);
-  if (Status s = db_->exec("BEGIN IMMEDIATE"); !s.ok()) return s;
-  Status outcome = body();
-  if (outcome.ok()) outcome = db_->exec("COMMIT");
-  if (!outcome.ok()) (void)db_->exec("ROLLBACK");
+  const auto attempt = [&](bool& full) {
+    Status s = db_->exec("BEGIN IMMEDIATE");
+    if (s.ok()) s = body();
+    if (s.ok()) s = db_->exec("COMMIT");
+    if (!s.ok()) {
+      full = db_->lastFailureWasFull();
+      (void)db_->exec("ROLLBACK");
+    }
+    return s;
+  };
+  bool full = false;
+  Status outcome = attempt(full);
+  if (!outcome.ok() && full) {
+    // The write-ahead log holds every page written since the last checkpoint, old versions of
+    // replaced rows too, and is only checkpointed at 1000 pages: on a small disk it can fill the
+    // disk by itself. A checkpoint that moves it into the database and truncates it may make room.
+    (void)db_->exec("PRAGMA wal_checkpoint(TRUNCATE)");
+    outcome = attempt(full);
+  }
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   ++stats_.writes;
   stats_.total_ms += ms;
   stats_.max_ms = std::max(stats_.max_ms, ms);
+  if (outcome.ok() && !adds) return outcome;  // a removal says nothing of room for new rows
+  const bool was_writable = writable_.exchange(outcome.ok());
+  if (was_writable && !outcome.ok()) {
+    spdlog::error("event=journal_unavailable path={} disk_full={} message=\"{}\" effect=\"new requests, fleets and cancels "
+                  "are refused journal_unavailable and no revision is published until a write succeeds\"",
+                  db_->path(), full, outcome.error().message);
+  } else if (!was_writable && outcome.ok()) {
+    spdlog::info("event=journal_available path={}", db_->path());
+  }
   return outcome;
 }
 
@@ -102,20 +130,55 @@ Status StateJournal::recordAccepted(const MissionRequestData& request, std::int6
   const std::string text = missionToJson(request).dump();
   return transaction([&] {
     return runSql(*db_,
-                  "INSERT OR REPLACE INTO missions(vehicle_id, request_id, request_json, state, accepted_utc_ns) "
-                  "VALUES (?1, ?2, ?3, 'accepted', ?4)",
+                  "INSERT OR REPLACE INTO missions(vehicle_id, request_id, request_json, state, accepted_utc_ns, checksum) "
+                  "VALUES (?1, ?2, ?3, 'accepted', ?4, row_checksum(?1, ?2, ?3, 'accepted', ?4, 0))",
                   [&](SqliteStatement& s) { s.bind(1, request.vehicle_id).bind(2, request.request_id).bind(3, text).bind(4, now_utc_ns); });
   });
 }
 
 Status StateJournal::recordTrajectory(const TrajectoryData& t, std::int64_t now_utc_ns) {
+  return transaction([&]() -> Status {
+    Status s = writeTrajectoryLocked(t);
+    if (s.ok() && now_utc_ns - last_prune_utc_ns_ >= kPruneIntervalNs) s = pruneLocked(now_utc_ns);
+    return s;
+  });
+}
+
+Status StateJournal::recordFleetPlan(const std::vector<TrajectoryData>& trajectories, const FleetStatusData& status,
+                                     std::int64_t now_utc_ns) {
+  const std::string text = fleetStatusToJson(status).dump();
+  return transaction([&]() -> Status {
+    for (const TrajectoryData& t : trajectories) {
+      if (Status s = writeTrajectoryLocked(t); !s.ok()) return s;
+    }
+    Status s = runSql(*db_, "INSERT OR REPLACE INTO fleet_allocations(request_id, status_json, checksum) VALUES (?1, ?2, row_checksum(?1, ?2))",
+                      [&](SqliteStatement& q) { q.bind(1, status.request_id).bind(2, text); });
+    if (s.ok() && now_utc_ns - last_prune_utc_ns_ >= kPruneIntervalNs) s = pruneLocked(now_utc_ns);
+    return s;
+  });
+}
+
+Status StateJournal::recordCancel(const std::string& vehicle_id, const std::string& request_id) {
+  return transaction([&]() -> Status {
+    Status s = runSql(*db_,
+                      "DELETE FROM trajectories WHERE EXISTS (SELECT 1 FROM missions m WHERE m.vehicle_id = "
+                      "trajectories.vehicle_id AND m.request_id = trajectories.request_id AND (?1 = '' OR m.vehicle_id = ?1) "
+                      "AND (?2 = '' OR m.request_id = ?2))",
+                      [&](SqliteStatement& q) { q.bind(1, vehicle_id).bind(2, request_id); });
+    if (!s.ok()) return s;
+    return runSql(*db_, "DELETE FROM missions WHERE (?1 = '' OR vehicle_id = ?1) AND (?2 = '' OR request_id = ?2)",
+                  [&](SqliteStatement& q) { q.bind(1, vehicle_id).bind(2, request_id); });
+  }, /*adds=*/false);
+}
+
+Status StateJournal::writeTrajectoryLocked(const TrajectoryData& t) {
   const std::string record = encodeTrajectory(t);
   const std::int64_t ends = t.samples.empty() ? 0 : t.samples.back().utc_ns;
   const auto plan_number = static_cast<std::int64_t>(planNumber(t.plan_id));
-  return transaction([&]() -> Status {
+  {
     Status s = runSql(*db_,
-                      "INSERT OR REPLACE INTO trajectories(vehicle_id, plan_id, revision, request_id, record, ends_utc_ns) "
-                      "VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                      "INSERT OR REPLACE INTO trajectories(vehicle_id, plan_id, revision, request_id, record, ends_utc_ns, "
+                      "checksum) VALUES (?1, ?2, ?3, ?4, ?5, ?6, row_checksum(?1, ?2, ?3, ?4, ?5, ?6))",
                       [&](SqliteStatement& q) {
                         q.bind(1, t.vehicle_id).bind(2, t.plan_id).bind(3, static_cast<std::int64_t>(t.revision));
                         q.bind(4, t.request_id).bindBlob(5, record).bind(6, ends);
@@ -123,7 +186,8 @@ Status StateJournal::recordTrajectory(const TrajectoryData& t, std::int64_t now_
     if (s.ok() && t.revision == 0) {
       // A new plan: its mission flies, and any other mission this vehicle flew has ended.
       s = runSql(*db_,
-                 "UPDATE missions SET state = 'flying', flight_start_utc_ns = ?3 WHERE vehicle_id = ?1 AND request_id = ?2",
+                 "UPDATE missions SET state = 'flying', flight_start_utc_ns = ?3, checksum = row_checksum(vehicle_id, "
+                 "request_id, request_json, 'flying', accepted_utc_ns, ?3) WHERE vehicle_id = ?1 AND request_id = ?2",
                  [&](SqliteStatement& q) { q.bind(1, t.vehicle_id).bind(2, t.request_id).bind(3, flightStartUtcNs(t)); });
       if (s.ok()) {
         s = runSql(*db_, "DELETE FROM missions WHERE vehicle_id = ?1 AND state = 'flying' AND request_id <> ?2",
@@ -131,14 +195,14 @@ Status StateJournal::recordTrajectory(const TrajectoryData& t, std::int64_t now_
       }
       if (s.ok()) {
         s = runSql(*db_,
-                   "INSERT INTO meta(key, value) VALUES ('plan_counter', ?1) "
-                   "ON CONFLICT(key) DO UPDATE SET value = max(value, excluded.value)",
+                   "INSERT INTO meta(key, value, checksum) VALUES ('plan_counter', ?1, row_checksum('plan_counter', ?1)) "
+                   "ON CONFLICT(key) DO UPDATE SET value = max(value, excluded.value), "
+                   "checksum = row_checksum(key, max(value, excluded.value))",
                    [&](SqliteStatement& q) { q.bind(1, plan_number); });
       }
     }
-    if (s.ok() && now_utc_ns - last_prune_utc_ns_ >= kPruneIntervalNs) s = pruneLocked(now_utc_ns);
     return s;
-  });
+  }
 }
 
 Status StateJournal::pruneLocked(std::int64_t now_utc_ns) {
@@ -164,26 +228,27 @@ Status StateJournal::pruneLocked(std::int64_t now_utc_ns) {
 Status StateJournal::recordRetracted(const std::string& vehicle_id) {
   return transaction([&] {
     return runSql(*db_, "DELETE FROM trajectories WHERE vehicle_id = ?1", [&](SqliteStatement& q) { q.bind(1, vehicle_id); });
-  });
+  }, /*adds=*/false);
 }
 
 Status StateJournal::recordFinished(const std::string& vehicle_id, const std::string& request_id) {
   return transaction([&] {
     return runSql(*db_, "DELETE FROM missions WHERE vehicle_id = ?1 AND request_id = ?2",
                   [&](SqliteStatement& q) { q.bind(1, vehicle_id).bind(2, request_id); });
-  });
+  }, /*adds=*/false);
 }
 
 Status StateJournal::recordObstacle(const ObstacleUpdateData& update) {
   const auto id = static_cast<std::int64_t>(update.obstacle.id);
   if (update.remove) {
-    return transaction([&] {
-      return runSql(*db_, "DELETE FROM obstacles WHERE obstacle_id = ?1", [&](SqliteStatement& q) { q.bind(1, id); });
-    });
+    return transaction(
+        [&] { return runSql(*db_, "DELETE FROM obstacles WHERE obstacle_id = ?1", [&](SqliteStatement& q) { q.bind(1, id); }); },
+        /*adds=*/false);
   }
   const std::string text = obstacleRecordToJson(update).dump();
   return transaction([&] {
-    return runSql(*db_, "INSERT OR REPLACE INTO obstacles(obstacle_id, update_json, valid_until_utc_ns) VALUES (?1, ?2, ?3)",
+    return runSql(*db_, "INSERT OR REPLACE INTO obstacles(obstacle_id, update_json, valid_until_utc_ns, checksum) "
+                  "VALUES (?1, ?2, ?3, row_checksum(?1, ?2, ?3))",
                   [&](SqliteStatement& q) { q.bind(1, id).bind(2, text).bind(3, update.valid_until_utc_ns); });
   });
 }
@@ -196,7 +261,8 @@ Status StateJournal::recordNoFlyZone(const NoFlyZoneData& zone) {
   }
   const std::string text = noFlyZoneToJson(zone).dump();
   return transaction([&] {
-    return runSql(*db_, "INSERT OR REPLACE INTO no_fly_zones(zone_id, zone_json, valid_until_utc_ns) VALUES (?1, ?2, ?3)",
+    return runSql(*db_, "INSERT OR REPLACE INTO no_fly_zones(zone_id, zone_json, valid_until_utc_ns, checksum) "
+                  "VALUES (?1, ?2, ?3, row_checksum(?1, ?2, ?3))",
                   [&](SqliteStatement& q) { q.bind(1, zone.zone_id).bind(2, text).bind(3, zone.valid_until_utc_ns); });
   });
 }
@@ -204,7 +270,7 @@ Status StateJournal::recordNoFlyZone(const NoFlyZoneData& zone) {
 Status StateJournal::recordFleet(const FleetStatusData& status) {
   const std::string text = fleetStatusToJson(status).dump();
   return transaction([&] {
-    return runSql(*db_, "INSERT OR REPLACE INTO fleet_allocations(request_id, status_json) VALUES (?1, ?2)",
+    return runSql(*db_, "INSERT OR REPLACE INTO fleet_allocations(request_id, status_json, checksum) VALUES (?1, ?2, row_checksum(?1, ?2))",
                   [&](SqliteStatement& q) { q.bind(1, status.request_id).bind(2, text); });
   });
 }
@@ -212,7 +278,7 @@ Status StateJournal::recordFleet(const FleetStatusData& status) {
 Status StateJournal::recordOwner(const std::string& instance_id) {
   return transaction([&]() -> Status {
     if (Status s = db_->exec("DELETE FROM owner"); !s.ok()) return s;
-    return runSql(*db_, "INSERT INTO owner(instance_id) VALUES (?1)", [&](SqliteStatement& q) { q.bind(1, instance_id); });
+    return runSql(*db_, "INSERT INTO owner(instance_id, checksum) VALUES (?1, row_checksum(?1))", [&](SqliteStatement& q) { q.bind(1, instance_id); });
   });
 }
 
@@ -223,8 +289,8 @@ Status StateJournal::recordShardRequest(const JournaledRequest& copy) {
   const std::string request = fleet ? copy.fleet->request_id : copy.mission->request_id;
   return transaction([&] {
     return runSql(*db_,
-                  "INSERT OR REPLACE INTO shard_requests(key, kind, vehicle_id, request_id, request_json, seen_utc_ns) "
-                  "VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                  "INSERT OR REPLACE INTO shard_requests(key, kind, vehicle_id, request_id, request_json, seen_utc_ns, "
+                  "checksum) VALUES (?1, ?2, ?3, ?4, ?5, ?6, row_checksum(?1, ?2, ?3, ?4, ?5, ?6))",
                   [&](SqliteStatement& q) {
                     q.bind(1, copy.key).bind(2, std::string(fleet ? "fleet" : "mission")).bind(3, vehicle);
                     q.bind(4, request).bind(5, text).bind(6, copy.seen_utc_ns);
@@ -240,7 +306,7 @@ Status StateJournal::forgetShardRequests(const std::vector<std::string>& keys) {
       if (!s.ok()) return s;
     }
     return Status::success();
-  });
+  }, /*adds=*/false);
 }
 
 Status StateJournal::forgetShardMission(const std::string& vehicle_id, const std::string& request_id) {
@@ -249,12 +315,13 @@ Status StateJournal::forgetShardMission(const std::string& vehicle_id, const std
                   "DELETE FROM shard_requests WHERE kind = 'mission' AND (?1 = '' OR vehicle_id = ?1) "
                   "AND (?2 = '' OR request_id = ?2)",
                   [&](SqliteStatement& q) { q.bind(1, vehicle_id).bind(2, request_id); });
-  });
+  }, /*adds=*/false);
 }
 
 Status StateJournal::beginShardLife(std::int64_t started_utc_ns) {
   return transaction([&]() -> Status {
-    Status s = runSql(*db_, "INSERT OR REPLACE INTO shard_lives(started_utc_ns, covered_until_utc_ns) VALUES (?1, 0)",
+    Status s = runSql(*db_, "INSERT OR REPLACE INTO shard_lives(started_utc_ns, covered_until_utc_ns, checksum) "
+                      "VALUES (?1, 0, row_checksum(?1, 0))",
                       [&](SqliteStatement& q) { q.bind(1, started_utc_ns); });
     if (!s.ok()) return s;
     return runSql(*db_,
@@ -267,108 +334,231 @@ Status StateJournal::beginShardLife(std::int64_t started_utc_ns) {
 Status StateJournal::recordShardCoverage(std::int64_t started_utc_ns, std::int64_t covered_until_utc_ns) {
   return transaction([&] {
     return runSql(*db_,
-                  "UPDATE shard_lives SET covered_until_utc_ns = max(covered_until_utc_ns, ?2) WHERE started_utc_ns = ?1",
+                  "UPDATE shard_lives SET covered_until_utc_ns = max(covered_until_utc_ns, ?2), checksum = "
+                  "row_checksum(started_utc_ns, max(covered_until_utc_ns, ?2)) WHERE started_utc_ns = ?1",
                   [&](SqliteStatement& q) { q.bind(1, started_utc_ns).bind(2, covered_until_utc_ns); });
   });
 }
 
 Result<JournalState> StateJournal::load(std::int64_t now_utc_ns) {
-  if (Status s = transaction([&] { return pruneLocked(now_utc_ns); }); !s.ok()) return s.error();
-  std::lock_guard lock(mutex_);
+  if (Status s = transaction([&] { return pruneLocked(now_utc_ns); }, /*adds=*/false); !s.ok()) {
+    // A full disk must not keep the daemon from recovering what it holds: the ended rows are read
+    // too (an ended flight is found finished at once), and pruned at a later write.
+    spdlog::warn("event=journal_prune_failed path={} message=\"{}\"", db_->path(), s.error().message);
+  }
   JournalState state;
-  Status s = readRows(*db_,
-                      "SELECT vehicle_id, request_id, request_json, state, flight_start_utc_ns FROM missions "
-                      "ORDER BY accepted_utc_ns, rowid",
+  std::vector<QuarantinedRecord> damaged;
+  {
+    std::lock_guard lock(mutex_);
+    // Each query ends with the row's checksum check and its key columns. A row that fails either
+    // check is quarantined, never returned.
+    const auto read = [&](const std::string& table_name, const std::string& columns, const std::string& order,
+                          const auto& take) -> Status {
+      const JournalTable& table = journalTable(table_name);
+      const int n_columns = static_cast<int>(std::count(columns.begin(), columns.end(), ',')) + 1;
+      std::string keys;
+      for (const char* k : table.key_columns) keys += std::string(", ") + k;
+      return readRows(*db_,
+                      "SELECT " + columns + ", checksum = " + table.checksum + keys + " FROM " + table_name + order,
                       [&](SqliteStatement& q) -> Status {
-                        const std::string row = "mission '" + q.text(1) + "' of vehicle '" + q.text(0) + "'";
-                        auto request = missionFromJson(json::parse(q.text(2), nullptr, false));
-                        if (!request.ok()) return damagedRow(*db_, row, request.error());
-                        request->vehicle_id = q.text(0);
-                        request->request_id = q.text(1);
-                        state.missions.push_back(
-                            JournalState::Mission{std::move(*request), q.text(3) == "flying", q.integer(4)});
+                        std::vector<std::string> key;
+                        for (std::size_t k = 0; k < table.key_columns.size(); ++k) {
+                          key.push_back(q.text(n_columns + 1 + static_cast<int>(k)));
+                        }
+                        if (q.integer(n_columns) != 1) {
+                          damaged.push_back({table_name, key, "checksum mismatch: the record is damaged"});
+                          return Status::success();
+                        }
+                        if (std::optional<std::string> why = take(q)) damaged.push_back({table_name, key, *why});
                         return Status::success();
                       });
-  if (s.ok()) {
-    s = readRows(*db_, "SELECT vehicle_id, record FROM trajectories ORDER BY vehicle_id", [&](SqliteStatement& q) -> Status {
-      auto t = decodeTrajectory(q.text(1));
-      if (!t.ok()) return damagedRow(*db_, "the trajectory of vehicle '" + q.text(0) + "'", t.error());
-      state.trajectories.push_back(std::move(*t));
-      return Status::success();
-    });
-  }
-  if (s.ok()) {
-    s = readRows(*db_, "SELECT obstacle_id, update_json FROM obstacles ORDER BY obstacle_id", [&](SqliteStatement& q) -> Status {
-      auto u = obstacleRecordFromJson(json::parse(q.text(1), nullptr, false));
-      if (!u.ok()) return damagedRow(*db_, "obstacle " + q.text(0), u.error());
-      state.obstacles.push_back(std::move(*u));
-      return Status::success();
-    });
-  }
-  if (s.ok()) {
-    s = readRows(*db_, "SELECT zone_id, zone_json FROM no_fly_zones ORDER BY zone_id", [&](SqliteStatement& q) -> Status {
-      auto z = noFlyZoneFromJson(json::parse(q.text(1), nullptr, false));
-      if (!z.ok()) return damagedRow(*db_, "no-fly zone '" + q.text(0) + "'", z.error());
-      state.zones.push_back(std::move(*z));
-      return Status::success();
-    });
-  }
-  if (s.ok()) {
-    s = readRows(*db_, "SELECT request_id, status_json FROM fleet_allocations ORDER BY request_id", [&](SqliteStatement& q) -> Status {
-      auto f = fleetStatusFromJson(json::parse(q.text(1), nullptr, false));
-      if (!f.ok()) return damagedRow(*db_, "fleet '" + q.text(0) + "'", f.error());
-      state.fleets.push_back(std::move(*f));
-      return Status::success();
-    });
-  }
-  if (s.ok()) {
-    s = readRows(*db_, "SELECT value FROM meta WHERE key = 'plan_counter'", [&](SqliteStatement& q) -> Status {
-      state.plan_counter = static_cast<std::uint64_t>(std::max<std::int64_t>(0, q.integer(0)));
-      return Status::success();
-    });
-  }
-  if (s.ok()) {
-    s = readRows(*db_, "SELECT instance_id FROM owner", [&](SqliteStatement& q) -> Status {
-      state.owner_instance_id = q.text(0);
-      return Status::success();
-    });
-  }
-  if (s.ok()) {
-    s = readRows(*db_,
-                 "SELECT key, kind, request_json, seen_utc_ns, vehicle_id, request_id FROM shard_requests "
-                 "ORDER BY seen_utc_ns, rowid",
-                 [&](SqliteStatement& q) -> Status {
-                   JournaledRequest copy;
-                   copy.key = q.text(0);
-                   copy.seen_utc_ns = q.integer(3);
-                   const json parsed = json::parse(q.text(2), nullptr, false);
-                   const std::string row = "the shard's copy of request '" + q.text(5) + "'";
-                   if (q.text(1) == "fleet") {
-                     auto fleet = fleetFromJson(parsed);
-                     if (!fleet.ok()) return damagedRow(*db_, row, fleet.error());
-                     copy.fleet = std::move(*fleet);
-                   } else {
-                     auto mission = missionFromJson(parsed);
-                     if (!mission.ok()) return damagedRow(*db_, row, mission.error());
-                     mission->vehicle_id = q.text(4);
-                     mission->request_id = q.text(5);
-                     copy.mission = std::move(*mission);
-                   }
-                   state.shard_requests.push_back(std::move(copy));
-                   return Status::success();
-                 });
-  }
-  if (s.ok()) {
-    s = readRows(*db_, "SELECT started_utc_ns, covered_until_utc_ns FROM shard_lives ORDER BY started_utc_ns",
-                 [&](SqliteStatement& q) -> Status {
-                   state.shard_lives.push_back(CoverageInterval{q.integer(0), q.integer(1)});
-                   return Status::success();
-                 });
+    };
+    // A decoding error: the reason to quarantine; nothing when the row was taken.
+    using Why = std::optional<std::string>;
+    Status s = read("missions", "vehicle_id, request_id, request_json, state, flight_start_utc_ns",
+                    " ORDER BY accepted_utc_ns, rowid", [&](SqliteStatement& q) -> Why {
+                      auto request = missionFromJson(json::parse(q.text(2), nullptr, false));
+                      if (!request.ok()) return "the request does not decode: " + request.error().describe();
+                      request->vehicle_id = q.text(0);
+                      request->request_id = q.text(1);
+                      state.missions.push_back(JournalState::Mission{std::move(*request), q.text(3) == "flying", q.integer(4)});
+                      return std::nullopt;
+                    });
+    if (s.ok()) {
+      s = read("trajectories", "vehicle_id, record", " ORDER BY vehicle_id", [&](SqliteStatement& q) -> Why {
+        auto t = decodeTrajectory(q.text(1));
+        if (!t.ok()) return "the trajectory does not decode: " + t.error().message;
+        state.trajectories.push_back(std::move(*t));
+        return std::nullopt;
+      });
+    }
+    if (s.ok()) {
+      s = read("obstacles", "obstacle_id, update_json", " ORDER BY obstacle_id", [&](SqliteStatement& q) -> Why {
+        auto u = obstacleRecordFromJson(json::parse(q.text(1), nullptr, false));
+        if (!u.ok()) return "the obstacle update does not decode: " + u.error().describe();
+        state.obstacles.push_back(std::move(*u));
+        return std::nullopt;
+      });
+    }
+    if (s.ok()) {
+      s = read("no_fly_zones", "zone_id, zone_json", " ORDER BY zone_id", [&](SqliteStatement& q) -> Why {
+        auto z = noFlyZoneFromJson(json::parse(q.text(1), nullptr, false));
+        if (!z.ok()) return "the no-fly zone does not decode: " + z.error().describe();
+        state.zones.push_back(std::move(*z));
+        return std::nullopt;
+      });
+    }
+    if (s.ok()) {
+      s = read("fleet_allocations", "request_id, status_json", " ORDER BY request_id", [&](SqliteStatement& q) -> Why {
+        auto f = fleetStatusFromJson(json::parse(q.text(1), nullptr, false));
+        if (!f.ok()) return "the fleet's answer does not decode: " + f.error().describe();
+        state.fleets.push_back(std::move(*f));
+        return std::nullopt;
+      });
+    }
+    if (s.ok()) {
+      s = read("meta", "value", " WHERE key = 'plan_counter'", [&](SqliteStatement& q) -> Why {
+        state.plan_counter = static_cast<std::uint64_t>(std::max<std::int64_t>(0, q.integer(0)));
+        return std::nullopt;
+      });
+    }
+    if (s.ok()) {
+      s = read("owner", "instance_id", "", [&](SqliteStatement& q) -> Why {
+        state.owner_instance_id = q.text(0);
+        return std::nullopt;
+      });
+    }
+    if (s.ok()) {
+      s = read("shard_requests", "key, kind, request_json, seen_utc_ns, vehicle_id, request_id",
+               " ORDER BY seen_utc_ns, rowid", [&](SqliteStatement& q) -> Why {
+                 JournaledRequest copy;
+                 copy.key = q.text(0);
+                 copy.seen_utc_ns = q.integer(3);
+                 const json parsed = json::parse(q.text(2), nullptr, false);
+                 if (q.text(1) == "fleet") {
+                   auto fleet = fleetFromJson(parsed);
+                   if (!fleet.ok()) return "the fleet request does not decode: " + fleet.error().describe();
+                   copy.fleet = std::move(*fleet);
+                 } else {
+                   auto mission = missionFromJson(parsed);
+                   if (!mission.ok()) return "the request does not decode: " + mission.error().describe();
+                   mission->vehicle_id = q.text(4);
+                   mission->request_id = q.text(5);
+                   copy.mission = std::move(*mission);
+                 }
+                 state.shard_requests.push_back(std::move(copy));
+                 return std::nullopt;
+               });
+    }
+    if (s.ok()) {
+      s = read("shard_lives", "started_utc_ns, covered_until_utc_ns", " ORDER BY started_utc_ns",
+               [&](SqliteStatement& q) -> Why {
+                 state.shard_lives.push_back(CoverageInterval{q.integer(0), q.integer(1)});
+                 return std::nullopt;
+               });
+    }
+    if (!s.ok()) {
+      return make_error(ErrorCode::kParseError, db_->path(),
+                        "state journal " + db_->path() + ": its tables cannot be read (" + s.error().message +
+                            "); skyrouted will not start on it (move the file aside to start with an empty journal)");
+    }
   }
   // Plan ids of a journal migrated from version 1 (no counter kept) are above every current one.
   for (const TrajectoryData& t : state.trajectories) state.plan_counter = std::max(state.plan_counter, planNumber(t.plan_id));
-  if (!s.ok()) return s.error();
+  if (!damaged.empty()) {
+    quarantineDependents(state, damaged);
+    (void)quarantine(damaged, now_utc_ns);
+    state.quarantined = std::move(damaged);
+  }
   return state;
+}
+
+namespace {
+
+// A key as a log line shows it: at most 80 characters, control characters escaped, so a hostile
+// id can neither flood nor forge the log.
+std::string printableKey(const std::vector<std::string>& key) {
+  std::string joined;
+  for (const std::string& part : key) joined += (joined.empty() ? "" : "/") + part;
+  std::string out;
+  for (std::size_t i = 0; i < joined.size() && out.size() < 80; ++i) {
+    const auto c = static_cast<unsigned char>(joined[i]);
+    if (c < 0x20 || c == 0x7f || c == '"' || c == '\\') {
+      out += fmt::format("\\x{:02x}", c);
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (out.size() >= 80 && joined.size() > 80) out += "...(" + std::to_string(joined.size()) + " characters)";
+  return out;
+}
+
+}  // namespace
+
+Status StateJournal::quarantine(const std::vector<QuarantinedRecord>& records, std::int64_t now_utc_ns) {
+  if (records.empty()) return Status::success();
+  Status moved = transaction([&]() -> Status {
+    for (const QuarantinedRecord& r : records) {
+      const JournalTable& table = journalTable(r.table);
+      std::string where;
+      for (std::size_t k = 0; k < table.key_columns.size(); ++k) {
+        where += std::string(k == 0 ? " WHERE " : " AND ") + table.key_columns[k] + " = ?" + std::to_string(k + 5);
+      }
+      const auto bind_key = [&](SqliteStatement& q) {
+        for (std::size_t k = 0; k < table.key_columns.size() && k < r.key.size(); ++k) {
+          q.bind(static_cast<int>(k + 5), r.key[k]);
+        }
+      };
+      Status s = runSql(*db_,
+                        std::string("INSERT INTO quarantine(source_table, record_key, reason, record, quarantined_utc_ns) "
+                                    "SELECT ?1, ?2, ?3, ") +
+                            table.payload_column + ", ?4 FROM " + r.table + where,
+                        [&](SqliteStatement& q) {
+                          q.bind(1, r.table).bind(2, json(r.key).dump(-1, ' ', false, json::error_handler_t::replace));
+                          q.bind(3, r.reason).bind(4, now_utc_ns);
+                          bind_key(q);
+                        });
+      if (s.ok()) s = runSql(*db_, "DELETE FROM " + r.table + where, bind_key);
+      if (!s.ok()) return s;
+    }
+    return Status::success();
+  });
+  for (const QuarantinedRecord& r : records) {
+    spdlog::error("event=journal_record_quarantined table={} key=\"{}\" reason=\"{}\" moved={}", r.table,
+                  printableKey(r.key), r.reason, moved.ok());
+  }
+  if (!moved.ok()) {
+    spdlog::error("event=journal_write_failed what=quarantine message=\"{}\"", moved.error().message);
+  }
+  return moved;
+}
+
+void quarantineDependents(JournalState& state, std::vector<QuarantinedRecord>& records) {
+  for (std::size_t i = 0; i < records.size(); ++i) {  // records grows: dependents of dependents too
+    const QuarantinedRecord r = records[i];
+    if (r.table == "missions" && r.key.size() == 2) {
+      std::erase_if(state.trajectories, [&](const TrajectoryData& t) {
+        if (t.vehicle_id != r.key[0] || t.request_id != r.key[1]) return false;
+        records.push_back({"trajectories", {t.vehicle_id}, "its mission was quarantined"});
+        return true;
+      });
+    } else if (r.table == "trajectories" && r.key.size() == 1) {
+      std::erase_if(state.missions, [&](const JournalState::Mission& m) {
+        if (!m.flying || m.request.vehicle_id != r.key[0]) return false;
+        records.push_back({"missions", {m.request.vehicle_id, m.request.request_id},
+                           "its trajectory was quarantined: the flight cannot be resumed"});
+        return true;
+      });
+    }
+  }
+  // A record listed twice (a mission and its trajectory each refused) is moved once.
+  std::vector<QuarantinedRecord> unique;
+  for (QuarantinedRecord& r : records) {
+    const bool seen = std::any_of(unique.begin(), unique.end(),
+                                  [&](const QuarantinedRecord& u) { return u.table == r.table && u.key == r.key; });
+    if (!seen) unique.push_back(std::move(r));
+  }
+  records = std::move(unique);
 }
 
 JournalWriteStats StateJournal::writeStats() const {

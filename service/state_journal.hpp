@@ -12,10 +12,13 @@
 //   shard_lives    when each of the shard's recent lives started and up to when it had read
 //                 every request (shard_coverage.hpp).
 // Rows are replaced in place, so the journal's size follows the vehicles and obstacles in force,
-// not the daemon's age. Thread-safe: the engine's threads write, each call one transaction.
+// not the daemon's age. Thread-safe: the engine's threads write, each call one transaction; a
+// write that fails (a full disk) makes the journal unwritable until one succeeds (writable()).
+// Every row carries a checksum; a damaged row is quarantined at load, never returned.
 // Schema versions and what a refused file looks like: journal_schema.hpp.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -41,6 +44,14 @@ struct JournaledRequest {
   std::optional<FleetRequestData> fleet;
 };
 
+// A record taken out of the journal's tables into its quarantine table (docs/journal.md
+// "Damaged and refused records"): its table, its key (the table's key columns, in order) and why.
+struct QuarantinedRecord {
+  std::string table;
+  std::vector<std::string> key;
+  std::string reason;
+};
+
 // What a journal holds, as recovery reads it (ended trajectories and obstacles left out).
 struct JournalState {
   struct Mission {
@@ -57,7 +68,13 @@ struct JournalState {
   std::string owner_instance_id;                 // the daemon instance that last opened it ("" = none)
   std::vector<JournaledRequest> shard_requests;  // a shard's copies, in the order they arrived
   std::vector<CoverageInterval> shard_lives;     // a shard's earlier lives, oldest first
+  std::vector<QuarantinedRecord> quarantined;    // damaged records load() took out, not in the above
 };
+
+// Takes out of `state` what depends on a quarantined record, and appends those records: the
+// trajectory of a quarantined mission (same vehicle and request), and the flying missions of a
+// vehicle whose trajectory was quarantined (their flight cannot be resumed without it).
+void quarantineDependents(JournalState& state, std::vector<QuarantinedRecord>& records);
 
 // How long the write transactions took (the replanning cycle waits for the revision's).
 struct JournalWriteStats {
@@ -82,6 +99,13 @@ class StateJournal {
   // A vehicle's new trajectory or revision (before it is published): its mission becomes flying,
   // an older mission of the vehicle ends. Prunes what ended by now_utc_ns (at most once a second).
   Status recordTrajectory(const TrajectoryData& trajectory, std::int64_t now_utc_ns);
+  // A fleet's trajectories (each as recordTrajectory) and its allocation, in one transaction: all
+  // of them are recorded, or none.
+  Status recordFleetPlan(const std::vector<TrajectoryData>& trajectories, const FleetStatusData& status,
+                         std::int64_t now_utc_ns);
+  // A cancel (either id may be empty: any), before it takes effect: the missions it names and
+  // their trajectories are removed.
+  Status recordCancel(const std::string& vehicle_id, const std::string& request_id);
   // The vehicle's trajectory no longer holds (its mission was cancelled).
   Status recordRetracted(const std::string& vehicle_id);
   // The request failed or was cancelled: it will not be planned again.
@@ -105,24 +129,38 @@ class StateJournal {
   Status beginShardLife(std::int64_t started_utc_ns);
   Status recordShardCoverage(std::int64_t started_utc_ns, std::int64_t covered_until_utc_ns);
 
-  // Everything in force at now_utc_ns, after pruning what ended. Errors: a damaged row, naming
-  // the file and the row.
+  // Everything in force at now_utc_ns, after pruning what ended. A record whose checksum does not
+  // match what it holds, or that does not decode, is not returned: it is moved to the quarantine
+  // table (with what depends on it, quarantineDependents), logged by table and key
+  // (event=journal_record_quarantined) and listed in JournalState::quarantined; the rest is read.
+  // Errors: the file cannot be read.
   Result<JournalState> load(std::int64_t now_utc_ns);
+  // Moves the records to the quarantine table, each with its reason, in one transaction, and logs
+  // each. A move that fails (a full disk) is logged: the records are left out of the recovery
+  // all the same, and found again at the next start.
+  Status quarantine(const std::vector<QuarantinedRecord>& records, std::int64_t now_utc_ns);
 
   JournalWriteStats writeStats() const;
+  // False while writes fail (the last write failed: a full disk, an I/O error); true again after
+  // the next write that adds a row and succeeds. Transitions are logged (event=journal_unavailable / _available).
+  bool writable() const { return writable_.load(); }
 
  private:
   StateJournal(std::unique_ptr<SqliteDb> db, int found_version) : db_(std::move(db)), found_version_(found_version) {}
-  // Runs `body` in one transaction (rolled back when it fails) and times it.
+  // Runs `body` in one transaction (rolled back when it fails) and times it. A transaction that
+  // only removes rows (`adds` false) can succeed on a full disk: it marks the journal unwritable
+  // when it fails, but does not mark it writable again.
   template <typename Body>
-  Status transaction(const Body& body);
+  Status transaction(const Body& body, bool adds = true);
   Status pruneLocked(std::int64_t now_utc_ns);
+  Status writeTrajectoryLocked(const TrajectoryData& trajectory);
 
   mutable std::mutex mutex_;
   std::unique_ptr<SqliteDb> db_;
   int found_version_ = 0;
   std::int64_t last_prune_utc_ns_ = 0;
   JournalWriteStats stats_;
+  std::atomic<bool> writable_{true};
 };
 
 // When a trajectory's flight started: its first sample's time less that sample's time since the start.

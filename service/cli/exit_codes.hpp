@@ -15,6 +15,7 @@ inline constexpr int kExitBadInput = 3;            // an input file unreadable o
 inline constexpr int kExitServiceUnavailable = 4;  // the service is unavailable, or an answer timed out
 inline constexpr int kExitServiceLost = 5;         // the service that took the request went away, or
                                                    // (skyrouted) another daemon owns its service id
+inline constexpr int kExitStateDirLocked = 6;      // (skyrouted) another daemon holds its state folder
 
 // The table as --help footers and the README print it.
 inline constexpr std::string_view kExitCodeTable =

@@ -21,10 +21,12 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include "service/cli/exit_codes.hpp"
 #include "service/daemon_config.hpp"
 #include "service/dds/mission_service.hpp"
 #include "service/logging.hpp"
 #include "service/shipped_data.hpp"
+#include "service/state_dir_lock.hpp"
 
 namespace {
 
@@ -110,7 +112,7 @@ int main(int argc, char** argv) {
   app.footer("Example:\n  skyrouted --dem ../shared/data/dem/N44W072.hgt --domain 7\n\n"
              "Exit codes: 0 stopped cleanly, 2 usage, 3 the configuration, the DEM or the state journal unreadable "
              "or invalid, "
-             "4 DDS unavailable.");
+             "4 DDS unavailable, 5 another daemon serves its service_id, 6 another daemon holds its state folder.");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -157,7 +159,9 @@ int main(int argc, char** argv) {
     }
     ::kill(::getpid(), SIGUSR1);  // taken by sigwait below
   });
-  if (skyroute::Status s = service.configure(*config); !s.ok()) return fail(s.error(), 3);
+  if (skyroute::Status s = service.configure(*config); !s.ok()) {
+    return fail(s.error(), skyroute::isStateDirLocked(s.error()) ? skyroute::cli::kExitStateDirLocked : 3);
+  }
   if (skyroute::Status s = service.activate(); !s.ok()) {
     (void)service.cleanup();
     return fail(s.error(), s.error().field == "dds.service_id" ? kExitConflict : 3);

@@ -244,7 +244,7 @@ struct CopyFromWire {
 #define SKYROUTE_SERVICE_STATUS_MEMBERS(MEMBER)                                                                \
   MEMBER(service_id) MEMBER(instance_id) MEMBER(started_utc_ns) MEMBER(heartbeat_period_s) MEMBER(stamp_utc_ns) \
   MEMBER(terrain_loaded) MEMBER(terrain_name) MEMBER(vehicles) MEMBER(replans) MEMBER(queue_length)           \
-  MEMBER(obstacles) MEMBER(service_version) MEMBER(idl_version)
+  MEMBER(obstacles) MEMBER(service_version) MEMBER(idl_version) MEMBER(journal_ok)
 #define SKYROUTE_FLEET_STATUS_MEMBERS(MEMBER)                                                                 \
   MEMBER(request_id) MEMBER(state) MEMBER(error_code) MEMBER(field) MEMBER(message) MEMBER(makespan_steps) \
   MEMBER(makespan_s) MEMBER(min_separation_m) MEMBER(achieved_separation_m) MEMBER(separation_repairs)      \
@@ -374,6 +374,7 @@ static_assert(static_cast<int>(PlanState::kReordered) == skyroute_msgs_STATE_REO
 static_assert(static_cast<int>(PlanErrorCode::kInternal) == skyroute_msgs_ERROR_INTERNAL);
 static_assert(static_cast<int>(PlanErrorCode::kTooLarge) == skyroute_msgs_ERROR_TOO_LARGE);
 static_assert(static_cast<int>(PlanErrorCode::kDuplicateRequest) == skyroute_msgs_ERROR_DUPLICATE_REQUEST);
+static_assert(static_cast<int>(PlanErrorCode::kJournalUnavailable) == skyroute_msgs_ERROR_JOURNAL_UNAVAILABLE);
 static_assert(static_cast<int>(PlanErrorCode::kUnderGround) == skyroute_msgs_ERROR_UNDER_GROUND);
 static_assert(static_cast<int>(PlanStage::kReplan) == skyroute_msgs_STAGE_REPLAN);
 static_assert(static_cast<int>(ObstacleShape::kCylinder) == skyroute_msgs_SHAPE_CYLINDER);
@@ -393,7 +394,7 @@ Result<PlanStatusData> fromWire(const skyroute_msgs_PlanStatus& in) {
   if (auto e = wireFreeText(in.service_instance, "service_instance")) return *e;
   if (auto e = wireFreeText(in.requester, "requester")) return *e;
   if (auto e = enumInRange(in.state, skyroute_msgs_STATE_REORDERED, "state")) return *e;
-  if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_DUPLICATE_REQUEST, "error_code")) return *e;
+  if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_JOURNAL_UNAVAILABLE, "error_code")) return *e;
   if (auto e = enumInRange(in.stage, skyroute_msgs_STAGE_REPLAN, "stage")) return *e;
   if (auto e = finite(in.planning_time_s, "planning_time_s")) return *e;
   PlanStatusData out;
@@ -550,7 +551,7 @@ Result<FleetStatusData> fromWire(const skyroute_msgs_FleetStatus& in) {
   if (auto e = wireFreeText(in.field, "field")) return *e;
   if (auto e = wireFreeText(in.message, "message")) return *e;
   if (auto e = enumInRange(in.state, skyroute_msgs_STATE_HOLDING, "state")) return *e;
-  if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_DUPLICATE_REQUEST, "error_code")) return *e;
+  if (auto e = enumInRange(in.error_code, skyroute_msgs_ERROR_JOURNAL_UNAVAILABLE, "error_code")) return *e;
   if (auto e = finite(in.makespan_s, "makespan_s")) return *e;
   if (auto e = finite(in.min_separation_m, "min_separation_m")) return *e;
   if (auto e = finite(in.achieved_separation_m, "achieved_separation_m")) return *e;

@@ -10,6 +10,7 @@
 #include "service/dds/mission_service_edge.hpp"
 #include "service/dds/shard_members.hpp"
 #include "service/journal_schema.hpp"
+#include "service/journal_screening.hpp"
 #include "service/no_fly_geojson.hpp"
 
 namespace skyroute::dds {
@@ -257,24 +258,37 @@ Status MissionService::configure(const DaemonConfig& config) {
     return make_error(ErrorCode::kInvalidArgument, "lifecycle", "configure needs the unconfigured state");
   }
   const auto started = Clock::now();
+  instance_ = ServiceInstance::current(config.service_id, config.heartbeat_period_s, config.role);
   if (!config.state_dir.empty()) {  // first: a refused journal stops the start before the DEM loads
+    std::error_code made;
+    std::filesystem::create_directories(config.state_dir, made);
+    // One daemon per folder, held until cleanup() (or the process's end, kill -9 included).
+    auto lock = StateDirLock::acquire(config.state_dir, instance_.instance_id, instance_.started_utc_ns);
+    if (!lock.ok()) return lock.error();
+    state_lock_.emplace(std::move(*lock));
     auto journal = StateJournal::open(config.state_dir);
     if (!journal.ok()) return journal.error();
     auto state = (*journal)->load(utcNowNs());
     if (!state.ok()) return state.error();
     spdlog::info("event=journal_opened path={} schema_found={} schema={} missions={} trajectories={} obstacles={} "
-                 "zones={}",
+                 "zones={} damaged={}",
                  (*journal)->path(), (*journal)->foundSchemaVersion(), kJournalSchemaVersion, state->missions.size(),
-                 state->trajectories.size(), state->obstacles.size(), state->zones.size());
+                 state->trajectories.size(), state->obstacles.size(), state->zones.size(), state->quarantined.size());
     journal_ = std::move(*journal);
     journal_sink_ = std::make_unique<JournalingSink>(*this, journal_);
     recovered_ = std::move(*state);
   }
   auto world = loadWorld(config);
   if (!world.ok()) return world.error();
+  if (recovered_) {
+    // Nothing is replayed that a new request would be refused today (the bounds in force, this
+    // terrain): such records are quarantined, logged by key, and the rest resumes.
+    const std::vector<QuarantinedRecord> refused = screenJournalState(*recovered_, config.engine, **world);
+    (void)journal_->quarantine(refused, utcNowNs());
+    recovered_->quarantined.insert(recovered_->quarantined.end(), refused.begin(), refused.end());
+  }
   auto engine = Engine::create(*world, config.engine, journal_sink_ ? static_cast<EngineSink&>(*journal_sink_) : *this);
   if (!engine.ok()) return engine.error();
-  instance_ = ServiceInstance::current(config.service_id, config.heartbeat_period_s, config.role);
   instance_.shard_group = config.shard_group;
   if (!config.shard_group.empty()) {
     const auto margin_ns = static_cast<std::int64_t>(kShardJoinMarginS * 1e9);
@@ -290,7 +304,10 @@ Status MissionService::configure(const DaemonConfig& config) {
   }
   if (journal_) {
     predecessor_instance_id_ = recovered_->owner_instance_id;
-    if (Status s = journal_->recordOwner(instance_.instance_id); !s.ok()) return s.error();
+    if (Status s = journal_->recordOwner(instance_.instance_id); !s.ok()) {
+      // A journal that cannot write (a full disk) is still recovered; new work is refused.
+      spdlog::error("event=journal_write_failed what=owner message=\"{}\"", s.error().message);
+    }
   }
   bad_samples_log_.setWindowS(config.engine.log_repeat_window_s);
   auto edge = makeEdge(config, **world);
@@ -474,6 +491,7 @@ Status MissionService::cleanup() {
   journal_sink_.reset();
   journal_.reset();
   recovered_.reset();
+  state_lock_.reset();  // after the journal is closed
   {
     std::unique_lock lock(edge_mutex_);
     edge_.reset();
@@ -607,6 +625,7 @@ void MissionService::publishHeartbeat() {
   status.heartbeat_period_s = config.heartbeat_period_s;
   status.service_version = SKYROUTE_VERSION;
   status.idl_version = kIdlVersion;
+  status.journal_ok = !journal_ || journal_->writable();
   std::shared_lock lock(edge_mutex_);
   (void)edge_->heartbeat->write(status);
 }
@@ -661,10 +680,10 @@ void MissionService::republishDue(Clock::time_point now) {
   for (const TrajectoryData& t : engine_->currentTrajectories()) {
     if (router_ && !taken_vehicles_.contains(t.vehicle_id)) continue;  // only those that just moved here
     if (journal_sink_ && renumbered_.erase(t.vehicle_id) > 0) {
-      journal_sink_->publishTrajectory(t);  // a new revision number: into the journal first
-    } else {
-      publishTrajectory(t);
+      // A new revision number: into the journal first; one it cannot record is not published.
+      if (!journal_sink_->recordTrajectory(t).ok()) continue;
     }
+    publishTrajectory(t);
     ++n;
   }
   if (republish_at_.empty()) taken_vehicles_.clear();

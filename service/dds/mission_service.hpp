@@ -40,6 +40,7 @@
 #include "service/journaling_sink.hpp"
 #include "service/log_throttle.hpp"
 #include "service/shard_router.hpp"
+#include "service/state_dir_lock.hpp"
 #include "service/state_journal.hpp"
 
 namespace skyroute::dds {
@@ -145,6 +146,7 @@ class MissionService final : public EngineSink {
   State state_ = State::kUnconfigured;
   ServiceInstance instance_;
   std::shared_ptr<WorldModel> world_;
+  std::optional<StateDirLock> state_lock_;         // the state folder's, held with the journal
   std::shared_ptr<StateJournal> journal_;           // null without service.state_dir
   std::unique_ptr<JournalingSink> journal_sink_;    // the engine's sink when journaling: in front of this
   std::optional<JournalState> recovered_;           // what the journal held at configure, until activate

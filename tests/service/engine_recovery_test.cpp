@@ -39,6 +39,12 @@ class CuttableSink : public EngineSink {
     if (!cut_) next_.retractTrajectory(v);
   }
   Status recordAccepted(const MissionRequestData& r) override { return cut_ ? Status::success() : next_.recordAccepted(r); }
+  Status recordTrajectory(const TrajectoryData& t) override { return cut_ ? Status::success() : next_.recordTrajectory(t); }
+  Status recordFleetPlan(const std::vector<TrajectoryData>& ts, const FleetStatusData& s) override {
+    return cut_ ? Status::success() : next_.recordFleetPlan(ts, s);
+  }
+  Status recordCancel(const CancelRequestData& c) override { return cut_ ? Status::success() : next_.recordCancel(c); }
+  bool recordsTrajectories() const override { return next_.recordsTrajectories(); }
   void recordObstacle(const ObstacleUpdateData& u) override {
     if (!cut_) next_.recordObstacle(u);
   }
