@@ -353,5 +353,45 @@ TEST_F(JournalFailuresE2E, ARecordRefusedTodayIsQuarantinedAndTheRestResumes) {
   EXPECT_EQ(station_->terminal("after")->state, PlanState::kSucceeded) << station_->terminal("after")->message;
 }
 
+// The record that crash-looped the daemon (issue 29): a mission whose vehicle id has 70,000
+// characters, journaled before the id had a bound. The ROS 2 mirror made a topic name of it and
+// libddsc crashed, at every restart on the folder. Now it is quarantined, named by a cut key, and
+// the daemon serves, its mirror on.
+TEST_F(JournalFailuresE2E, AJournaledVehicleIdOf70000CharactersIsQuarantinedAndTheDaemonServes) {
+  startDaemon(57, {"--state-dir", state_dir_});
+  std::map<std::string, TrajectoryData> published = fly({simpleMission("good", "uav-good", 0.0)});
+  ASSERT_EQ(published.size(), 1u);
+  stopDaemonCleanly();
+
+  const std::string huge_id(70000, 'v');
+  MissionRequestData bad = simpleMission("huge-1", huge_id, 1500.0);
+  TrajectoryData bad_flight = published["uav-good"];
+  bad_flight.vehicle_id = huge_id;
+  bad_flight.request_id = "huge-1";
+  bad_flight.plan_id = "huge-9";
+  {
+    auto journal = StateJournal::open(state_dir_);
+    ASSERT_TRUE(journal.ok()) << journal.error().describe();
+    ASSERT_TRUE((*journal)->recordAccepted(bad, utcNowNs()).ok());
+    ASSERT_TRUE((*journal)->recordTrajectory(bad_flight, utcNowNs()).ok());
+  }
+
+  restartOnJournal(57);
+  ASSERT_TRUE(station_->pumpUntil([&] { return station_->latest("uav-good") != nullptr; }, 20.0)) << daemon_.err();
+  ASSERT_TRUE(waitForLog("event=flight_resumed request=good", 60.0)) << daemon_.err().substr(0, 4000);
+  ASSERT_TRUE(station_->freshHeartbeat(10.0));
+  EXPECT_EQ(station_->latest(huge_id), nullptr) << "the refused mission's trajectory was republished";
+  EXPECT_NE(daemon_.err().find("event=journal_record_quarantined table=missions key=\"vvvv"), std::string::npos)
+      << daemon_.err().substr(0, 4000);
+  EXPECT_NE(daemon_.err().find("vehicle_id has 70000 characters, more than the limit of 64"), std::string::npos)
+      << daemon_.err().substr(0, 4000);
+  EXPECT_EQ(daemon_.err().find(std::string(1000, 'v')), std::string::npos) << "a log line holds the whole id";
+  // It serves, its ROS 2 mirror too: a new request is planned and published.
+  ASSERT_TRUE(station_->requests->write(simpleMission("after", "uav-after", -1500.0)).ok());
+  ASSERT_TRUE(station_->waitTerminal({"after"}, 180.0)) << daemon_.err().substr(0, 4000);
+  EXPECT_EQ(station_->terminal("after")->state, PlanState::kSucceeded) << station_->terminal("after")->message;
+  EXPECT_TRUE(daemon_.running());
+}
+
 }  // namespace
 }  // namespace skyroute::testing
