@@ -408,7 +408,12 @@ function connect() {
   const status = document.getElementById("connection");
   const events = new EventSource("events");
   events.onopen = () => { status.textContent = "live"; status.className = "live"; };
-  events.onerror = () => { status.textContent = "reconnecting"; status.className = "down"; };  // EventSource retries
+  events.onerror = () => {
+    status.textContent = "reconnecting"; status.className = "down";
+    // EventSource retries a dropped stream itself, but not a refused one (503: the server's
+    // streams are all taken): then try again a little later.
+    if (events.readyState === EventSource.CLOSED) setTimeout(connect, 5000);
+  };
   events.onmessage = e => receive(JSON.parse(e.data));
 }
 

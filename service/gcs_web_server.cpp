@@ -8,17 +8,77 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <optional>
 
-#include <httplib.h>
-
+#include "service/gcs_allowed_hosts.hpp"
 #include "service/gcs_web_assets.hpp"
+// Last: httplib brings <resolv.h>, whose _res macro breaks Eigen's declarations (gcs_map_state.hpp).
+#include "service/gcs_web_connection.hpp"
 
 namespace skyroute {
+
+// httplib's server with every connection read through a GuardedConnection: the head is read and
+// checked (size, fields, body, ranges, Host) before httplib parses it, and one request is served
+// per connection, so that no connection waits between requests on a thread.
+class GuardedHttpServer final : public httplib::Server {
+ public:
+  explicit GuardedHttpServer(const GcsWebLimits& limits);
+  // The names served; set once the port is known, before serving.
+  void allowHosts(AllowedHosts hosts) { hosts_.emplace(std::move(hosts)); }
+  // Every connection's waits end now (before httplib's stop(), which waits for its threads).
+  void stopConnections() { stop_.raise(); }
+
+ private:
+  bool process_and_close_socket(socket_t sock) override;
+
+  GcsWebLimits limits_;
+  ConnectionTimeouts timeouts_;
+  std::optional<AllowedHosts> hosts_;
+  StopSignal stop_;
+};
+
 namespace {
 
-constexpr double kKeepAliveInterval_s = 15.0;  // an SSE comment this often finds closed browsers
+constexpr double kKeepAliveInterval_s = 15.0;  // an SSE comment this often finds browsers that cannot be reached
+constexpr double kPeerCheckInterval_s = 1.0;   // how soon an event stream notices its page is gone
+constexpr double kLinger_s = 0.5;              // after a reply, what the client still sends is read this long
+constexpr std::size_t kHostShownBytes = 100;   // of a refused Host field, in the reply
+
+template <class Seconds>
+std::chrono::microseconds microseconds(Seconds s) {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::duration<double>(s));
+}
+
+// The /events streams open at once, at most max; a slot is given back when its last holder goes
+// (the stream's content provider, destroyed with its response, whatever ended the stream).
+class EventStreamBudget : public std::enable_shared_from_this<EventStreamBudget> {
+ public:
+  explicit EventStreamBudget(int max) : max_(max) {}
+  class Slot {
+   public:
+    explicit Slot(std::shared_ptr<EventStreamBudget> budget) : budget_(std::move(budget)) {}
+    ~Slot() { --budget_->open_; }
+    Slot(const Slot&) = delete;
+    Slot& operator=(const Slot&) = delete;
+
+   private:
+    std::shared_ptr<EventStreamBudget> budget_;
+  };
+  std::shared_ptr<Slot> take() {
+    int open = open_.load();
+    do {
+      if (open >= max_) return nullptr;
+    } while (!open_.compare_exchange_weak(open, open + 1));
+    return std::make_shared<Slot>(shared_from_this());
+  }
+  int max() const { return max_; }
+
+ private:
+  const int max_;
+  std::atomic<int> open_{0};
+};
 
 ServeError badAddress(const std::string& message) { return {ServeError::Kind::kBadAddress, message}; }
 
@@ -103,15 +163,63 @@ Result<ServeAddress, ServeError> parseServeAddress(const std::string& text) {
   return address;
 }
 
-GcsWebServer::GcsWebServer(ServeAddress address, std::shared_ptr<GcsMapState> state)
-    : address_(std::move(address)), state_(std::move(state)), server_(std::make_unique<httplib::Server>()) {}
+GuardedHttpServer::GuardedHttpServer(const GcsWebLimits& limits)
+    : limits_(limits),
+      timeouts_{limits.request_timeout_s, limits.write_timeout_s, limits.connection_life_s, kLinger_s} {
+  // httplib's own settings where it has them. Its threads: the event streams' budget plus the
+  // workers for the rest, so that streams never hold them all.
+  const auto threads = static_cast<std::size_t>(limits.max_event_streams + limits.request_workers);
+  new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  set_payload_max_length(limits.head.max_body_bytes);
+  set_read_timeout(microseconds(limits.request_timeout_s));
+  set_write_timeout(microseconds(limits.write_timeout_s));
+  set_keep_alive_max_count(1);
+}
+
+bool GuardedHttpServer::process_and_close_socket(socket_t sock) {
+  GuardedConnection connection(sock, stop_, timeouts_);  // closes the socket when it goes
+  const std::optional<HttpHeadScan> scan = connection.readHead(limits_.head);
+  if (!scan) return false;
+  if (scan->state == HttpHeadScan::State::kRefused) {
+    connection.refuse(scan->refusal);
+    return false;
+  }
+  auto head = parseRequestHead(connection.head(), limits_.head);
+  if (!head) {
+    connection.refuse(head.error(), head.error().status == 405 ? "Allow: GET, HEAD" : "");
+    return false;
+  }
+  if (!hosts_ || !hosts_->allows(head->host)) {
+    const std::string shown = head->host.substr(0, kHostShownBytes) + (head->host.size() > kHostShownBytes ? "..." : "");
+    connection.refuse({421, "this live map is not served as '" + shown + "': it answers to " +
+                                (hosts_ ? hosts_->describe() : std::string("nothing yet")) +
+                                " (skyroute gcs --allow-host NAME adds a name)"});
+    return false;
+  }
+  if (head->path == "/events") connection.exemptFromLifeCap();
+  bool connection_closed = false;
+  return process_request(connection, /*close_connection=*/true, connection_closed, nullptr);
+}
+
+GcsWebServer::GcsWebServer(ServeAddress address, std::shared_ptr<GcsMapState> state, const GcsWebLimits& limits)
+    : address_(std::move(address)),
+      limits_(limits),
+      state_(std::move(state)),
+      server_(std::make_unique<GuardedHttpServer>(limits)) {}
 
 GcsWebServer::~GcsWebServer() { stop(); }
 
 Result<std::unique_ptr<GcsWebServer>, ServeError> GcsWebServer::start(const ServeAddress& address,
-                                                                       std::shared_ptr<GcsMapState> state) {
+                                                                       std::shared_ptr<GcsMapState> state,
+                                                                       const GcsWebLimits& limits) {
+  const auto positive = [](double s) { return std::isfinite(s) && s > 0; };
+  if (limits.max_event_streams < 1 || limits.request_workers < 1 || !positive(limits.request_timeout_s) ||
+      !positive(limits.write_timeout_s) || !positive(limits.connection_life_s)) {
+    return ServeError{ServeError::Kind::kFailed,
+                      "the web map's limits must be positive (event streams, workers, timeouts)"};
+  }
   if (auto problem = probeBind(address)) return *problem;
-  std::unique_ptr<GcsWebServer> web(new GcsWebServer(address, std::move(state)));
+  std::unique_ptr<GcsWebServer> web(new GcsWebServer(address, std::move(state), limits));
   web->server_->set_socket_options(reuseAddressOnly);
   web->addRoutes();
   if (address.port == 0) {
@@ -125,6 +233,7 @@ Result<std::unique_ptr<GcsWebServer>, ServeError> GcsWebServer::start(const Serv
     }
     web->port_ = address.port;
   }
+  web->server_->allowHosts(AllowedHosts(address.host, web->port_, limits.allowed_hosts));
   auto ended = std::make_shared<std::atomic<bool>>(false);
   web->thread_ = std::thread([server = web->server_.get(), ended] {
     server->listen_after_bind();
@@ -143,7 +252,8 @@ std::string GcsWebServer::url() const {
 
 void GcsWebServer::stop() {
   if (!thread_.joinable()) return;
-  state_->close();  // event streams return, so their worker threads can be joined
+  server_->stopConnections();  // no connection waits on its client any more
+  state_->close();             // event streams return, so their worker threads can be joined
   server_->stop();
   thread_.join();
 }
@@ -168,12 +278,29 @@ void GcsWebServer::addRoutes() {
     res.set_header("X-State-Version", std::to_string(snapshot.version));
     res.set_content(*snapshot.json, "application/json");
   });
-  server_->Get("/events", [state](const httplib::Request&, httplib::Response& res) {
+  auto streams = std::make_shared<EventStreamBudget>(limits_.max_event_streams);
+  server_->Get("/events", [state, streams](const httplib::Request&, httplib::Response& res) {
     res.set_header("Cache-Control", "no-store");
+    std::shared_ptr<EventStreamBudget::Slot> slot = streams->take();
+    if (!slot) {
+      res.status = 503;
+      res.set_header("Retry-After", "5");
+      res.set_content("this live map has " + std::to_string(streams->max()) +
+                          " event streams open, its most (skyroute gcs --serve-streams); close a page or try again\n",
+                      "text/plain; charset=utf-8");
+      return;
+    }
     auto sent = std::make_shared<std::uint64_t>(0);  // the version this stream last sent
-    res.set_chunked_content_provider("text/event-stream", [state, sent](std::size_t, httplib::DataSink& sink) {
-      // Each call sends one thing: the state when it changed, else a keep-alive comment.
-      const std::uint64_t version = state->waitForVersionAbove(*sent, *sent == 0 ? 0.0 : kKeepAliveInterval_s);
+    res.set_chunked_content_provider("text/event-stream", [state, sent, slot](std::size_t, httplib::DataSink& sink) {
+      // Each call sends one thing: the state when it changed, else a keep-alive comment. While it
+      // waits it asks every second whether the page is still there, so that a closed page gives
+      // its slot of the budget back at once.
+      const auto keep_alive_at = std::chrono::steady_clock::now() + microseconds(kKeepAliveInterval_s);
+      std::uint64_t version = state->waitForVersionAbove(*sent, 0.0);
+      while (*sent != 0 && version <= *sent && !state->closed() && std::chrono::steady_clock::now() < keep_alive_at) {
+        if (!sink.is_writable()) return false;
+        version = state->waitForVersionAbove(*sent, kPeerCheckInterval_s);
+      }
       if (state->closed()) {
         sink.done();
         return true;

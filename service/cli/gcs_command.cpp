@@ -35,6 +35,7 @@ struct GcsOptions {
   std::string nofly;     // GeoJSON no-fly zones for the plans' geofence ("" = none)
   std::string serve;     // HOST:PORT of the live map ("" = none)
   std::string dem;       // the live map's terrain ("" = the embedded terrain)
+  GcsWebLimits web;      // the live map's bounds (--allow-host, --serve-streams, --serve-timeout)
   bool progress = false; // show the waiting on stderr even when it is not a terminal
 };
 
@@ -51,7 +52,7 @@ void runGcs(const GcsOptions& o) {
   if (!o.nofly.empty()) {
     for (NoFlyZoneData& zone : loadNoFlyZoneData(tool, "--nofly", o.nofly)) zones[zone.zone_id] = std::move(zone);
   }
-  std::unique_ptr<GcsLiveMap> live = o.serve.empty() ? nullptr : GcsLiveMap::start(tool, o.serve, o.dem);
+  std::unique_ptr<GcsLiveMap> live = o.serve.empty() ? nullptr : GcsLiveMap::start(tool, o.serve, o.dem, o.web);
   dds::Entity participant = openParticipant(tool, o.domain);
   auto trajectories = openReader<TrajectoryData>(tool, participant);
   auto statuses = openReader<PlanStatusData>(tool, participant);
@@ -188,12 +189,27 @@ void addGcsCommand(CLI::App& app) {
   cmd->add_flag("--progress", options->progress,
                 "Say every 5 s on stderr what has arrived while waiting, even when stderr is not a terminal")
       ->capture_default_str();
-  cmd->add_option("--serve", options->serve,
+  CLI::Option* serve = cmd->add_option("--serve", options->serve,
                   "Serve a live map page (terrain, trajectories, obstacles, altitude profile) on HOST:PORT, e.g. "
                   "127.0.0.1:8080 (port 0: a free port, printed at start). A malformed or foreign address exits 2, "
                   "a port in use exits 4")
       ->type_name("HOST:PORT");
   cmd->add_option("--dem", options->dem, "The live map's terrain: the DEM skyrouted plans on (default: the embedded terrain)");
+  cmd->add_option("--allow-host", options->web.allowed_hosts,
+                  "A host name (or address) the --serve map answers to besides localhost, 127.0.0.1, [::1] and "
+                  "the --serve address; repeatable. Requests naming any other host are refused (421)")
+      ->type_name("NAME")
+      ->needs(serve);
+  cmd->add_option("--serve-streams", options->web.max_event_streams,
+                  "Open pages the --serve map follows live at once (event streams); more are told to retry (503)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str()
+      ->needs(serve);
+  cmd->add_option("--serve-timeout", options->web.request_timeout_s,
+                  "Seconds a client of the --serve map has to send its whole request (408 after)")
+      ->check(CLI::Range(0.1, 3600.0))
+      ->capture_default_str()
+      ->needs(serve);
   cmd->footer("Example: skyroute gcs --domain 77 --timeout 60 --csv out/fleet.csv --kml out/fleet.kml\n" +
               std::string(kExitCodeTable));
   cmd->callback([options] { runGcs(*options); });

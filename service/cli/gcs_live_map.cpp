@@ -4,14 +4,20 @@
 #include <iostream>
 
 #include "service/cli/cli_common.hpp"
+#include "service/gcs_allowed_hosts.hpp"
 
 namespace skyroute::cli {
 
 std::unique_ptr<GcsLiveMap> GcsLiveMap::start(const std::string& tool, const std::string& serve,
-                                              const std::string& dem_path) {
-  // The address first: a typo should not wait for the terrain.
+                                              const std::string& dem_path, GcsWebLimits limits) {
+  // The address and names first: a typo should not wait for the terrain.
   auto address = parseServeAddress(serve);
   if (!address) fail(tool, kExitUsage, "--serve " + address.error().message);
+  for (std::string& name : limits.allowed_hosts) {
+    auto canonical = canonicalHostName(name, "--allow-host");
+    if (!canonical) fail(tool, kExitUsage, canonical.error().message);
+    name = *canonical;
+  }
 
   const std::string dem_file = dem_path.empty() ? demPathOf(tool, DaemonConfig{}) : dem_path;
   auto dem = Dem::load(dem_file);
@@ -24,7 +30,7 @@ std::unique_ptr<GcsLiveMap> GcsLiveMap::start(const std::string& tool, const std
   auto live = std::unique_ptr<GcsLiveMap>(new GcsLiveMap());
   live->state_ = std::make_shared<GcsMapState>(*terrain, std::move(*image),
                                                std::filesystem::path(dem_file).filename().string());
-  auto server = GcsWebServer::start(*address, live->state_);
+  auto server = GcsWebServer::start(*address, live->state_, limits);
   if (!server) {
     const bool in_use = server.error().kind == ServeError::Kind::kPortInUse;
     fail(tool, in_use ? kExitServiceUnavailable : kExitUsage, "--serve " + serve + ": " + server.error().message);

@@ -1,7 +1,9 @@
 // The web map's server, in process, through httplib's client: the address rules, the page and its
 // assets served from the binary with nothing fetched from elsewhere, the JSON state endpoint and
 // the event stream following the state, a port in use told apart from a bad address, binding only
-// the address given, and a prompt stop with a browser still listening.
+// the address given, and a prompt stop with a browser still listening; the event streams' budget
+// and the life of a connection, through raw sockets (tests/dds/gcs_serve_guard_cli_test.cpp
+// attacks the command's server with the rest).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -9,10 +11,12 @@
 #include <mutex>
 #include <regex>
 #include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "service/gcs_web_server.hpp"
+#include "tests/raw_http_socket.hpp"
 #include "tests/service/gcs_fixtures.hpp"
 #include "tests/tcp_ports.hpp"
 
@@ -51,6 +55,10 @@ class GcsWebServerTest : public ::testing::Test {
   std::unique_ptr<GcsWebServer> server_;
   std::unique_ptr<httplib::Client> client_;
 };
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
 
 TEST(ServeAddress, AcceptsNumericAddressesAndLocalhostWithAPort) {
   auto a = parseServeAddress("127.0.0.1:8080");
@@ -226,6 +234,74 @@ TEST_F(GcsWebServerTest, APortInUseIsToldApartFromABadAddress) {
   ASSERT_FALSE(foreign.ok());
   EXPECT_EQ(foreign.error().kind, ServeError::Kind::kBadAddress);
   EXPECT_NE(foreign.error().message.find("not an address of this machine"), std::string::npos) << foreign.error().message;
+}
+
+TEST_F(GcsWebServerTest, EventStreamsHaveABudgetAndAClosedPageGivesItsSlotBack) {
+  GcsWebLimits limits;
+  limits.max_event_streams = 2;
+  auto started = GcsWebServer::start({"127.0.0.1", 0}, state_, limits);
+  ASSERT_TRUE(started.ok()) << started.error().message;
+  const int port = (*started)->port();
+  std::vector<testing::RawHttpSocket> streams;
+  for (int i = 0; i < 2; ++i) {
+    streams.emplace_back(port);
+    ASSERT_TRUE(streams.back().send(testing::requestHead("GET /events", port)));
+    ASSERT_TRUE(streams.back().readUntil("}\n\n", 30.0)) << "stream " << i;
+  }
+  testing::RawHttpSocket third(port);
+  ASSERT_TRUE(third.send(testing::requestHead("GET /events", port)));
+  ASSERT_TRUE(third.readUntilEnd(30.0)) << third.received().substr(0, 300);
+  EXPECT_EQ(third.status(), 503) << third.received().substr(0, 300);
+  EXPECT_NE(third.body().find("has 2 event streams open"), std::string::npos) << third.body();
+
+  // The server notices a closed page within a second (not at the next keep-alive, 15 s on).
+  streams.front().close();
+  const auto closed = std::chrono::steady_clock::now();
+  bool served = false;
+  while (!served && secondsSince(closed) < 30.0) {
+    testing::RawHttpSocket again(port);
+    served = again.send(testing::requestHead("GET /events", port)) && again.readUntil("\r\n\r\n", 30.0) &&
+             again.status() == 200;
+    if (!served) std::this_thread::sleep_for(std::chrono::milliseconds(100));  // asks again in a moment
+  }
+  EXPECT_TRUE(served) << "the slot of a closed page never came back";
+  EXPECT_LT(secondsSince(closed), 10.0) << "a closed page held its slot until the next keep-alive";
+}
+
+TEST_F(GcsWebServerTest, AConnectionEndsWhenItsLifeIsOverWhileAnEventStreamLivesOn) {
+  GcsWebLimits limits;
+  limits.connection_life_s = 1.0;
+  limits.write_timeout_s = 60.0;  // so that the life ends the slow reader, not a write's timeout
+  auto started = GcsWebServer::start({"127.0.0.1", 0}, state_, limits);
+  ASSERT_TRUE(started.ok()) << started.error().message;
+  const int port = (*started)->port();
+  testing::RawHttpSocket stream(port);
+  ASSERT_TRUE(stream.send(testing::requestHead("GET /events", port)));
+  ASSERT_TRUE(stream.readUntil("}\n\n", 30.0));
+
+  // A state of 80 vehicles of 2000 samples: more than the kernel's buffers hold, so that the
+  // server must wait for a slow reader to take it.
+  for (int i = 0; i < 80; ++i) {
+    state_->onTrajectory(testing::trajectoryThrough(state_terrain().frame(), "uav-" + std::to_string(i), 0,
+                                                    {{-2000, 0, 1000}, {2000, 500, 1100}}, utcNowNs(), 2000));
+  }
+  const std::size_t state_bytes = state_->snapshot().json->size();
+  ASSERT_GT(state_bytes, 6'000'000u);
+  // The client reads 128 KB at 25 KB/s through a 4 KB window (five seconds, five lives), then
+  // as fast as it can: it gets what the server had written before the life ended, not the rest.
+  testing::RawHttpSocket reader(port, 4096);
+  ASSERT_TRUE(reader.send(testing::requestHead("GET /state.json", port)));
+  const auto asked = std::chrono::steady_clock::now();
+  while (!reader.ended() && reader.received().size() < 128'000 && secondsSince(asked) < 60.0) {
+    reader.readSome(512, 5.0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the client's pace, not a wait for the server
+  }
+  EXPECT_TRUE(reader.readUntilEnd(60.0)) << "the server did not end the connection";
+  EXPECT_EQ(reader.status(), 200);
+  EXPECT_LT(reader.body().size(), state_bytes) << "the slow reader got the whole state in " << secondsSince(asked) << " s";
+
+  // The stream, older than a connection's life by now, still follows the state.
+  EXPECT_TRUE(stream.readUntil("id: 81\n", 30.0)) << "the event stream ended with the connections' life";
 }
 
 }  // namespace
