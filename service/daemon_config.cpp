@@ -1,5 +1,6 @@
 #include "service/daemon_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -12,6 +13,7 @@
 
 #include <toml++/toml.h>
 
+#include "service/known_keys.hpp"
 #include "service/planner_registry.hpp"
 #include "service/text_bounds.hpp"
 #include "service/toml_precheck.hpp"
@@ -356,11 +358,17 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
     // An empty name (TOML allows "" and '') is named as written, so the error still names a field.
     const std::string section = section_name.str().empty() ? "\"\"" : std::string(section_name.str());
     const toml::table* table = section_node.as_table();
-    const bool known_section =
-        std::any_of(keys.begin(), keys.end(), [&](const Key& k) { return section == k.section; });
-    if (!known_section) {
+    KnownKeys sections;
+    for (const Key& k : keys)
+      if (std::find(sections.begin(), sections.end(), k.section) == sections.end()) sections.push_back(k.section);
+    if (std::find(sections.begin(), sections.end(), section) == sections.end()) {
+      const auto close = closestKnownKey(section, sections);
+      std::string known;
+      for (std::string_view s : sections) known += (known.empty() ? "" : ", ") + std::string(s);
       return make_error(ErrorCode::kInvalidArgument, section,
-                        "unknown section [" + section + "] (known: terrain, dds, service, security, ros2, planning, vehicle, replanning, bounds, obstacles, log)");
+                        "unknown section [" + section + "] (" +
+                            (close ? "did you mean [" + std::string(*close) + "]?; " : std::string()) + "known: " +
+                            known + ")");
     }
     if (!table) return make_error(ErrorCode::kInvalidArgument, section, "must be a table [" + section + "]");
     for (const auto& [key_name, node] : *table) {
@@ -368,8 +376,13 @@ Result<DaemonConfig> parseDaemonConfig(const std::string& toml_text, const std::
       auto key = std::find_if(keys.begin(), keys.end(),
                               [&](const Key& k) { return section == k.section && name == k.name; });
       if (key == keys.end()) {
+        KnownKeys names;
+        for (const Key& k : keys)
+          if (section == k.section) names.push_back(k.name);
+        const auto close = closestKnownKey(name, names);
         return make_error(ErrorCode::kInvalidArgument, section + "." + name,
-                          "unknown key (skyrouted --print-config lists every key)");
+                          "unknown key (" + (close ? "did you mean " + std::string(*close) + "?; " : std::string()) +
+                              "skyrouted --print-config lists every key)");
       }
       if (Status s = setKey(*key, node); !s.ok()) return s.error();
     }

@@ -180,7 +180,7 @@ json obstacleRecordToJson(const ObstacleUpdateData& update) {
 }
 
 Result<ObstacleUpdateData> obstacleRecordFromJson(const json& j) {
-  auto update = obstacleFromJson(j, "obstacle");
+  auto update = obstacleFromJson(j, "obstacle", {"valid_from_utc_ns", "valid_until_utc_ns"});
   if (!update.ok()) return update.error();
   auto from = required<std::int64_t>(j, "valid_from_utc_ns", "obstacle");
   if (!from.ok()) return from.error();

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "planning/core/assign_result.hpp"
+#include "service/known_keys.hpp"
 
 namespace skyroute {
 
@@ -94,11 +95,18 @@ json limitsToJson(const VehicleLimitsData& limits) {
   return j;
 }
 
+KnownKeys limitKeys() {
+  KnownKeys keys{"model"};
+  for (const auto& [key, field] : limitFields()) keys.push_back(key);
+  return keys;
+}
+
 // j["limits"] into `limits` (absent keys keep their values); the first problem found, if any.
 std::optional<Error> limitsFromJson(const json& j, VehicleLimitsData& limits) {
   auto it = j.find("limits");
   if (it == j.end()) return std::nullopt;
   if (!it->is_object()) return invalid("limits", "must be an object");
+  if (auto unknown = unknownJsonKey(*it, limitKeys(), "limits", "limits")) return unknown;
   if (it->contains("model")) {
     auto name = text(*it, "model", "limits", "");
     if (!name) return name.error();
@@ -156,13 +164,18 @@ json missionPointToJson(const MissionPointData& point) {
 
 Result<MissionPointData> missionPointFromJson(const json& j, const std::string& field) {
   if (!j.is_object()) return invalid(field, "must be an object with lat_deg, lon_deg, alt_amsl_m or east_m, north_m, up_m");
+  if (auto unknown = unknownJsonKey(j, {"lat_deg", "lon_deg", "alt_amsl_m", "east_m", "north_m", "up_m"}, field, field))
+    return *unknown;
   const char* const geo_keys[] = {"lat_deg", "lon_deg", "alt_amsl_m"};
+  const char* const enu_keys[] = {"east_m", "north_m", "up_m"};
+  // One frame per point: the other frame's numbers would be ignored.
+  if (containsAny(j, geo_keys) && containsAny(j, enu_keys))
+    return invalid(field, "mixes lat_deg/lon_deg/alt_amsl_m with east_m/north_m/up_m (give one of the two)");
   if (containsAny(j, geo_keys)) {
     auto geo = numbers(j, geo_keys, field);
     if (!geo) return geo.error();
     return MissionPointData::wgs84(geo->x(), geo->y(), geo->z());
   }
-  const char* const enu_keys[] = {"east_m", "north_m", "up_m"};
   if (containsAny(j, enu_keys)) {
     auto enu = numbers(j, enu_keys, field);
     if (!enu) return enu.error();
@@ -186,6 +199,12 @@ json missionToJson(const MissionRequestData& m) {
 
 Result<MissionRequestData> missionFromJson(const json& j) {
   if (!j.is_object()) return invalid("mission", "must be a JSON object");
+  // height_ref is the mission file's, read by the CLI (service/mission_heights.hpp).
+  if (auto unknown = unknownJsonKey(j,
+                                    {"request_id", "vehicle_id", "begin", "points", "end", "limits", "planner",
+                                     "fixed_order", "height_ref"},
+                                    "", "mission"))
+    return *unknown;
   MissionRequestData m;
   if (auto e = assignResult(text(j, "request_id", "", ""), m.request_id)) return *e;
   if (auto e = assignResult(text(j, "vehicle_id", "", ""), m.vehicle_id)) return *e;
@@ -213,6 +232,9 @@ json fleetToJson(const FleetRequestData& f) {
 
 Result<FleetRequestData> fleetFromJson(const json& j) {
   if (!j.is_object()) return invalid("fleet", "must be a JSON object");
+  if (auto unknown = unknownJsonKey(j, {"request_id", "vehicle_ids", "begins", "tasks", "ends", "limits", "planner"}, "",
+                                    "fleet"))
+    return *unknown;
   FleetRequestData f;
   if (auto e = assignResult(text(j, "request_id", "", ""), f.request_id)) return *e;
   if (auto e = assignResult(pointArray(j, "begins", true), f.begins)) return *e;
@@ -259,8 +281,12 @@ json obstacleToJson(const ObstacleUpdateData& u) {
   return j;
 }
 
-Result<ObstacleUpdateData> obstacleFromJson(const json& j, const std::string& field) {
+Result<ObstacleUpdateData> obstacleFromJson(const json& j, const std::string& field, const KnownKeys& container_keys) {
   if (!j.is_object()) return invalid(field, "must be an object");
+  KnownKeys known{"id",     "remove", "shape",   "size_m", "position_m", "motion", "velocity_mps",
+                  "from_m", "to_m",   "speed_mps"};
+  known.insert(known.end(), container_keys.begin(), container_keys.end());
+  if (auto unknown = unknownJsonKey(j, known, field, field)) return *unknown;
   ObstacleUpdateData u;
   auto id = j.find("id");
   if (id == j.end()) return invalid(join(field, "id"), "is missing");
@@ -283,6 +309,15 @@ Result<ObstacleUpdateData> obstacleFromJson(const json& j, const std::string& fi
   auto motion = parseObstacleMotionKind(*motion_name);
   if (!motion)
     return invalid(join(field, "motion"), "'" + *motion_name + "' is not one of static, constant_velocity, back_and_forth");
+  // A motion's keys under another motion would be ignored: velocity_mps without "motion":
+  // "constant_velocity" is a static obstacle. (from_ and to_ cover the feed's from_deg, to_deg.)
+  for (const auto& [key, value] : j.items()) {
+    const bool back_and_forth_key = key == "speed_mps" || key.rfind("from_", 0) == 0 || key.rfind("to_", 0) == 0;
+    const char* needs = key == "velocity_mps" ? "constant_velocity" : back_and_forth_key ? "back_and_forth" : nullptr;
+    if (needs && to_string(*motion) != needs)
+      return invalid(join(field, key), "applies to motion " + std::string(needs) + " only (motion is " +
+                                           std::string(to_string(*motion)) + ")");
+  }
   if (*motion == ObstacleMotionKind::kBackAndForth) {
     auto from = vector3(j, "from_m", field);
     if (!from) return from.error();

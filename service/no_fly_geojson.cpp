@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "service/known_keys.hpp"
+
 namespace skyroute {
 namespace {
 
@@ -18,6 +20,45 @@ constexpr double kDefaultFloorAmslM = -1000.0;  // below any ground on Earth: th
 
 Error parseError(const std::string& name, const std::string& what) {
   return make_error(ErrorCode::kParseError, name, what);
+}
+
+// The members a zone file may hold (docs/nofly.md): GeoJSON's own (RFC 7946: type, features,
+// geometry, properties, coordinates, id, bbox), our properties, and at the top level the layer
+// name and the GeoJSON 2008 crs that GDAL and QGIS write. Any other member, foreign members
+// included, is refused: a misspelt one would otherwise be ignored.
+const KnownKeys kCollectionKeys{"type", "features", "bbox", "name", "crs"};
+const KnownKeys kDocumentFeatureKeys{"type", "geometry", "properties", "id", "bbox", "crs"};
+const KnownKeys kFeatureKeys{"type", "geometry", "properties", "id", "bbox"};
+const KnownKeys kGeometryKeys{"type", "coordinates", "bbox"};
+const KnownKeys kZonePropertyKeys{"floor_m", "ceiling_m", "valid_from", "valid_until", "name"};
+
+// An unknown member of `object` (at `path`, which the message names), with the error's field the
+// feature as the file's other errors name it (`name`: "features[2] 'tower'").
+std::optional<Error> unknownMember(const json& object, const KnownKeys& known, const std::string& path,
+                                   const std::string& name) {
+  auto unknown = unknownJsonKey(object, known, path, path);
+  if (unknown) unknown->field = name;
+  return unknown;
+}
+
+// A GeoJSON 2008 crs may only say what RFC 7946 assumes: WGS84 longitude, latitude (CRS84, or
+// EPSG:4326 as GDAL writes it). Coordinates in any other CRS would be misread as degrees.
+std::optional<Error> unusableCrs(const json& doc) {
+  if (!doc.contains("crs")) return std::nullopt;
+  const json& crs = doc["crs"];
+  const json* name = nullptr;
+  if (crs.is_object() && crs.contains("properties") && crs["properties"].is_object() &&
+      crs["properties"].contains("name") && crs["properties"]["name"].is_string()) {
+    name = &crs["properties"]["name"];
+  }
+  const std::string text = name ? name->get<std::string>() : "";
+  auto ends = [&](const std::string& tail) {
+    return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  if (ends("CRS84") || (text.find("EPSG") != std::string::npos && ends(":4326"))) return std::nullopt;
+  return parseError("geojson", "crs " + crs.dump(-1, ' ', false, json::error_handler_t::replace).substr(0, 200) +
+                                   " is not WGS84 longitude, latitude (CRS84): GeoJSON (RFC 7946) coordinates are "
+                                   "longitude, latitude in WGS84; write the zones so, without a crs");
 }
 
 // The feature's id, or its name property ("" when it has neither).
@@ -124,12 +165,21 @@ Result<std::vector<Eigen::Vector2d>> outerRing(const json& polygon, const std::s
 }
 
 // The zones of one feature (one per polygon), checked.
-Status addFeature(const json& feature, std::size_t index, const LocalFrame& frame, std::vector<NoFlyZone>& out) {
+// feature_keys: the members a feature may have where it stands (a lone Feature is the document).
+Status addFeature(const json& feature, std::size_t index, const LocalFrame& frame, std::vector<NoFlyZone>& out,
+                  const KnownKeys& feature_keys) {
   const std::string name = featureName(feature, index);
+  const std::string path = "features[" + std::to_string(index) + "]";
+  if (auto unknown = unknownMember(feature, feature_keys, path, name)) return *unknown;
   if (!feature.is_object() || !feature.contains("geometry") || !feature["geometry"].is_object()) {
     return parseError(name, "is not a Feature with a geometry");
   }
   const json& geometry = feature["geometry"];
+  if (auto unknown = unknownMember(geometry, kGeometryKeys, path + ".geometry", name)) return *unknown;
+  if (feature.contains("properties")) {
+    if (auto unknown = unknownMember(feature["properties"], kZonePropertyKeys, path + ".properties", name))
+      return *unknown;
+  }
   const std::string type = geometry.value("type", "");
   if (!geometry.contains("coordinates") || !geometry["coordinates"].is_array()) {
     return parseError(name, "its geometry has no coordinates array");
@@ -171,15 +221,20 @@ Result<std::vector<NoFlyZone>> parseNoFlyGeoJson(const std::string& text, const 
   if (!doc.is_object()) return parseError("geojson", "must be a FeatureCollection or a Feature object");
   const std::string type = doc.value("type", "");
   std::vector<NoFlyZone> zones;
+  if (auto crs = unusableCrs(doc)) return *crs;
   if (type == "Feature") {
-    if (Status s = addFeature(doc, 0, frame, zones); !s.ok()) return s.error();
+    if (Status s = addFeature(doc, 0, frame, zones, kDocumentFeatureKeys); !s.ok()) return s.error();
     return zones;
   }
   if (type != "FeatureCollection" || !doc.contains("features") || !doc["features"].is_array()) {
     return parseError("geojson", "must be a FeatureCollection with a features array (or a single Feature)");
   }
+  if (auto unknown = unknownJsonKey(doc, kCollectionKeys, "", "the FeatureCollection")) {
+    unknown->field = "geojson";
+    return *unknown;
+  }
   for (std::size_t i = 0; i < doc["features"].size(); ++i) {
-    if (Status s = addFeature(doc["features"][i], i, frame, zones); !s.ok()) return s.error();
+    if (Status s = addFeature(doc["features"][i], i, frame, zones, kFeatureKeys); !s.ok()) return s.error();
   }
   return zones;
 }

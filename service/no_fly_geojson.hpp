@@ -10,7 +10,8 @@
 // The outer ring of each polygon is the zone; holes are ignored (the zone covers them too, the
 // safe reading). Every error is kParseError or kInvalidArgument naming the feature: fewer than 3
 // distinct vertices, a self-intersection, a coordinate that is not a finite number, or the floor
-// above the ceiling.
+// above the ceiling. A member neither GeoJSON nor these properties define is refused, naming it
+// and the member it most likely misspells (docs/nofly.md lists the members taken).
 #pragma once
 
 #include <string>

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "service/known_keys.hpp"
 #include "service/mission_json.hpp"
 #include "service/number_text.hpp"
 
@@ -48,6 +49,7 @@ Result<FeedEntry> parseEntry(const std::string& line) {
   const json j = json::parse(line, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded()) return make_error(ErrorCode::kParseError, "line", "is not valid JSON");
   if (!j.is_object()) return make_error(ErrorCode::kParseError, "line", "must be a JSON object");
+  if (auto unknown = unknownJsonKey(j, {"t_s", "obstacle", "valid_from_s", "valid_for_s"}, "", "update")) return *unknown;
   FeedEntry entry;
   auto t = j.find("t_s");
   if (t == j.end()) return make_error(ErrorCode::kParseError, "t_s", "t_s is missing");
@@ -66,7 +68,7 @@ Result<FeedEntry> parseEntry(const std::string& line) {
       if (auto e = takeGeoPosition(obstacle, key, *point)) return *e;
     }
   }
-  auto update = obstacleFromJson(obstacle, "obstacle");
+  auto update = obstacleFromJson(obstacle, "obstacle", {"position_deg", "from_deg", "to_deg"});
   if (!update) return update.error();
   entry.update = std::move(*update);
   if (auto f = j.find("valid_from_s"); f != j.end()) {
@@ -164,6 +166,10 @@ Result<ObstacleFeed> parseObstacleFeed(std::istream& in, const std::string& sour
       return make_error(ErrorCode::kParseError, source_name,
                         source_name + ":" + std::to_string(line_number) + ": feed version " + std::to_string(version_number) +
                             " is not supported (this build reads version " + std::to_string(kObstacleFeedVersion) + ")");
+    if (auto unknown = unknownJsonKey(header, {"format", "version"}, "", "header")) {
+      return make_error(ErrorCode::kParseError, source_name,
+                        source_name + ":" + std::to_string(line_number) + ": " + unknown->message);
+    }
     feed.version = kObstacleFeedVersion;
     have_header = true;
   }
