@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -148,18 +149,21 @@ struct HeightArgs {
   bool json = false;
 };
 
-// "LAT,LON" -> (lat, lon); the error names the point as written.
-std::pair<double, double> parseLatLon(const std::string& text) {
+// "LAT,LON" -> (lat, lon); nullopt when the text is not two finite numbers.
+std::optional<std::pair<double, double>> parseLatLon(const std::string& text) {
   std::istringstream in(text);
   double v[2];
   char comma = 0;
   std::string rest;
   if (!(in >> v[0] >> comma >> v[1]) || comma != ',' || (in >> rest) || !std::isfinite(v[0]) || !std::isfinite(v[1])) {
-    fail("terrain height", kExitUsage, "point '" + text + "' must be LAT,LON (two numbers in degrees)");
+    return std::nullopt;
   }
-  return {v[0], v[1]};
+  return std::pair{v[0], v[1]};
 }
 
+// Every point gets its line, in the order given: its height, or why it has none. A point
+// without a height does not hide the others' (one void point used to end the command with no
+// height printed at all); the exit code then says some failed.
 void runHeight(const HeightArgs& args) {
   auto dem = Dem::load(args.dem);
   if (!dem.ok()) fail("terrain height", kExitBadInput, "--dem " + dem.error().describe());
@@ -167,26 +171,49 @@ void runHeight(const HeightArgs& args) {
   if (!terrain.ok()) fail("terrain height", kExitBadInput, "--dem " + terrain.error().describe());
   nlohmann::json rows = nlohmann::json::array();
   std::vector<std::string> lines;
+  std::size_t failed = 0;
   for (const std::string& text : args.points) {
-    const auto [lat_deg, lon_deg] = parseLatLon(text);
-    if (std::abs(lat_deg) > 90.0) {
-      fail("terrain height", kExitUsage,
-           "point '" + text + "': latitude " + numberText(lat_deg) +
-               " is outside [-90, 90]: latitude and longitude may be swapped (write LAT,LON)");
+    nlohmann::json row{{"point", text}};
+    std::optional<std::string> reason;
+    const auto lat_lon = parseLatLon(text);
+    if (!lat_lon) {
+      reason = "not LAT,LON (two numbers in degrees)";
+    } else {
+      const auto [lat_deg, lon_deg] = *lat_lon;
+      row["lat_deg"] = lat_deg;
+      row["lon_deg"] = lon_deg;
+      if (std::abs(lat_deg) > 90.0) {
+        reason = "latitude " + numberText(lat_deg) +
+                 " is outside [-90, 90]: latitude and longitude may be swapped (write LAT,LON)";
+      } else if (auto off = offTerrainReason(**terrain, MissionPointData::wgs84(lat_deg, lon_deg, 0.0))) {
+        reason = "the point " + *off;
+      }
     }
-    const MissionPointData point = MissionPointData::wgs84(lat_deg, lon_deg, 0.0);
-    if (auto reason = offTerrainReason(**terrain, point)) fail("terrain height", kExitUsage, "point '" + text + "' " + *reason);
-    const double ground_m = *groundHeightAmslM(**terrain, lat_deg, lon_deg);
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.1f", ground_m);
-    lines.push_back(text + " " + buf + " m AMSL");
-    rows.push_back({{"point", text}, {"lat_deg", lat_deg}, {"lon_deg", lon_deg}, {"ground_amsl_m", ground_m}});
+    if (reason) {
+      ++failed;
+      row["ground_amsl_m"] = nullptr;
+      row["error"] = *reason;
+      lines.push_back(text + " no height: " + *reason);
+    } else {
+      const double ground_m = *groundHeightAmslM(**terrain, lat_lon->first, lat_lon->second);
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.1f", ground_m);
+      lines.push_back(text + " " + buf + " m AMSL");
+      row["ground_amsl_m"] = ground_m;
+    }
+    rows.push_back(std::move(row));
   }
   if (args.json) {
     std::cout << rows.dump() << std::endl;
-    return;
+  } else {
+    for (const std::string& line : lines) std::cout << line << "\n";
+    std::cout << std::flush;
   }
-  for (const std::string& line : lines) std::cout << line << "\n";
+  if (failed > 0) {
+    fail("terrain height", kExitUsage,
+         std::to_string(failed) + " of " + std::to_string(args.points.size()) +
+             (args.points.size() == 1 ? " point has" : " points have") + " no height (each says why)");
+  }
 }
 
 struct GenerateArgs {
@@ -263,7 +290,9 @@ void addTerrainCommands(CLI::App& app) {
   height->add_option("--dem", height_args->dem, "DEM file (any raster GDAL opens)")->required();
   height->add_option("points", height_args->points, "Points as LAT,LON (degrees, WGS84)")->required();
   height->add_flag("--json", height_args->json, "Print one JSON array")->capture_default_str();
-  height->footer("Example: skyroute terrain height --dem data/default_terrain.tif 46.93,15.1 46.96,15.12\n" +
+  height->footer("Example: skyroute terrain height --dem data/default_terrain.tif 46.93,15.1 46.96,15.12\n"
+                 "Each point gets a line, its height or why it has none (outside the DEM, a DEM void, not LAT,LON); "
+                 "exit 2 when any point has none.\n" +
                  std::string(kExitCodeTable));
   height->callback([height_args] { runHeight(*height_args); });
 

@@ -5,9 +5,12 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include <gdal.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <ogr_srs_api.h>
 
 #include "tests/cli_run.hpp"
 #include "tests/test_data.hpp"
@@ -95,14 +98,88 @@ TEST(TerrainCli, HeightAtPointsAndErrorsNameThePointAsWritten) {
 
   const CliRun swapped = run("terrain height --dem " + dem + " 46.93,15.10 15.12,46.96");
   EXPECT_EQ(swapped.exit_code, 2) << swapped.text;
-  EXPECT_NE(swapped.text.find("point '15.12,46.96'"), std::string::npos) << swapped.text;
-  EXPECT_NE(swapped.text.find("latitude and longitude may be swapped"), std::string::npos) << swapped.text;
+  EXPECT_NE(swapped.text.find(expected), std::string::npos) << swapped.text;  // the first point's height
+  EXPECT_NE(swapped.text.find("15.12,46.96 no height: the point is outside the DEM, but inside it with latitude and "
+                              "longitude exchanged: latitude and longitude may be swapped"),
+            std::string::npos)
+      << swapped.text;
   const CliRun outside = run("terrain height --dem " + dem + " 47.5,15.1");
   EXPECT_EQ(outside.exit_code, 2) << outside.text;
-  EXPECT_NE(outside.text.find("point '47.5,15.1' is outside the DEM (lat 46.88"), std::string::npos) << outside.text;
+  EXPECT_NE(outside.text.find("47.5,15.1 no height: the point is outside the DEM (lat 46.88"), std::string::npos)
+      << outside.text;
+  EXPECT_NE(outside.text.find("1 of 1 point has no height"), std::string::npos) << outside.text;
   const CliRun malformed = run("terrain height --dem " + dem + " '46.93;15.1'");
   EXPECT_EQ(malformed.exit_code, 2) << malformed.text;
-  EXPECT_NE(malformed.text.find("point '46.93;15.1' must be LAT,LON"), std::string::npos) << malformed.text;
+  EXPECT_NE(malformed.text.find("46.93;15.1 no height: not LAT,LON (two numbers in degrees)"), std::string::npos)
+      << malformed.text;
+}
+
+// A 40 x 40 DEM at 500 m with a void of 12 x 12 cells (too large to fill) in its middle.
+std::string demWithVoid() {
+  constexpr int kSize = 40;
+  std::vector<float> heights(kSize * kSize, 500.0f);
+  for (int row = 14; row < 26; ++row)
+    for (int col = 14; col < 26; ++col) heights[static_cast<std::size_t>(row) * kSize + col] = -9999.0f;
+  GDALAllRegister();
+  const std::string path = ::testing::TempDir() + "/terrain_height_void.tif";
+  GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), kSize, kSize, 1, GDT_Float32, nullptr);
+  double transform[6] = {500000.0, 100.0, 0.0, 5200000.0, 0.0, -100.0};  // UTM 33N, 100 m cells
+  GDALSetGeoTransform(ds, transform);
+  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+  OSRImportFromEPSG(srs, 32633);
+  GDALSetSpatialRef(ds, srs);
+  OSRDestroySpatialReference(srs);
+  GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+  GDALSetRasterNoDataValue(band, -9999.0);
+  EXPECT_EQ(GDALRasterIO(band, GF_Write, 0, 0, kSize, kSize, heights.data(), kSize, kSize, GDT_Float32, 0, 0), CE_None);
+  GDALClose(ds);
+  return path;
+}
+
+// WGS84 "LAT,LON" of a UTM 33N position.
+std::string latLonOf(double easting_m, double northing_m) {
+  OGRSpatialReferenceH utm = OSRNewSpatialReference(nullptr);
+  OGRSpatialReferenceH wgs84 = OSRNewSpatialReference(nullptr);
+  OSRImportFromEPSG(utm, 32633);
+  OSRImportFromEPSG(wgs84, 4326);
+  OSRSetAxisMappingStrategy(wgs84, OAMS_TRADITIONAL_GIS_ORDER);
+  OGRCoordinateTransformationH to_wgs84 = OCTNewCoordinateTransformation(utm, wgs84);
+  double x = easting_m, y = northing_m;
+  EXPECT_TRUE(OCTTransform(to_wgs84, 1, &x, &y, nullptr));
+  OCTDestroyCoordinateTransformation(to_wgs84);
+  OSRDestroySpatialReference(utm);
+  OSRDestroySpatialReference(wgs84);
+  char text[64];
+  std::snprintf(text, sizeof text, "%.6f,%.6f", y, x);
+  return text;
+}
+
+// One point over the void among points over ground: every point gets its line, the void one its
+// reason, and the exit code says some failed (before: the void point ended the command with no
+// height printed at all).
+TEST(TerrainCli, HeightPrintsEveryPointsHeightOrItsReason) {
+  const std::string dem = demWithVoid();
+  const std::string ground = latLonOf(501000.0, 5199000.0);
+  const std::string in_void = latLonOf(502000.0, 5198000.0);  // the middle of the void
+  const std::string far_ground = latLonOf(503000.0, 5197000.0);
+  const CliRun text = run("terrain height --dem " + dem + " " + ground + " " + in_void + " " + far_ground);
+  EXPECT_EQ(text.exit_code, 2) << text.text;
+  EXPECT_NE(text.text.find(ground + " 500.0 m AMSL\n" + in_void + " no height: the point lies on a DEM void: no "
+                           "elevation data here"),
+            std::string::npos)
+      << text.text;
+  EXPECT_NE(text.text.find(far_ground + " 500.0 m AMSL"), std::string::npos) << text.text;
+  EXPECT_NE(text.text.find("1 of 3 points have no height"), std::string::npos) << text.text;
+
+  const CliRun json = run("terrain height --json --dem " + dem + " " + ground + " " + in_void + " " + far_ground);
+  EXPECT_EQ(json.exit_code, 2) << json.text;
+  const auto rows = nlohmann::json::parse(json.text.substr(json.text.find('['), json.text.rfind(']') + 1 - json.text.find('[')));
+  ASSERT_EQ(rows.size(), 3u) << json.text;
+  EXPECT_NEAR(rows[0]["ground_amsl_m"].get<double>(), 500.0, 0.01);
+  EXPECT_TRUE(rows[1]["ground_amsl_m"].is_null());
+  EXPECT_NE(rows[1]["error"].get<std::string>().find("no elevation data here"), std::string::npos) << json.text;
+  EXPECT_EQ(rows[1]["point"], in_void);
+  EXPECT_NEAR(rows[2]["ground_amsl_m"].get<double>(), 500.0, 0.01);
 }
 
 // An octree the memory cannot hold is refused at once, naming --octree-res and the estimate.
