@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -10,6 +11,18 @@ namespace {
 
 Error parseError(const std::string& path, int line, const std::string& what) {
   return make_error(ErrorCode::kParseError, path, "line " + std::to_string(line) + ": " + what);
+}
+
+// The power of ten of the last digit `number` was printed with, negated: 2 for "1238.41", 0 for
+// "1239", -3 for "1.2e5" (as the number of decimals it would have in fixed notation).
+int printedDecimals(const std::string& number) {
+  const std::size_t exponent_at = number.find_first_of("eE");
+  const std::string mantissa = number.substr(0, exponent_at);
+  const std::size_t point = mantissa.find('.');
+  const int decimals = point == std::string::npos ? 0 : static_cast<int>(mantissa.size() - point - 1);
+  // strtol saturates where atoi would overflow; a double's exponent is within +-400 anyway.
+  const long exponent = exponent_at == std::string::npos ? 0 : std::strtol(number.c_str() + exponent_at + 1, nullptr, 10);
+  return decimals - static_cast<int>(std::clamp(exponent, -400L, 400L));
 }
 
 }  // namespace
@@ -74,8 +87,6 @@ Result<std::vector<MovingAiProblem>> loadMovingAiScenario(const std::string& pat
 
 Result<std::vector<MovingAiProblem>> parseMovingAiScenario(std::istream& in, const std::string& path) {
   std::vector<MovingAiProblem> problems;
-  std::vector<int> decimals_of;  // per problem; -1 = printed without a decimal point
-  int most_decimals = -1;
   std::string line;
   int line_no = 0;
   while (std::getline(in, line)) {
@@ -96,20 +107,8 @@ Result<std::vector<MovingAiProblem>> parseMovingAiScenario(std::istream& in, con
     if (!(optimal_field >> p.optimal_length) || !optimal_field.eof()) {
       return parseError(path, line_no, "the optimal length '" + optimal_text + "' is not a number");
     }
-    const std::size_t point = optimal_text.find('.');
-    const int decimals = point == std::string::npos ? -1 : static_cast<int>(optimal_text.size() - point - 1);
-    decimals_of.push_back(decimals);
-    most_decimals = std::max(most_decimals, decimals);
+    p.optimal_tolerance = 0.5 * std::pow(10.0, -printedDecimals(optimal_text));
     problems.push_back(p);
-  }
-  for (std::size_t i = 0; i < problems.size(); ++i) {
-    // A file of whole numbers only prints exact costs (a 4-connected map): they are compared to 1e-3.
-    if (most_decimals < 0) {
-      problems[i].optimal_tolerance = 1e-3;
-      continue;
-    }
-    const int decimals = decimals_of[i] >= 0 ? decimals_of[i] : most_decimals;
-    problems[i].optimal_tolerance = std::pow(10.0, -decimals);
   }
   return problems;
 }

@@ -23,11 +23,10 @@ struct MovingAiProblem {
   GridCell start;
   GridCell goal;
   double optimal_length = 0.0;  // 8-connected, diagonal sqrt(2), no corner cutting
-  // One unit in the last digit the file printed optimal_length with: a cost within this of
-  // optimal_length agrees with it to the printed digits (generators round or truncate, and some
-  // sum in single precision). A length printed without a decimal point counts with the most
-  // decimals any length of the file has (generators drop trailing zeros, not precision); a file of
-  // whole numbers only holds exact costs, compared to 1e-3.
+  // Half a unit in the last digit this line printed optimal_length with: a cost within this of
+  // optimal_length (plus the floating error of the comparison) rounds to the printed text. Each
+  // line by its own digits: a generator printing 6 significant digits with %g writes 1239.0042
+  // as "1239" (tolerance 0.5) and 6.242641 as "6.24264" (5e-6) in one file.
   double optimal_tolerance = 0.0;
 };
 

@@ -72,7 +72,7 @@ std::string writeFile(const std::string& name, const std::string& text) {
 
 // A scenario that prints its optimal lengths with two decimals: the right costs agree to those
 // digits (sqrt(2) = 1.41421 against "1.41", an error of 0.0042, beyond the old absolute 1e-3) and
-// pass; a length wrong by more than a unit of the second decimal is still caught.
+// pass; a length wrong by more than half a unit of the second decimal is still caught.
 TEST(GridCli, SolveComparesAtThePrecisionTheScenarioPrinted) {
   const std::string map = writeFile("open4.map", "type octile\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\n");
   const std::string right = writeFile("two_decimals.scen",
@@ -85,8 +85,8 @@ TEST(GridCli, SolveComparesAtThePrecisionTheScenarioPrinted) {
   ASSERT_EQ(lines.size(), 4u) << ok.text;
   EXPECT_EQ(lines.back()["mismatches"], 0);
   EXPECT_NEAR(lines.back()["max_abs_error"].get<double>(), std::sqrt(2.0) - 1.41, 1e-9);
-  EXPECT_NEAR(lines[0]["tolerance"].get<double>(), 0.01, 1e-12);
-  EXPECT_NEAR(lines[2]["tolerance"].get<double>(), 0.01, 1e-12);  // "3": the file's two decimals
+  EXPECT_NEAR(lines[0]["tolerance"].get<double>(), 0.005, 1e-12);
+  EXPECT_NEAR(lines[2]["tolerance"].get<double>(), 0.5, 1e-12);  // "3": its own digits, not the file's
   EXPECT_NE(ok.text.find("largest error against the scenario's optimal lengths: 0.0042"), std::string::npos) << ok.text;
 
   const std::string wrong = writeFile("wrong_second_decimal.scen", "version 1\n0\topen4.map\t4\t4\t0\t0\t1\t1\t1.40\n");
@@ -95,6 +95,38 @@ TEST(GridCli, SolveComparesAtThePrecisionTheScenarioPrinted) {
   EXPECT_EQ(jsonLines(bad.text).back()["mismatches"], 1);
   EXPECT_NE(bad.text.find("1 costs differ beyond the printed digits, the first at problem 0"), std::string::npos)
       << bad.text;
+}
+
+// A scenario printed with six significant digits (%g, as the Moving AI maze files are): a length
+// of 761 + 169 sqrt(2) = 1000.00209 is printed "1000", and 2 + 3 sqrt(2) = 6.242641 "6.24264" in
+// the same file. Each line holds to its own digits: "1000" to half a unit (the cost rounds to
+// it), "6.24264" to 5e-6. Before, "1000" was held to the file's most decimals (1e-5) and the
+// right cost was called wrong, as 14 of maze512-8-3's 1,303 were (1239.0042 against "1239").
+TEST(GridCli, SolveHoldsEachLengthToItsOwnPrintedDigits) {
+  constexpr int kWidth = 931, kHeight = 170;
+  std::string map = "type octile\nheight " + std::to_string(kHeight) + "\nwidth " + std::to_string(kWidth) + "\nmap\n";
+  for (int row = 0; row < kHeight; ++row) map += std::string(kWidth, '.') + "\n";
+  const std::string map_path = writeFile("open931x170.map", map);
+  const std::string scen = writeFile("six_significant_digits.scen",
+                                     "version 1\n"
+                                     "0\topen931x170.map\t931\t170\t0\t0\t930\t169\t1000\n"
+                                     "0\topen931x170.map\t931\t170\t0\t0\t5\t3\t6.24264\n");
+  const Output out = run("grid solve --map " + map_path + " --scen " + scen);
+  EXPECT_EQ(out.exit_code, 0) << out.text;
+  const auto lines = jsonLines(out.text);
+  ASSERT_EQ(lines.size(), 3u) << out.text;
+  EXPECT_NEAR(lines[0]["cost"].get<double>(), 761 + 169 * std::sqrt(2.0), 1e-9);
+  EXPECT_NEAR(lines[0]["tolerance"].get<double>(), 0.5, 1e-12);
+  EXPECT_NEAR(lines[1]["tolerance"].get<double>(), 5e-6, 1e-15);
+  EXPECT_EQ(lines.back()["mismatches"], 0);
+  EXPECT_NE(out.text.find("every cost agrees to the printed digits"), std::string::npos) << out.text;
+
+  // A cost off by more than half a unit of its last digit is still wrong: 6.24265 is 9.3e-6 away.
+  const std::string wrong = writeFile("six_significant_digits_wrong.scen",
+                                      "version 1\n0\topen931x170.map\t931\t170\t0\t0\t5\t3\t6.24265\n");
+  const Output bad = run("grid solve --map " + map_path + " --scen " + wrong);
+  EXPECT_EQ(bad.exit_code, 1) << bad.text;
+  EXPECT_EQ(jsonLines(bad.text).back()["mismatches"], 1);
 }
 
 // The shared Moving AI scenarios (8room prints six significant digits, room-32 eight decimals):
