@@ -26,6 +26,9 @@ namespace skyroute {
 // longitude keep a few square metres of area in the local frame (the projection bends the line),
 // so the width tells a sliver from a zone.
 inline constexpr std::size_t kMaxNoFlyZoneVertices = 10000;
+// The zones published to a daemon (DDS) are copied into each of its worlds on every change: their
+// vertices together are bounded as well.
+inline constexpr std::size_t kMaxPublishedNoFlyVertices = 100000;
 inline constexpr double kMinNoFlyZoneAreaM2 = 1.0;
 inline constexpr double kMinNoFlyZoneMeanWidthM = 0.5;
 
