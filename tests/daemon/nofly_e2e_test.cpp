@@ -3,7 +3,8 @@
 // published under a flying vehicle's trajectory makes the daemon replan round it; a bad zone file
 // in the configuration stops the daemon naming the file and the feature; a zone of 150,000
 // vertices is refused at once and the daemon goes on answering (and stops at SIGTERM); zones off
-// the DEM, with latitude and longitude swapped, or of zero area are refused naming the ring.
+// the DEM, with latitude and longitude swapped, or of zero area are refused naming the ring;
+// `skyroute nofly` and `skyroute nofly --lift` exit by themselves once the daemon has the zone.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -20,6 +21,7 @@ namespace {
 constexpr int kLateDomain = 166;
 constexpr int kReplanDomain = 167;
 constexpr int kHugeDomain = 40;
+constexpr int kDeliveryDomain = 41;
 constexpr int kPlacementDomain = 42;
 
 // A rectangle in the terrain's ENU frame, as a published zone (WGS84 ring, heights AMSL).
@@ -58,6 +60,20 @@ class NoFlyE2e : public DaemonFixture {
     z.floor_amsl_m = -1000.0;
     z.ceiling_amsl_m = 4900.0;
     return z;
+  }
+  // The zone as a GeoJSON file of one feature named `id`; returns its path.
+  std::string geoJsonFile(const NoFlyZoneData& zone, const std::string& name) const {
+    nlohmann::json ring = nlohmann::json::array();
+    for (const GeoPoint& p : zone.ring) ring.push_back({p.lon_deg, p.lat_deg});
+    ring.push_back(ring.front());
+    const nlohmann::json doc = {
+        {"type", "FeatureCollection"},
+        {"features", {{{"type", "Feature"}, {"id", zone.zone_id},
+                       {"properties", {{"floor_m", zone.floor_amsl_m}, {"ceiling_m", zone.ceiling_amsl_m}}},
+                       {"geometry", {{"type", "Polygon"}, {"coordinates", {ring}}}}}}}};
+    const std::string path = e2eTempPath(name);
+    std::ofstream(path) << doc.dump();
+    return path;
   }
   // The last lines of the daemon's log, for a failure message.
   std::string logTail() const {
@@ -211,6 +227,29 @@ TEST_F(NoFlyE2e, HugeZoneIsRefusedAtOnceAndTheDaemonGoesOnServing) {
   EXPECT_EQ(daemon_.wait(10.0), 0) << logTail();
   std::printf("SIGTERM to exit: %.2f s\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count());
+}
+
+TEST_F(NoFlyE2e, NoflyAndItsLiftExitOnceTheDaemonHasThem) {
+  // A zone at the vertex bound, through the CLI as a user runs it (no --hold): it publishes, waits
+  // until the daemon on the domain acknowledged the zone, and exits; so does the lift.
+  startDaemon(kDeliveryDomain);
+  const std::string path =
+      geoJsonFile(circleData("round", Eigen::Vector2d(2000, -3000), 1500.0, 10000), "round_" + std::to_string(kDeliveryDomain) + ".geojson");
+  const Ran published =
+      runToEnd({SKYROUTE_CLI, "nofly", path, "--domain", std::to_string(kDeliveryDomain)}, "nofly_round", 120.0);
+  std::filesystem::remove(path);
+  EXPECT_EQ(published.code, 0) << published.out << published.err;
+  EXPECT_NE(published.out.find("published zone round"), std::string::npos) << published.out;
+  EXPECT_NE(published.out.find("acknowledged by 1 daemon on domain " + std::to_string(kDeliveryDomain)),
+            std::string::npos)
+      << published.out << published.err;
+  ASSERT_TRUE(waitForLog("event=nofly_zone zone=round remove=false vertices=10000", 20.0)) << logTail();
+
+  const Ran lifted = runToEnd({SKYROUTE_CLI, "nofly", "--lift", "round", "--domain", std::to_string(kDeliveryDomain)},
+                              "nofly_lift_round", 120.0);
+  EXPECT_EQ(lifted.code, 0) << lifted.out << lifted.err;
+  EXPECT_NE(lifted.out.find("acknowledged by 1 daemon"), std::string::npos) << lifted.out << lifted.err;
+  ASSERT_TRUE(waitForLog("event=nofly_zone zone=round remove=true", 20.0)) << logTail();
 }
 
 TEST_F(NoFlyE2e, ZonesOffTheDemSwappedOrFlatAreRefusedNamingTheRing) {
