@@ -452,10 +452,7 @@ std::optional<PlanError> Engine::updateNoFlyZone(const NoFlyZoneData& zone) {
     }
     // Every published zone is copied into each world on each change: their vertices together are
     // bounded too, so no update costs more than that.
-    std::size_t vertices = checked->ring_m.size();
-    for (const NoFlyZone& other : world_->publishedNoFlyZones()) {
-      if (other.name != zone.zone_id) vertices += other.ring_m.size();
-    }
+    const std::size_t vertices = checked->ring_m.size() + world_->publishedNoFlyVertices(zone.zone_id);
     if (vertices > kMaxPublishedNoFlyVertices) {
       return refuse(PlanError{PlanErrorCode::kInvalidArgument, "ring",
                               "zone '" + zone.zone_id + "': the published zones in force would have " +

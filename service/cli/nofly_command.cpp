@@ -16,10 +16,10 @@
 #include <CLI/CLI.hpp>
 
 #include "service/cli/cli_parse.hpp"
-#include "service/cli/daemon_participants.hpp"
 #include "service/cli/dds_cli_common.hpp"
 #include "service/cli/dds_commands.hpp"
 #include "service/cli/nofly_option.hpp"
+#include "service/dds/daemon_participants.hpp"
 #include "service/dds/wait_loop.hpp"
 #include "service/number_text.hpp"
 
@@ -79,10 +79,11 @@ Delivery deliver(Discovery& discovery, const dds::Writer<NoFlyZoneData>& writer,
   bool settled = false;
   Clock::time_point settled_since;
   for (;;) {
-    const std::vector<DaemonParticipant> found = daemonParticipants(discovery.daemons.get(), discovery.heartbeats.handle());
+    const std::vector<dds::DaemonParticipant> found =
+        dds::daemonParticipants(discovery.daemons.get(), discovery.heartbeats.handle());
     d.daemons = found.size();
     d.reached = 0;
-    for (const DaemonParticipant& daemon : found) d.reached += dds::reachesParticipantOf(writer.handle(), daemon.guid);
+    for (const dds::DaemonParticipant& daemon : found) d.reached += dds::reachesParticipantOf(writer.handle(), daemon.guid);
     const bool all = d.daemons > 0 && d.reached == d.daemons;
     if (!all) {
       settled = false;

@@ -233,8 +233,8 @@ TEST_F(NoFlyE2e, NoflyAndItsLiftExitOnceTheDaemonHasThem) {
   // A zone at the vertex bound, through the CLI as a user runs it (no --hold): it publishes, waits
   // until the daemon on the domain acknowledged the zone, and exits; so does the lift.
   startDaemon(kDeliveryDomain);
-  const std::string path =
-      geoJsonFile(circleData("round", Eigen::Vector2d(2000, -3000), 1500.0, 10000), "round_" + std::to_string(kDeliveryDomain) + ".geojson");
+  const std::string path = geoJsonFile(circleData("round", Eigen::Vector2d(2000, -3000), 1500.0, 10000),
+                                       "round_" + std::to_string(kDeliveryDomain) + ".geojson");
   const Ran published =
       runToEnd({SKYROUTE_CLI, "nofly", path, "--domain", std::to_string(kDeliveryDomain)}, "nofly_round", 120.0);
   std::filesystem::remove(path);
