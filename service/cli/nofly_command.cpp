@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -166,7 +167,15 @@ void addNoFlyCommand(CLI::App& app) {
   cmd->add_option("--hold", o->hold_s,
                   "Then stay up this many seconds serving the zones to daemons that start later (inf: until Ctrl-C; "
                   "0: exit once delivered)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            // strtod reads "inf" too, which CLI::NonNegativeNumber refuses as out of range.
+            char* end = nullptr;
+            const double seconds = std::strtod(text.c_str(), &end);
+            const bool number = end != text.c_str() && *end == '\0';
+            return number && seconds >= 0.0 ? std::string() : "--hold must be 0 or more seconds, or inf";
+          },
+          "SECONDS|inf"))
       ->capture_default_str();
   cmd->footer(helpFooter({"skyroute nofly zones.geojson --domain 7", "skyroute nofly zones.geojson --domain 7 --hold 600",
                           "skyroute nofly --lift stadium --domain 7"}));

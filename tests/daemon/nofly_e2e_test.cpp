@@ -83,7 +83,8 @@ class NoFlyE2e : public DaemonFixture {
 };
 
 TEST_F(NoFlyE2e, LateDaemonGetsZonesPublishedBeforeItStarted) {
-  // `skyroute nofly` publishes a GeoJSON zone round the mission's middle point (0, 200) and stays up.
+  // `skyroute nofly` publishes a GeoJSON zone round the mission's middle point (0, 200) and stays up
+  // (--hold inf: until a signal; no daemon yet is no failure while it holds).
   const NoFlyZoneData stadium = zoneData("stadium", Rect{-400, -200, 400, 600});
   nlohmann::json ring = nlohmann::json::array();
   for (const GeoPoint& p : stadium.ring) ring.push_back({p.lon_deg, p.lat_deg});
@@ -96,7 +97,7 @@ TEST_F(NoFlyE2e, LateDaemonGetsZonesPublishedBeforeItStarted) {
   const std::string zones_path = e2eTempPath("zones_" + std::to_string(kLateDomain) + ".geojson");
   std::ofstream(zones_path) << doc.dump();
   ChildProcess publisher = ChildProcess::spawn(
-      {SKYROUTE_CLI, "nofly", zones_path, "--domain", std::to_string(kLateDomain), "--hold", "120", "--wait", "0"},
+      {SKYROUTE_CLI, "nofly", zones_path, "--domain", std::to_string(kLateDomain), "--hold", "inf", "--wait", "0"},
       "nofly_" + std::to_string(kLateDomain));
   ASSERT_TRUE(publisher.started());
   // A zone with bad geometry straight from a writer of the test's own (the CLI would refuse it).

@@ -154,6 +154,8 @@ TEST_F(NoFlyCli, PublisherAndGroundStationCheckTheFileBeforeAnyDds) {
   EXPECT_EQ(gcs.exit_code, 3) << gcs.text;
   EXPECT_NE(gcs.text.find("--nofly " + upside + ": features[0] 'tower'"), std::string::npos) << gcs.text;
   EXPECT_EQ(runCli("nofly --domain 0").exit_code, 2);
+  EXPECT_EQ(runCli("nofly --lift tower --domain 0 --hold -1").exit_code, 2);
+  EXPECT_EQ(runCli("nofly --lift tower --domain 0 --hold soon").exit_code, 2);
   EXPECT_EQ(runCli("gcs --domain 0 --timeout 1 --nofly " + upside).exit_code, 2);  // no --plan to write it into
 }
 
