@@ -8,6 +8,7 @@
 
 #include "service/engine_state.hpp"
 #include "service/mission_point_check.hpp"
+#include "service/no_fly_placement.hpp"
 #include "service/number_text.hpp"
 #include "service/trajectory_data.hpp"
 
@@ -419,23 +420,52 @@ std::optional<PlanError> Engine::updateObstacle(const ObstacleUpdateData& update
 }
 
 std::optional<PlanError> Engine::updateNoFlyZone(const NoFlyZoneData& zone) {
-  std::lock_guard lock(mutex_);  // the world in force (a reload may be replacing it)
   if (zone.remove) {
-    sink_.recordNoFlyZone(zone);
-    world_->removeNoFlyZone(zone.zone_id);
-  } else {
-    auto checked = toNoFlyZone(zone, world_->frame());
-    if (!checked.ok()) {
-      const PlanError problem = toPlanError(checked.error());
-      throttle_.warn("nofly_rejected:" + zone.zone_id, fmt::format("event=nofly_rejected zone={} field={} message=\"{}\"",
-                                                                   zone.zone_id, problem.field, problem.message));
-      return problem;
+    {
+      std::lock_guard lock(mutex_);  // the world in force (a reload may be replacing it)
+      sink_.recordNoFlyZone(zone);
+      world_->removeNoFlyZone(zone.zone_id);
+      replan_wake_ = true;
+    }
+    spdlog::info("event=nofly_zone zone={} remove=true", zone.zone_id);
+    replan_cv_.notify_one();
+    return std::nullopt;
+  }
+  // Checked outside the engine's lock (planning workers and the replanning loop take it): the
+  // work is O(n log n) in the ring's vertices, which the conversion bounded first
+  // (kMaxNoFlyZoneVertices), a few milliseconds at the bound.
+  const auto started = std::chrono::steady_clock::now();
+  std::shared_ptr<WorldModel> checked_on = world();
+  auto refuse = [&](const PlanError& problem) {
+    throttle_.warn("nofly_rejected:" + zone.zone_id + ":" + problem.field,
+                   fmt::format("event=nofly_rejected zone={} field={} message=\"{}\"", zone.zone_id, problem.field,
+                               problem.message));
+    return problem;
+  };
+  for (;;) {
+    auto checked = placeNoFlyZone(zone, checked_on->terrain());
+    if (!checked.ok()) return refuse(toPlanError(checked.error()));
+    std::lock_guard lock(mutex_);
+    if (world_ != checked_on) {  // a reload changed the terrain meanwhile: check on the new one
+      checked_on = world_;
+      continue;
+    }
+    // Every published zone is copied into each world on each change: their vertices together are
+    // bounded too, so no update costs more than that.
+    const std::size_t vertices = checked->ring_m.size() + world_->publishedNoFlyVertices(zone.zone_id);
+    if (vertices > kMaxPublishedNoFlyVertices) {
+      return refuse(PlanError{PlanErrorCode::kInvalidArgument, "ring",
+                              "zone '" + zone.zone_id + "': the published zones in force would have " +
+                                  std::to_string(vertices) + " vertices together, more than the " +
+                                  std::to_string(kMaxPublishedNoFlyVertices) + " they may have; lift some first"});
     }
     sink_.recordNoFlyZone(zone);
     world_->upsertNoFlyZone(std::move(*checked));
+    replan_wake_ = true;
+    break;
   }
-  replan_wake_ = true;
-  spdlog::info("event=nofly_zone zone={} remove={}", zone.zone_id, zone.remove);
+  spdlog::info("event=nofly_zone zone={} remove=false vertices={} check_s={:.4f}", zone.zone_id, zone.ring.size(),
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   replan_cv_.notify_one();
   return std::nullopt;
 }

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "service/engine_state.hpp"
+#include "service/no_fly_placement.hpp"
 #include "service/state_journal.hpp"
 
 namespace skyroute {
@@ -35,7 +36,7 @@ void Engine::recover(const JournalState& state) {
     plan_counter_ = std::max(plan_counter_, state.plan_counter);
     for (const ObstacleUpdateData& update : state.obstacles) world_->apply(update);
     for (const NoFlyZoneData& zone : state.zones) {
-      auto checked = toNoFlyZone(zone, world_->frame());
+      auto checked = placeNoFlyZone(zone, world_->terrain());
       if (!checked.ok()) {
         // A zone that does not fit this terrain (the DEM changed across the restart) is left out.
         spdlog::warn("event=recovery_zone_skipped zone={} message=\"{}\"", zone.zone_id, checked.error().message);

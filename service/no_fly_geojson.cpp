@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/known_keys.hpp"
+#include "service/no_fly_placement.hpp"
 
 namespace skyroute {
 namespace {
@@ -136,6 +137,15 @@ Result<std::vector<Eigen::Vector2d>> outerRing(const json& polygon, const std::s
   if (!polygon.is_array() || polygon.empty() || !polygon[0].is_array()) {
     return parseError(name, "a polygon's coordinates must be an array of rings");
   }
+  // Counted first, before any work on the positions (a closed ring repeats its first at the end).
+  const json& positions = polygon[0];
+  const bool closed = positions.size() > 1 && positions.front() == positions.back();
+  const std::size_t vertices = positions.size() - (closed ? 1 : 0);
+  if (vertices > kMaxNoFlyZoneVertices) {
+    return make_error(ErrorCode::kInvalidArgument, name,
+                      "ring has " + std::to_string(vertices) + " vertices, more than the " +
+                          std::to_string(kMaxNoFlyZoneVertices) + " a zone may have");
+  }
   std::vector<double> lon, lat;
   for (const json& position : polygon[0]) {
     if (!position.is_array() || position.size() < 2) {
@@ -164,10 +174,10 @@ Result<std::vector<Eigen::Vector2d>> outerRing(const json& polygon, const std::s
   return ring;
 }
 
-// The zones of one feature (one per polygon), checked.
+// The zones of one feature (one per polygon), checked (against the terrain too, when given).
 // feature_keys: the members a feature may have where it stands (a lone Feature is the document).
-Status addFeature(const json& feature, std::size_t index, const LocalFrame& frame, std::vector<NoFlyZone>& out,
-                  const KnownKeys& feature_keys) {
+Status addFeature(const json& feature, std::size_t index, const LocalFrame& frame, const Heightfield* terrain,
+                  std::vector<NoFlyZone>& out, const KnownKeys& feature_keys) {
   const std::string name = featureName(feature, index);
   const std::string path = "features[" + std::to_string(index) + "]";
   if (auto unknown = unknownMember(feature, feature_keys, path, name)) return *unknown;
@@ -208,6 +218,12 @@ Status addFeature(const json& feature, std::size_t index, const LocalFrame& fram
       bad->field = name + polygon;
       return *bad;
     }
+    if (terrain) {
+      if (auto off = zoneOffTerrainReason(zone, *terrain)) {
+        return make_error(ErrorCode::kInvalidArgument, name + polygon,
+                          *off + "; GeoJSON positions are [longitude, latitude]");
+      }
+    }
     out.push_back(std::move(zone));
   }
   return Status::success();
@@ -215,7 +231,8 @@ Status addFeature(const json& feature, std::size_t index, const LocalFrame& fram
 
 }  // namespace
 
-Result<std::vector<NoFlyZone>> parseNoFlyGeoJson(const std::string& text, const LocalFrame& frame) {
+Result<std::vector<NoFlyZone>> parseNoFlyGeoJson(const std::string& text, const LocalFrame& frame,
+                                                 const Heightfield* terrain) {
   const json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (doc.is_discarded()) return parseError("geojson", "is not valid JSON");
   if (!doc.is_object()) return parseError("geojson", "must be a FeatureCollection or a Feature object");
@@ -223,7 +240,7 @@ Result<std::vector<NoFlyZone>> parseNoFlyGeoJson(const std::string& text, const 
   std::vector<NoFlyZone> zones;
   if (auto crs = unusableCrs(doc)) return *crs;
   if (type == "Feature") {
-    if (Status s = addFeature(doc, 0, frame, zones, kDocumentFeatureKeys); !s.ok()) return s.error();
+    if (Status s = addFeature(doc, 0, frame, terrain, zones, kDocumentFeatureKeys); !s.ok()) return s.error();
     return zones;
   }
   if (type != "FeatureCollection" || !doc.contains("features") || !doc["features"].is_array()) {
@@ -234,17 +251,18 @@ Result<std::vector<NoFlyZone>> parseNoFlyGeoJson(const std::string& text, const 
     return *unknown;
   }
   for (std::size_t i = 0; i < doc["features"].size(); ++i) {
-    if (Status s = addFeature(doc["features"][i], i, frame, zones, kFeatureKeys); !s.ok()) return s.error();
+    if (Status s = addFeature(doc["features"][i], i, frame, terrain, zones, kFeatureKeys); !s.ok()) return s.error();
   }
   return zones;
 }
 
-Result<std::vector<NoFlyZone>> loadNoFlyGeoJson(const std::string& path, const LocalFrame& frame) {
+Result<std::vector<NoFlyZone>> loadNoFlyGeoJson(const std::string& path, const LocalFrame& frame,
+                                                const Heightfield* terrain) {
   std::ifstream in(path);
   if (!in) return make_error(ErrorCode::kFileNotFound, path, "cannot read the no-fly zone file " + path);
   std::ostringstream text;
   text << in.rdbuf();
-  auto zones = parseNoFlyGeoJson(text.str(), frame);
+  auto zones = parseNoFlyGeoJson(text.str(), frame, terrain);
   if (!zones.ok()) {
     Error e = zones.error();
     e.field = path + ": " + e.field;

@@ -23,8 +23,11 @@ struct NoFlyZoneData {
   bool remove = false;                 // the zone is lifted (other fields ignored)
 };
 
-// The zone in the frame, named by its id, checked (checkNoFlyZone): errors kInvalidArgument name
-// the zone ("zone 'tower'") and what is wrong; a vertex out of -90..90 / -180..180 too.
+// The zone in the frame, named by its id, checked (checkNoFlyZone): errors kInvalidArgument with
+// the member as the field ("ring" for the ring's faults: more than kMaxNoFlyZoneVertices vertices,
+// counted first, a self-intersection, zero area; "ring[3]" for a vertex out of -90..90 /
+// -180..180) and a message that names the zone ("zone 'tower': ..."); the heights and window
+// name the zone as the field.
 Result<NoFlyZone> toNoFlyZone(const NoFlyZoneData& data, const LocalFrame& frame);
 // The zone back in WGS84 and AMSL, its name as the id.
 NoFlyZoneData toNoFlyZoneData(const NoFlyZone& zone, const LocalFrame& frame);

@@ -186,6 +186,15 @@ std::vector<NoFlyZone> WorldModel::publishedNoFlyZones() const {
   return zones;
 }
 
+std::size_t WorldModel::publishedNoFlyVertices(const std::string& except) const {
+  std::lock_guard lock(mutex_);
+  std::size_t vertices = 0;
+  for (const auto& [name, zone] : published_zones_) {
+    if (name != except) vertices += zone.ring_m.size();
+  }
+  return vertices;
+}
+
 std::size_t WorldModel::expire(double now_s) {
   std::lock_guard lock(mutex_);
   std::size_t removed = 0;

@@ -73,6 +73,8 @@ class WorldModel {
   bool removeNoFlyZone(const std::string& name);  // false: no published zone of that name
   std::vector<NoFlyZone> noFlyZones() const;      // configured, then published
   std::vector<NoFlyZone> publishedNoFlyZones() const;
+  // The vertices of the published zones together, less those of the zone named `except`.
+  std::size_t publishedNoFlyVertices(const std::string& except = "") const;
 
  private:
   WorldModel() = default;

@@ -1,5 +1,7 @@
 #include "terrain/no_fly_zone.hpp"
 
+#include "terrain/ring_simplicity.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -68,9 +70,9 @@ bool segmentNearRing(const std::vector<Vec2>& ring, const Vec2& p, const Vec2& q
   return false;
 }
 
-std::string numberText(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
+std::string numberText(double v, int digits = 10) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
 }
 
@@ -120,18 +122,21 @@ bool NoFlyZone::touchesSegment(const Eigen::Vector3d& a_m, const Eigen::Vector3d
 }
 
 bool NoFlyZone::touchesSquare(const Eigen::Vector2d& center_m, double edge_m, double margin_m) const {
-  if (ring_m.size() < 3) return false;
-  const double h = 0.5 * edge_m;
-  const Eigen::AlignedBox2d square(center_m - Vec2::Constant(h), center_m + Vec2::Constant(h));
+  const Vec2 half = Vec2::Constant(0.5 * edge_m);
+  return touchesRectangle(Eigen::AlignedBox2d(center_m - half, center_m + half), margin_m);
+}
+
+bool NoFlyZone::touchesRectangle(const Eigen::AlignedBox2d& box_m, double margin_m) const {
+  if (ring_m.size() < 3 || box_m.isEmpty()) return false;
   Eigen::AlignedBox2d reach = boundsEn();
   reach.min().array() -= margin_m;
   reach.max().array() += margin_m;
-  if (!reach.intersects(square)) return false;
-  if (insideRing(ring_m, center_m)) return true;
+  if (!reach.intersects(box_m)) return false;
+  if (insideRing(ring_m, box_m.center())) return true;
   for (const Vec2& v : ring_m)
-    if (square.contains(v)) return true;
-  const Vec2 corners[4] = {square.corner(Eigen::AlignedBox2d::BottomLeft), square.corner(Eigen::AlignedBox2d::BottomRight),
-                           square.corner(Eigen::AlignedBox2d::TopRight), square.corner(Eigen::AlignedBox2d::TopLeft)};
+    if (box_m.contains(v)) return true;
+  const Vec2 corners[4] = {box_m.corner(Eigen::AlignedBox2d::BottomLeft), box_m.corner(Eigen::AlignedBox2d::BottomRight),
+                           box_m.corner(Eigen::AlignedBox2d::TopRight), box_m.corner(Eigen::AlignedBox2d::TopLeft)};
   for (int s = 0; s < 4; ++s) {
     for (std::size_t i = 0; i < ring_m.size(); ++i) {
       if (segmentDistance(corners[s], corners[(s + 1) % 4], ring_m[i], ring_m[(i + 1) % ring_m.size()]) <= margin_m) {
@@ -142,14 +147,65 @@ bool NoFlyZone::touchesSquare(const Eigen::Vector2d& center_m, double edge_m, do
   return false;
 }
 
-std::optional<Error> checkNoFlyZone(const NoFlyZone& zone) {
-  auto fail = [&](const std::string& what) { return make_error(ErrorCode::kInvalidArgument, zone.name, what); };
-  const std::vector<Vec2>& ring = zone.ring_m;
+std::optional<Error> checkNoFlyRing(const std::vector<Vec2>& ring) {
+  auto fail = [](const std::string& what) { return make_error(ErrorCode::kInvalidArgument, "ring", what); };
   const std::size_t n = ring.size();
+  // First, before any work that grows with the ring.
+  if (n > kMaxNoFlyZoneVertices) {
+    return fail("ring has " + std::to_string(n) + " vertices, more than the " + std::to_string(kMaxNoFlyZoneVertices) +
+                " a zone may have");
+  }
   if (n < 3) return fail("has " + std::to_string(n) + " distinct vertices; a zone needs at least 3");
   for (std::size_t i = 0; i < n; ++i) {
     if (!ring[i].allFinite()) return fail("vertex " + std::to_string(i) + " is not a finite position (NaN)");
   }
+  const auto on_grid = ringOnGrid(ring);
+  if (!on_grid) {
+    return fail("a vertex lies more than " + numberText(kRingMaxCoordinateM) +
+                " m from the frame's origin: not a place on Earth");
+  }
+  if (const auto defect = findRingDefect(*on_grid)) {
+    const std::string i = std::to_string(defect->first), j = std::to_string(defect->second);
+    switch (defect->kind) {
+      case RingDefect::Kind::kRepeatedVertex:
+        return fail("self-intersection: vertices " + i + " and " + j + " are the same point");
+      case RingDefect::Kind::kFoldingEdges:
+        return fail("self-intersection: edges " + i + " and " + j + " overlap");
+      case RingDefect::Kind::kCrossingEdges: {
+        // Crossing through each other, or touching (an end on the other edge, or overlapping).
+        const auto& g = *on_grid;
+        const RingGridPoint &a1 = g[defect->first], &a2 = g[(defect->first + 1) % n];
+        const RingGridPoint &b1 = g[defect->second], &b2 = g[(defect->second + 1) % n];
+        const bool through = ringOrientation(a1, a2, b1) * ringOrientation(a1, a2, b2) < 0 &&
+                             ringOrientation(b1, b2, a1) * ringOrientation(b1, b2, a2) < 0;
+        return fail("self-intersection: edges " + i + " and " + j + (through ? " cross" : " touch"));
+      }
+    }
+  }
+  // A simple ring: the shoelace formula is its area (relative to vertex 0, for precision).
+  double twice_area_m2 = 0.0, perimeter_m = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec2 a = ring[k] - ring[0];
+    const Vec2 b = ring[(k + 1) % n] - ring[0];
+    twice_area_m2 += cross(a, b);
+    perimeter_m += (b - a).norm();
+  }
+  const double area_m2 = 0.5 * std::abs(twice_area_m2);
+  const double mean_width_m = 2.0 * area_m2 / perimeter_m;
+  if (area_m2 < kMinNoFlyZoneAreaM2 || mean_width_m < kMinNoFlyZoneMeanWidthM) {
+    return fail("has (nearly) zero area: its vertices lie (nearly) on one line (area " + numberText(area_m2, 3) +
+                " m², mean width 2 area / perimeter " + numberText(mean_width_m, 3) + " m; a zone needs at least " +
+                numberText(kMinNoFlyZoneAreaM2) + " m² and " + numberText(kMinNoFlyZoneMeanWidthM) + " m)");
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> checkNoFlyZone(const NoFlyZone& zone) {
+  if (auto bad = checkNoFlyRing(zone.ring_m)) {
+    bad->field = zone.name;
+    return bad;
+  }
+  auto fail = [&](const std::string& what) { return make_error(ErrorCode::kInvalidArgument, zone.name, what); };
   if (!std::isfinite(zone.floor_m)) return fail("floor_m is not a finite number (NaN)");
   if (!std::isfinite(zone.ceiling_m)) return fail("ceiling_m is not a finite number (NaN)");
   if ((zone.valid_from_s && !std::isfinite(*zone.valid_from_s)) ||
@@ -161,28 +217,6 @@ std::optional<Error> checkNoFlyZone(const NoFlyZone& zone) {
   }
   if (zone.valid_from_s && zone.valid_until_s && !(*zone.valid_from_s < *zone.valid_until_s)) {
     return fail("valid_from is not before valid_until");
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (ring[i] == ring[(i + 1) % n]) {
-      return fail("self-intersection: vertices " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
-                  " are the same point");
-    }
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2& a = ring[i];
-    const Vec2& b = ring[(i + 1) % n];
-    // The next edge shares b: it may only meet this one there, so it must not fold back onto it.
-    const Vec2& c = ring[(i + 2) % n];
-    if (orientation(a, b, c) == 0 && (a - b).dot(c - b) > 0.0) {
-      return fail("self-intersection: edges " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
-                  " overlap");
-    }
-    for (std::size_t j = i + 2; j < n; ++j) {
-      if (i == 0 && j == n - 1) continue;  // the closing edge shares vertex 0 with edge 0
-      if (segmentsMeet(a, b, ring[j], ring[(j + 1) % n])) {
-        return fail("self-intersection: edges " + std::to_string(i) + " and " + std::to_string(j) + " cross");
-      }
-    }
   }
   return std::nullopt;
 }

@@ -7,6 +7,7 @@
 // smaller, so a path judged clear is clear.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,19 @@
 #include "planning/core/result.hpp"
 
 namespace skyroute {
+
+// What a zone's ring may be (docs/nofly.md). The vertex bound keeps every check of a zone (and
+// every collision test against it, linear in its vertices) bounded; it is checked before any
+// other work on the ring. A zone's area must be at least kMinNoFlyZoneAreaM2, and its mean width
+// (2 area / perimeter) at least kMinNoFlyZoneMeanWidthM: vertices on one line in latitude and
+// longitude keep a few square metres of area in the local frame (the projection bends the line),
+// so the width tells a sliver from a zone.
+inline constexpr std::size_t kMaxNoFlyZoneVertices = 10000;
+// The zones published to a daemon (DDS) are copied into each of its worlds on every change: their
+// vertices together are bounded as well.
+inline constexpr std::size_t kMaxPublishedNoFlyVertices = 100000;
+inline constexpr double kMinNoFlyZoneAreaM2 = 1.0;
+inline constexpr double kMinNoFlyZoneMeanWidthM = 0.5;
 
 struct NoFlyZone {
   std::string name;                      // what the user calls it (a GeoJSON feature's id or index)
@@ -37,12 +51,20 @@ struct NoFlyZone {
   // The horizontal polygon, grown by margin_m, meets the axis-aligned square of the given centre
   // and edge (for grids).
   bool touchesSquare(const Eigen::Vector2d& center_m, double edge_m, double margin_m = 0.0) const;
+  // The same for any axis-aligned rectangle (e.g. a terrain's bounds).
+  bool touchesRectangle(const Eigen::AlignedBox2d& box_m, double margin_m = 0.0) const;
 };
 
-// Checks a zone's geometry. kInvalidArgument with field = the zone's name and a message saying
-// what is wrong: fewer than 3 vertices, a coordinate, floor or ceiling that is not finite (NaN), a
-// repeated vertex or crossing edges (self-intersection), the floor above the ceiling, or a window
-// that ends before it starts.
+// Checks a zone's ring, in O(n log n): kInvalidArgument with field "ring" and a message saying
+// what is wrong: more than kMaxNoFlyZoneVertices vertices (checked first, before anything else),
+// fewer than 3, a coordinate that is not finite (NaN) or not on Earth, a repeated vertex, edges
+// that fold back, cross or touch (self-intersection, ring_simplicity.hpp), or (nearly) zero area.
+std::optional<Error> checkNoFlyRing(const std::vector<Eigen::Vector2d>& ring_m);
+
+// Checks a zone: its ring (checkNoFlyRing), then its heights and window. kInvalidArgument with
+// field = the zone's name and a message saying what is wrong: the ring's faults, a floor or
+// ceiling that is not finite (NaN), the floor above the ceiling, or a window that ends before it
+// starts.
 std::optional<Error> checkNoFlyZone(const NoFlyZone& zone);
 
 // When-aware questions over a set of zones. t_s: the world time (nothing: every zone counts, as

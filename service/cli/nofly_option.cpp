@@ -20,7 +20,7 @@ std::size_t loadNoFlyZones(const std::string& tool, const std::optional<std::str
                            const DaemonConfig& config, WorldModel& world, double now_s) {
   const std::string path = option ? *option : config.nofly_path;
   if (path.empty()) return 0;
-  auto zones = loadNoFlyGeoJson(path, world.frame());
+  auto zones = loadNoFlyGeoJson(path, world.frame(), &world.terrain());
   if (!zones.ok()) fail(tool, kExitBadInput, (option ? "--nofly " : "terrain.nofly ") + zones.error().describe());
   world.setNoFlyZones(std::move(*zones));
   world.expire(now_s);

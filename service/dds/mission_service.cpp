@@ -44,7 +44,7 @@ Result<std::shared_ptr<WorldModel>> loadWorld(const DaemonConfig& config) {
     return e;
   }
   if (!config.nofly_path.empty()) {
-    auto zones = loadNoFlyGeoJson(config.nofly_path, (*world)->frame());
+    auto zones = loadNoFlyGeoJson(config.nofly_path, (*world)->frame(), &(*world)->terrain());
     if (!zones.ok()) return make_error(zones.error().code, "terrain.nofly", zones.error().describe());
     spdlog::info("event=nofly_zones_loaded file={} zones={}", config.nofly_path, zones->size());
     (*world)->setNoFlyZones(std::move(*zones));

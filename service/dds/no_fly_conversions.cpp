@@ -39,6 +39,13 @@ Result<NoFlyZoneData> fromWire(const skyroute_msgs_NoFlyZone& in) {
   out.zone_id = in.zone_id;
   out.remove = in.remove;
   if (out.remove) return out;
+  // Counted first, before any work on the vertices (the daemon's DDS thread converts this).
+  if (in.ring._length > kMaxNoFlyZoneVertices) {
+    return badMember("ring", "has " + std::to_string(in.ring._length) + " vertices, more than the " +
+                                 std::to_string(kMaxNoFlyZoneVertices) + " a zone may have (zone '" + out.zone_id +
+                                 "')");
+  }
+  out.ring.reserve(in.ring._length);
   for (uint32_t i = 0; i < in.ring._length; ++i) {
     const skyroute_msgs_LatLon& p = in.ring._buffer[i];
     const std::string member = "ring[" + std::to_string(i) + "]";

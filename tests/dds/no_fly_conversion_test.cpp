@@ -60,5 +60,20 @@ TEST(NoFlyConversion, RefusesWhatCannotBeAZone) {
   EXPECT_EQ(lifted->zone_id, "tower");
 }
 
+TEST(NoFlyConversion, CountsTheRingBeforeLookingAtIt) {
+  NoFlyZoneData big = tower();
+  big.ring.assign(kMaxNoFlyZoneVertices + 1, GeoPoint{std::numeric_limits<double>::quiet_NaN(), 15.0, 0.0});
+  WireSample<skyroute_msgs_NoFlyZone> wire(&skyroute_msgs_NoFlyZone_desc);
+  toWire(big, wire.msg());
+  const auto refused = fromWire(wire.msg());
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().field, "ring");  // not ring[0].lat_deg: the count comes first
+  EXPECT_EQ(refused.error().message, "ring has 10001 vertices, more than the 10000 a zone may have (zone 'tower')");
+  big.ring.assign(kMaxNoFlyZoneVertices, GeoPoint{46.93, 15.06, 0.0});
+  WireSample<skyroute_msgs_NoFlyZone> at_bound(&skyroute_msgs_NoFlyZone_desc);
+  toWire(big, at_bound.msg());
+  EXPECT_TRUE(fromWire(at_bound.msg()).ok());  // the geometry is checked where it meets a terrain
+}
+
 }  // namespace
 }  // namespace skyroute::dds

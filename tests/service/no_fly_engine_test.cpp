@@ -107,12 +107,62 @@ TEST_F(NoFlyEngine, BadGeometryIsRefusedNamingTheZone) {
   std::swap(bow.ring[1], bow.ring[2]);
   const auto refused = engine_->updateNoFlyZone(bow);
   ASSERT_TRUE(refused.has_value());
-  EXPECT_EQ(refused->field, "zone 'bow'");
-  EXPECT_NE(refused->message.find("self-intersection"), std::string::npos) << refused->message;
+  EXPECT_EQ(refused->field, "ring");
+  EXPECT_NE(refused->message.find("zone 'bow': self-intersection"), std::string::npos) << refused->message;
   NoFlyZoneData upside = square("upside", Eigen::Vector2d::Zero());
   upside.floor_amsl_m = 5000.0;
   ASSERT_TRUE(engine_->updateNoFlyZone(upside).has_value());
   EXPECT_TRUE(world_->noFlyZones().empty());
+}
+
+TEST_F(NoFlyEngine, PublishedZonesTogetherKeepTheVertexBound) {
+  // Ten zones at the bound of one zone fill the bound of them all; an eleventh is refused, a
+  // changed one of the ten (same id) is not, and a lift makes room again.
+  auto circle = [&](const std::string& id, double east_m) {
+    NoFlyZoneData z;
+    z.zone_id = id;
+    for (std::size_t i = 0; i < kMaxNoFlyZoneVertices; ++i) {
+      const double a = 2.0 * M_PI * static_cast<double>(i) / static_cast<double>(kMaxNoFlyZoneVertices);
+      z.ring.push_back(terrain_->frame().toGeo(Eigen::Vector3d(east_m + 200.0 * std::cos(a), 200.0 * std::sin(a), 0.0)));
+    }
+    z.floor_amsl_m = -1000.0;
+    z.ceiling_amsl_m = 4900.0;
+    return z;
+  };
+  ASSERT_EQ(kMaxPublishedNoFlyVertices, 10 * kMaxNoFlyZoneVertices);
+  for (int k = 0; k < 10; ++k) {
+    ASSERT_FALSE(engine_->updateNoFlyZone(circle("c" + std::to_string(k), -4500.0 + 900.0 * k)).has_value()) << k;
+  }
+  const auto refused = engine_->updateNoFlyZone(circle("c10", 4500.0));
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->field, "ring");
+  EXPECT_NE(refused->message.find("zone 'c10': the published zones in force would have 110000 vertices together, "
+                                  "more than the 100000"),
+            std::string::npos)
+      << refused->message;
+  EXPECT_FALSE(engine_->updateNoFlyZone(circle("c3", -1500.0)).has_value());  // replaces c3
+  NoFlyZoneData lift;
+  lift.zone_id = "c0";
+  lift.remove = true;
+  ASSERT_FALSE(engine_->updateNoFlyZone(lift).has_value());
+  EXPECT_FALSE(engine_->updateNoFlyZone(circle("c10", 4500.0)).has_value());
+  EXPECT_EQ(world_->publishedNoFlyZones().size(), 10u);
+}
+
+TEST_F(NoFlyEngine, ZonesOffTheTerrainAreRefusedNamingTheRing) {
+  NoFlyZoneData swapped = square("swapped", Eigen::Vector2d::Zero());
+  for (GeoPoint& p : swapped.ring) std::swap(p.lat_deg, p.lon_deg);
+  auto refused = engine_->updateNoFlyZone(swapped);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->field, "ring");
+  EXPECT_NE(refused->message.find("latitude and longitude may be swapped"), std::string::npos) << refused->message;
+  refused = engine_->updateNoFlyZone(square("off", Eigen::Vector2d(0.0, 50000.0)));
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_NE(refused->message.find("zone 'off': lies entirely outside the DEM"), std::string::npos) << refused->message;
+  // Partly over the DEM is over it.
+  const Eigen::Vector2d corner = terrain_->boundsEn().max();
+  EXPECT_FALSE(engine_->updateNoFlyZone(square("edge", corner)).has_value());
+  EXPECT_EQ(world_->publishedNoFlyZones().size(), 1u);
 }
 
 }  // namespace

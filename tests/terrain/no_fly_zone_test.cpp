@@ -150,6 +150,59 @@ TEST(NoFlyZoneCheck, NamesTheZoneAndTheFault) {
   EXPECT_NE(e->message.find("floor_m 20 is above ceiling_m 10"), std::string::npos) << e->message;
 }
 
+// A ring of n vertices on a circle: simple, and its area close to the circle's.
+NoFlyZone circleZone(std::size_t n, double radius_m) {
+  NoFlyZone z = squareZone(0, 0, 1, 1, 0, 10);
+  z.name = "circle";
+  z.ring_m.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = 2.0 * M_PI * static_cast<double>(i) / static_cast<double>(n);
+    z.ring_m.emplace_back(radius_m * std::cos(a), radius_m * std::sin(a));
+  }
+  return z;
+}
+
+TEST(NoFlyZoneCheck, BoundsTheVerticesBeforeAnythingElse) {
+  EXPECT_FALSE(checkNoFlyZone(circleZone(kMaxNoFlyZoneVertices, 2000.0)).has_value());
+  NoFlyZone big = circleZone(kMaxNoFlyZoneVertices + 1, 2000.0);
+  big.ring_m[3].x() = std::numeric_limits<double>::quiet_NaN();  // not looked at: the count comes first
+  big.floor_m = 50.0;                                             // above the ceiling: not looked at either
+  const auto e = checkNoFlyZone(big);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->field, "circle");
+  EXPECT_EQ(e->message, "ring has 10001 vertices, more than the 10000 a zone may have");
+  const auto ring = checkNoFlyRing(big.ring_m);
+  ASSERT_TRUE(ring);
+  EXPECT_EQ(ring->field, "ring");
+}
+
+TEST(NoFlyZoneCheck, RefusesZonesOfNearlyZeroArea) {
+  NoFlyZone z = squareZone(0, 0, 1, 1, 0, 10);  // 1 m², 0.5 m mean width: the least a zone may be
+  EXPECT_FALSE(checkNoFlyZone(z).has_value());
+  // Three vertices 2 km along a line, the middle one 5 cm off it: 50 m² but a sliver.
+  z.ring_m = {{0, 0}, {1000, 0.05}, {2000, 0}};
+  auto e = checkNoFlyZone(z);
+  ASSERT_TRUE(e);
+  EXPECT_NE(e->message.find("has (nearly) zero area: its vertices lie (nearly) on one line (area 50 m², mean width"),
+            std::string::npos)
+      << e->message;
+  z.ring_m = {{0, 0}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}};  // 0.25 m²
+  e = checkNoFlyZone(z);
+  ASSERT_TRUE(e);
+  EXPECT_NE(e->message.find("zero area"), std::string::npos) << e->message;
+  z.ring_m = {{0, 0}, {2000, 0}, {2000, 1}, {0, 1}};  // a 1 m wide corridor is a zone
+  EXPECT_FALSE(checkNoFlyZone(z).has_value());
+}
+
+TEST(NoFlyZoneGeometry, RectanglesMatchTheBoxReference) {
+  const NoFlyZone z = squareZone(0, 0, 100, 50, 0, 10);
+  EXPECT_TRUE(z.touchesRectangle(Eigen::AlignedBox2d(Eigen::Vector2d(-10, -10), Eigen::Vector2d(200, 200))));  // holds it
+  EXPECT_TRUE(z.touchesRectangle(Eigen::AlignedBox2d(Eigen::Vector2d(40, 20), Eigen::Vector2d(41, 21))));      // inside
+  EXPECT_TRUE(z.touchesRectangle(Eigen::AlignedBox2d(Eigen::Vector2d(100, -5), Eigen::Vector2d(120, 5))));     // corner
+  EXPECT_FALSE(z.touchesRectangle(Eigen::AlignedBox2d(Eigen::Vector2d(101, 0), Eigen::Vector2d(120, 5))));
+  EXPECT_TRUE(z.touchesRectangle(Eigen::AlignedBox2d(Eigen::Vector2d(101, 0), Eigen::Vector2d(120, 5)), 1.0));
+}
+
 class ZonesInTheWorld : public ::testing::Test {
  protected:
   void SetUp() override {
