@@ -62,6 +62,14 @@ std::optional<Error> unusableCrs(const json& doc) {
                                    "longitude, latitude in WGS84; write the zones so, without a crs");
 }
 
+// A GeoJSON "type" member as text: the string, or its JSON when it is not one ("" when absent).
+// Not json::value("type", ""): it throws when the member is there but not a string.
+std::string typeMember(const json& object) {
+  const auto it = object.find("type");
+  if (it == object.end()) return "";
+  return it->is_string() ? it->get<std::string>() : it->dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 // The feature's id, or its name property ("" when it has neither).
 std::string featureLabel(const json& feature) {
   if (!feature.is_object()) return "";
@@ -190,7 +198,7 @@ Status addFeature(const json& feature, std::size_t index, const LocalFrame& fram
     if (auto unknown = unknownMember(feature["properties"], kZonePropertyKeys, path + ".properties", name))
       return *unknown;
   }
-  const std::string type = geometry.value("type", "");
+  const std::string type = typeMember(geometry);
   if (!geometry.contains("coordinates") || !geometry["coordinates"].is_array()) {
     return parseError(name, "its geometry has no coordinates array");
   }
@@ -236,7 +244,7 @@ Result<std::vector<NoFlyZone>> parseNoFlyGeoJson(const std::string& text, const 
   const json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (doc.is_discarded()) return parseError("geojson", "is not valid JSON");
   if (!doc.is_object()) return parseError("geojson", "must be a FeatureCollection or a Feature object");
-  const std::string type = doc.value("type", "");
+  const std::string type = typeMember(doc);
   std::vector<NoFlyZone> zones;
   if (auto crs = unusableCrs(doc)) return *crs;
   if (type == "Feature") {

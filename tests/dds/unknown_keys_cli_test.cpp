@@ -161,6 +161,11 @@ TEST_F(UnknownKeysCli, ANoFlyZoneFileRefusesAnUnknownMemberAndTakesGeoJsonsOwn) 
        "unknown key \"crs\" in features[0].geometry (known keys: type, coordinates, bbox)"},
       {"collection.geojson", [](json& z) { z["featuress"] = json::array(); },
        "geojson: unknown key \"featuress\" in the FeatureCollection (did you mean \"features\"?)"},
+      // GeoJSON's type members that are not text (each ended the CLI with an uncaught exception).
+      {"type.geojson", [](json& z) { z["type"] = 1; },
+       "geojson: must be a FeatureCollection with a features array (or a single Feature)"},
+      {"geometry_type.geojson", [](json& z) { z["features"][0]["geometry"]["type"] = 7; },
+       "features[0] 'tower': geometry type '7' is not a Polygon or MultiPolygon"},
       // Coordinates in another CRS would be read as degrees.
       {"crs.geojson",
        [](json& z) { z["crs"] = {{"type", "name"}, {"properties", {{"name", "urn:ogc:def:crs:EPSG::32633"}}}}; },
