@@ -108,6 +108,7 @@ void Engine::planResumed(Job& job) {
   // it goes out as the next revision at once, so what the vehicle flies is what is checked.
   const bool same = sameSamples(pipeline.sample(mission->plan, identity), published);
   mission->revision_base = same ? published.revision : published.revision + 1;
+  if (mission->plan.audit_label) mission->plan.audit_label->revision_base = mission->revision_base;
   if (same) mission->recovered = published;
   std::unique_lock mission_lock(mission->mutex);
   bool registered = false;

@@ -272,6 +272,8 @@ struct ServiceStatusData {
   std::int64_t started_utc_ns = 0;  // when the instance started
   double heartbeat_period_s = 1.0;  // the next heartbeat is due this long after this one
   std::uint32_t obstacles = 0;      // obstacles in force
+  std::uint32_t audits = 0;          // trajectories audited before publishing since start
+  std::uint32_t audit_failures = 0;  // of those, refused by the audit
 };
 
 struct FleetRequestData {

@@ -4,11 +4,15 @@
 // ground, through a no-fly zone in force, over the speed limit, above the ceiling, into a moving
 // obstacle's predicted position or too slowly for a fixed wing is refused, naming the check and the
 // time; a zone out of force then and a moving obstacle met beyond the horizon refuse nothing.
+// Then the audit as a flight uses it (service/flight_audit.hpp): counted, and a refused trajectory
+// is never put in force.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "service/flight_audit.hpp"
 #include "service/trajectory_audit.hpp"
+#include "terrain/collision_world.hpp"
 #include "terrain/dem.hpp"
 #include "terrain/heightfield.hpp"
 #include "tests/terrain_data.hpp"
@@ -213,6 +217,43 @@ TEST(AuditOptionsCheck, UnusableOptionsNameTheKey) {
   ASSERT_TRUE(validateAuditOptions(o).has_value());
   EXPECT_EQ(validateAuditOptions(o)->field, "audit.limit_tolerance");
   EXPECT_FALSE(validateAuditOptions(AuditOptions{}).has_value());
+}
+
+TEST(FlightAuditHook, CountsEveryAuditAndRefusesWithFieldAudit) {
+  auto terrain = flatTerrain();
+  ASSERT_TRUE(terrain);
+  CollisionWorldOptions options;
+  options.min_clearance_m = 30.0;
+  options.build_octree = false;
+  auto world = CollisionWorld::create(terrain, options);
+  ASSERT_TRUE(world.ok()) << world.error().describe();
+  const Eigen::Vector2d c = terrain->boundsEn().center();
+  auto counters = std::make_shared<AuditCounters>();
+  auto label = std::make_shared<FlightAuditLabel>();
+  label->vehicle_id = "uav-audit";
+  label->revision_base = 4;
+  const auto hook = flightAudit(*world, VehicleLimits{}, AuditOptions{}, 45.0, counters, label);
+  const Trajectory high = line({c.x() - 400, c.y(), 300.0}, {c.x() + 400, c.y(), 300.0}, 40.0);
+  const Trajectory low = line({c.x() - 400, c.y(), 300.0}, {c.x() + 400, c.y(), 110.0}, 40.0);
+  EXPECT_FALSE(hook(high, kStartWorldS, kStartWorldS, 1).has_value());
+  const auto refused = hook(low, kStartWorldS, kStartWorldS, 2);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->field, "audit");
+  EXPECT_NE(refused->message.find("revision 6"), std::string::npos) << refused->message;
+  EXPECT_NE(refused->message.find("ground_clearance"), std::string::npos) << refused->message;
+  EXPECT_EQ(counters->audits.load(), 2u);
+  EXPECT_EQ(counters->failures.load(), 1u);
+  // A zone published on the world later is in the next audit (the world's data at that moment).
+  NoFlyZone zone;
+  zone.name = "new";
+  zone.ring_m = {{c.x() - 50, c.y() - 50}, {c.x() + 50, c.y() - 50}, {c.x() + 50, c.y() + 50},
+                 {c.x() - 50, c.y() + 50}};
+  zone.floor_m = -1000.0;
+  zone.ceiling_m = 2000.0;
+  (*world)->setNoFlyZones({zone});
+  const auto zoned = hook(high, kStartWorldS, kStartWorldS, 3);
+  ASSERT_TRUE(zoned.has_value());
+  EXPECT_NE(zoned->message.find("no-fly zone 'new'"), std::string::npos) << zoned->message;
 }
 
 }  // namespace
