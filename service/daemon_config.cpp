@@ -259,6 +259,16 @@ std::vector<Key> keysOf(DaemonConfig& c, IntegerShadow& s) {
       {"replanning", "budget_s",
        "wall-clock budget of one replan (the first candidate is always finished), seconds",
        &p.replan.replan_budget_ms, 0, 60, {}, 1e3},
+      {"audit", "step_s",
+       "the audit every trajectory passes before it is published checks its samples this far apart (docs/dds.md), "
+       "seconds",
+       &p.audit.step_s, 0.001, 1},
+      {"audit", "tolerance_m",
+       "the audit lets a sample come this much nearer than the clearance, the ceiling, a no-fly zone or an obstacle "
+       "allow, metres",
+       &p.audit.tolerance_m, 0, 5},
+      {"audit", "limit_tolerance", "the audit lets a sample exceed a vehicle limit by this share of it",
+       &p.audit.limit_tolerance, 0, 0.5},
       {"bounds", "min_speed_mps", "a request's v_ref_mps and max_speed_mps at least, m/s", &b.min_speed_mps, 0.01, 1000},
       {"bounds", "max_speed_mps", "any speed limit of a request at most, m/s", &b.max_speed_mps, 0.01, 1000},
       {"bounds", "min_vertical_speed_mps", "a request's max_climb_rate_mps and max_descent_rate_mps at least, m/s",

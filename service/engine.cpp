@@ -148,7 +148,9 @@ Engine::Engine(std::shared_ptr<WorldModel> world, const EngineOptions& options, 
       world_(std::move(world)),
       options_(options),
       registry_(options.max_stored_results),
-      throttle_(options.log_repeat_window_s) {}
+      throttle_(options.log_repeat_window_s) {
+  options_.pipeline.audit_counters = audit_counters_;
+}
 
 Engine::~Engine() { stop(); }
 
@@ -158,6 +160,7 @@ Status Engine::setOptions(const EngineOptions& options) {
   {
     std::lock_guard lock(mutex_);
     options_ = options;
+    options_.pipeline.audit_counters = audit_counters_;  // the counts go on across reloads
     registry_.setCapacity(options.max_stored_results);
     throttle_.setWindowS(options.log_repeat_window_s);
     if (running_ && !stopping_) {
@@ -685,6 +688,8 @@ ServiceStatusData Engine::status(const std::string& service_id) const {
   s.terrain_name = world_model->terrainName();
   s.obstacles = static_cast<std::uint32_t>(world_model->obstacleCount());
   s.replans = static_cast<std::uint32_t>(replans_.load());
+  s.audits = static_cast<std::uint32_t>(audit_counters_->audits.load());
+  s.audit_failures = static_cast<std::uint32_t>(audit_counters_->failures.load());
   return s;
 }
 

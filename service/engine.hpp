@@ -273,6 +273,8 @@ class Engine {
   std::atomic<bool> running_{false};
   std::atomic<bool> stopping_{false};
   std::atomic<std::uint64_t> replans_{0};
+  // Every flight's audits (the heartbeat's counts); options_.pipeline.audit_counters points here.
+  std::shared_ptr<AuditCounters> audit_counters_ = std::make_shared<AuditCounters>();
   std::uint64_t plan_counter_ = 0;
   std::string plan_id_tag_;                                    // "" = "<vehicle>-<n>"
   std::vector<std::thread> workers_;

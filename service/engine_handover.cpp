@@ -94,6 +94,7 @@ std::optional<std::uint32_t> Engine::followRevision(const std::string& vehicle_i
   // Unsigned arithmetic wraps: base + flight_revision is `next` even when base "goes below zero"
   // (a standby that made more replans than the primary).
   mission->revision_base = next - flight_revision;
+  if (mission->plan.audit_label) mission->plan.audit_label->revision_base = mission->revision_base;
   if (mission->recovered) mission->recovered->revision = next;
   spdlog::info("event=revisions_followed vehicle={} plan={} own_revision={} wire_revision={} revision={}", vehicle_id,
                plan_id, current, wire_revision, next);

@@ -114,6 +114,7 @@ void Engine::planResumed(Job& job) {
   // it goes out as the next revision at once, so what the vehicle flies is what is checked.
   const bool same = sameSamples(pipeline.sample(mission->plan, identity), published);
   mission->revision_base = same ? published.revision : published.revision + 1;
+  if (mission->plan.audit_label) mission->plan.audit_label->revision_base = mission->revision_base;
   if (same) mission->recovered = published;
   const TrajectoryData rebuilt = same ? TrajectoryData{} : trajectoryOf(*mission);
   std::unique_lock mission_lock(mission->mutex);

@@ -121,7 +121,14 @@ bool FlightReplanner::adoptLoiter(double now_s, double takeover_s, double confli
     }
     if (room_enough) break;
   }
-  if (!best) {
+  // Only a clear loiter is put in force, and only when the audit passes it too.
+  if (best && std::isinf(best_conflict)) {
+    if (auto refused = auditRefusal(*best_hold, from_s, now_s, revision_ + 1)) {
+      why_not = refused;
+      return false;
+    }
+  }
+  if (!best || !std::isinf(best_conflict)) {
     why_not = make_error(ErrorCode::kUnreachable, "loiter",
                          fmt::format("no loiter circle is clear: {} circles of radius {:.0f}-{:.0f} m at {:.1f} m/s from {} "
                                      "entry points ({} meet the terrain, an obstacle or a no-fly zone, {} break the "
@@ -158,7 +165,9 @@ bool FlightReplanner::extendLoiter(double now_s) {
       segmentsBetween(route_.built.trajectory, from_s - start_world_s_, route_.built.trajectory.duration_s());
   const std::size_t added = more.size();
   segments.insert(segments.end(), more.begin(), more.end());
-  installHold(Trajectory(std::move(segments)), from_s, from_s);
+  Trajectory extended(std::move(segments));
+  if (auditRefusal(extended, from_s, now_s, revision_ + 1)) return false;  // the loiter in force stays as it is
+  installHold(std::move(extended), from_s, from_s);
   loiter_end_rad_ += circle.arcAngleRad() * static_cast<double>(added);
   spdlog::debug("event=replan_loiter_extended arcs={} until_s={:.1f}", added, arrivalWorldS());
   return true;

@@ -19,6 +19,8 @@ namespace {
 // Room a hold keeps from every obstacle where it comes to rest, when it can, and that a plan
 // leaving a clear hold keeps from every obstacle within the horizon (m).
 constexpr double kHoldRoomM = 30.0;
+// Share of a replan's wall-clock budget that local repair may use before the whole replan.
+constexpr double kLocalBudgetShare = 0.5;
 
 std::string formatRoomM(double room_m) {
   char text[32];
@@ -69,6 +71,7 @@ Result<std::unique_ptr<FlightReplanner>> FlightReplanner::start(std::shared_ptr<
   auto first = r->bestCandidate([&](int attempt) { return std::optional<AttemptPlan>(r->wholePlan(points_m, {}, attempt)); },
                                 start_world_s, nullptr, stop, false, first_legs);
   if (!first.ok()) return first.error();
+  if (auto refused = r->auditRefusal(first->route.built.trajectory, start_world_s, start_world_s, 0)) return *refused;
   r->adopt(std::move(first->route), std::move(first->points), start_world_s);
   return r;
 }
@@ -86,6 +89,7 @@ Result<std::unique_ptr<FlightReplanner>> FlightReplanner::startWithRoute(std::sh
   r->world_ = std::move(world);
   r->limits_ = limits;
   r->options_ = options;
+  if (auto refused = r->auditRefusal(route.built.trajectory, start_world_s, start_world_s, 0)) return *refused;
   r->adopt(std::move(route), std::move(points_m), start_world_s);
   return r;
 }
@@ -212,7 +216,7 @@ Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
       // build that runs on past it (a long repair on a loaded machine) would make the answer
       // late, where the hold answers within the cycle and the next cycle plans again.
       RouteOptions build_route = route;
-      const bool deadline_stops_build = options_.hold_fallback && !holding_;
+      const bool deadline_stops_build = deadline_holds_;
       if (deadline_stops_build) {
         build_route.trajectory.feasibility.stop_requested = [cancelled = route.trajectory.feasibility.stop_requested,
                                                              &stop] {
@@ -238,7 +242,11 @@ Result<FlightReplanner::Candidate> FlightReplanner::bestCandidate(
     }
     Candidate c = plan->rejoin ? splice(std::move(candidate.value()), *plan->rejoin, plan->route_points)
                                : Candidate{std::move(candidate.value()), plan->route_points, 0.0};
-    c.conflict_s = firstConflictS(c.route.built.trajectory, at_world_s, at_world_s, options_.horizon_s);
+    // A built trajectory was checked whole against what stays in force (the build's motion check
+    // beyond moving_check_horizon_s = 0: every zone, the terrain, fixed obstacles), so only the
+    // horizon is left to check; a spliced one goes on along the current trajectory, checked whole.
+    c.conflict_s = plan->rejoin ? firstConflictS(c.route.built.trajectory, at_world_s, at_world_s, options_.horizon_s)
+                                : conflictWithinS(c.route.built.trajectory, at_world_s, at_world_s, options_.horizon_s);
     spdlog::debug("event=replan_attempt attempt={} local={} speed_factor={} plan_ms={:.1f} build_ms={:.1f} repair_rounds={} "
                   "conflict_in_s={:.1f}",
                   attempt, plan->rejoin.has_value(), plan->retime_speed_factor,
@@ -291,7 +299,7 @@ Result<PlannedRoute> FlightReplanner::currentStretch(const AttemptPlan& plan) co
 
 std::optional<FlightReplanner::AttemptPlan> FlightReplanner::localPlan(const std::vector<Eigen::Vector3d>& route_points,
                                                                        double takeover_s, double conflict_s,
-                                                                       int attempt) const {
+                                                                       int attempt, bool static_conflict) const {
   // The attempts: new paths with the obstacles blocking further ahead or less (variants 0-3, as
   // whole replans), and, early because they are cheap and often what a crossing obstacle needs,
   // the current path flown slower so the obstacle passes first.
@@ -303,7 +311,7 @@ std::optional<FlightReplanner::AttemptPlan> FlightReplanner::localPlan(const std
   static constexpr Variant kVariants[] = {{0, 1.0, 1.0}, {0, 1.0, 0.6}, {1, 2.0, 1.0}, {0, 2.0, 0.4},
                                           {2, 1.0, 1.0}, {3, 3.0, 1.0}};
   const Variant v = kVariants[std::min<std::size_t>(static_cast<std::size_t>(attempt), std::size(kVariants) - 1)];
-  if (v.speed_factor < 1.0 && !options_.local_retime) return std::nullopt;
+  if (v.speed_factor < 1.0 && (!options_.local_retime || static_conflict)) return std::nullopt;
   // A fixed wing cannot wait for an obstacle by flying slower than its minimum airspeed.
   if (v.speed_factor < 1.0 && limits_.v_ref_mps * v.speed_factor < limits_.minAirspeedMps()) return std::nullopt;
   const auto& knots = route_.built.knots;
@@ -311,6 +319,12 @@ std::optional<FlightReplanner::AttemptPlan> FlightReplanner::localPlan(const std
   if (knots.size() != times.size() || knots.size() < 2) return std::nullopt;
   const double target_s = conflict_s - start_world_s_ + v.rejoin_scale * options_.rejoin_after_s;
   std::size_t r = static_cast<std::size_t>(std::lower_bound(times.begin(), times.end(), target_s) - times.begin());
+  // A rejoin inside what stays in force (a zone over the current path, the ground) can never be
+  // reached: the first clear knot after it, or none.
+  auto clear = [&](std::size_t k) {
+    return world_->isStaticSegmentValid(knots[k], knots[k], start_world_s_ + times[k], 0.0);
+  };
+  while (r + 1 < knots.size() && !clear(r)) ++r;
   if (r + 1 >= knots.size()) return std::nullopt;  // the rejoin would be the goal: replan it all
   // Route points (after the first, the takeover position) the current trajectory reaches before
   // the rejoin knot: the local stretch goes through them; a route point past the conflict but
@@ -411,6 +425,7 @@ FlightReplanner::Candidate FlightReplanner::splice(PlannedRoute local, const Rej
 }
 
 void FlightReplanner::adopt(PlannedRoute route, std::vector<Eigen::Vector3d> points, double start_world_s) {
+  ++trajectory_changes_;
   loiter_circle_.reset();
   if (options_.rrt_tree_reuse && !route.legs.empty() && route.legs.front().tree) leg_tree_ = route.legs.front().tree;
   route_ = std::move(route);
@@ -480,6 +495,46 @@ Eigen::Vector3d halfExtents(const Obstacle& o) {
 
 double FlightReplanner::firstConflictS(const Trajectory& trajectory, double start_world_s, double from_s,
                                        double horizon_s) const {
+  const double within = conflictWithinS(trajectory, start_world_s, from_s, horizon_s);
+  if (!std::isinf(within)) return within;
+  return staticConflictAfterS(trajectory, start_world_s, from_s + std::max(0.0, horizon_s));
+}
+
+double FlightReplanner::currentConflictS(double now_s) {
+  const Trajectory& current = route_.built.trajectory;
+  const double within = conflictWithinS(current, start_world_s_, now_s, options_.horizon_s);
+  if (!std::isinf(within)) return within;
+  const std::pair<std::uint64_t, std::uint64_t> key{world_->staticVersion(), trajectory_changes_};
+  if (clear_beyond_ == key) return within;
+  const double beyond = staticConflictAfterS(current, start_world_s_, now_s + options_.horizon_s);
+  if (std::isinf(beyond)) clear_beyond_ = key;
+  return beyond;
+}
+
+double FlightReplanner::staticConflictAfterS(const Trajectory& trajectory, double start_world_s, double from_s) const {
+  const double end = start_world_s + trajectory.duration_s();
+  if (!(end > from_s)) return std::numeric_limits<double>::infinity();
+  // The same chords as within the horizon; each against the zones in force during it.
+  double t0 = from_s;
+  Eigen::Vector3d a = trajectory.evaluate(t0 - start_world_s, Derivative::kPosition);
+  while (t0 < end) {
+    const double t1 = std::min(end, t0 + options_.check_step_s);
+    const Eigen::Vector3d b = trajectory.evaluate(t1 - start_world_s, Derivative::kPosition);
+    if (!world_->isStaticSegmentValid(a, b, t0, t1 - t0)) return t0;
+    a = b;
+    t0 = t1;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+std::optional<Error> FlightReplanner::auditRefusal(const Trajectory& trajectory, double start_world_s, double now_s,
+                                                   std::uint32_t revision) const {
+  if (!options_.audit) return std::nullopt;
+  return options_.audit(trajectory, start_world_s, now_s, revision);
+}
+
+double FlightReplanner::conflictWithinS(const Trajectory& trajectory, double start_world_s, double from_s,
+                                        double horizon_s) const {
   const double end = std::min(from_s + horizon_s, start_world_s + trajectory.duration_s());
   if (!(end > from_s)) return std::numeric_limits<double>::infinity();
   // The chords checked: positions at from_s, from_s + step, ... and end.
@@ -518,8 +573,9 @@ double FlightReplanner::firstConflictS(const Trajectory& trajectory, double star
     const std::size_t i1 = std::min(chords, i0 + kRun);
     const bool near = mayMeet(i0, i1);
     for (std::size_t i = i0; i < i1; ++i) {
-      const bool valid = near && mayMeet(i, i + 1) ? world_->isSegmentValidDuring(points[i], times[i], points[i + 1], times[i + 1])
-                                                   : world_->isStaticSegmentValid(points[i], points[i + 1]);
+      const bool valid = near && mayMeet(i, i + 1)
+                             ? world_->isSegmentValidDuring(points[i], times[i], points[i + 1], times[i + 1])
+                             : world_->isStaticSegmentValid(points[i], points[i + 1], times[i], times[i + 1] - times[i]);
       if (!valid) return times[i];
     }
   }
@@ -566,10 +622,11 @@ bool FlightReplanner::clearAhead(double now_s, double horizon_s) const {
   return std::isinf(firstConflictS(route_.built.trajectory, start_world_s_, now_s, horizon_s));
 }
 
-TerminationCondition FlightReplanner::cycleStop(std::chrono::steady_clock::time_point started) const {
+TerminationCondition FlightReplanner::cycleStop(std::chrono::steady_clock::time_point started, double share) const {
+  const double budget_ms = share * options_.replan_budget_ms;
   TerminationCondition stop = options_.replan_budget_ms > 0.0
                                   ? TerminationCondition::after(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                        started + std::chrono::duration<double, std::milli>(options_.replan_budget_ms) -
+                                        started + std::chrono::duration<double, std::milli>(budget_ms) -
                                         std::chrono::steady_clock::now()))
                                   : TerminationCondition();
   if (options_.cancel) stop.withCancelFlag(options_.cancel);
@@ -599,12 +656,28 @@ ReplanStep FlightReplanner::stepOnce(double now_s) {
   ReplanStep result;
   const auto started = std::chrono::steady_clock::now();
   if (finished(now_s)) return result;
-  const double current_conflict = firstConflictS(route_.built.trajectory, start_world_s_, now_s, options_.horizon_s);
+  const double current_conflict = currentConflictS(now_s);
   // A hold is clear but does not reach the goal: plan on from it every cycle.
   if (std::isinf(current_conflict) && !holding_) return result;
   result.conflict_ahead = !std::isinf(current_conflict);
+  // A conflict beyond the horizon is with what stays in force (a no-fly zone far ahead): there is
+  // time to plan round it, so no hold answers it; the replan goes on past the cycle's deadline
+  // until a first candidate, and the vehicle flies on meanwhile.
+  const bool conflict_in_horizon = current_conflict <= now_s + options_.horizon_s;
+  deadline_holds_ = options_.hold_fallback && !holding_ && conflict_in_horizon;
+  // The moving obstacles' planning window reaches the conflict when they cause it, not a far one.
+  const auto conflict_in_s = [&](double takeover) {
+    return std::isinf(current_conflict) || !conflict_in_horizon ? options_.window_s : current_conflict - takeover;
+  };
   const double takeover_s = takeoverTime(now_s, current_conflict);
   result.takeover_s = takeover_s;
+  // Whether the conflict is with what stays in force there (a zone, the ground, a fixed obstacle):
+  // the chord where it is found fails the static check too.
+  const bool static_conflict = !std::isinf(current_conflict) && [&] {
+    const double t1 = std::min(arrivalWorldS(), current_conflict + options_.check_step_s);
+    return !world_->isStaticSegmentValid(stateAt(current_conflict).position_m, stateAt(t1).position_m, current_conflict,
+                                         t1 - current_conflict);
+  }();
   const TrajectoryState state = stateAt(takeover_s);
   std::vector<Eigen::Vector3d> points{state.position_m};
   for (const Eigen::Vector3d& p : remainingPoints(takeover_s)) {
@@ -618,54 +691,97 @@ ReplanStep FlightReplanner::stepOnce(double now_s) {
   Result<Candidate> best = make_error(ErrorCode::kInternal, "replan", "not run");
   // A hold is no route to rejoin: plan the whole rest from it.
   if (options_.local_repair && !holding_) {
-    best = bestCandidate([&](int attempt) { return localPlan(points, takeover_s, current_conflict, attempt); },
-                         takeover_s, &state, stop);
-    result.local = best.ok() && best->conflict_s > current_conflict;
+    // Local repair gets half the budget: the whole replan after it must have time for an attempt
+    // (when local repair took it all, the whole replan "stopped after 0 attempts" and the vehicle
+    // held where a whole replan found a route at once in the next cycle).
+    best = bestCandidate(
+        [&](int attempt) {
+          std::optional<AttemptPlan> plan = localPlan(points, takeover_s, current_conflict, attempt, static_conflict);
+          if (plan) plan->conflict_in_s = conflict_in_s(takeover_s);
+          return plan;
+        },
+        takeover_s, &state, cycleStop(started, kLocalBudgetShare));
+    result.local = best.ok() && std::isinf(best->conflict_s);
   }
+  // What local repair came to, for the failure's message: it spends the budget first, so a whole
+  // replan that then "stopped after 0 attempts" says where the budget went.
+  std::string local_outcome;
+  if (options_.local_repair && !holding_ && !result.local) {
+    local_outcome = best.ok() ? fmt::format("local repair's best meets an obstacle {:.1f} s after the takeover",
+                                            best->conflict_s - takeover_s)
+                              : "local repair: " + best.error().describe();
+  }
+  auto whole = [&](int attempt) {
+    AttemptPlan plan = wholePlan(points, ahead, attempt);
+    plan.conflict_in_s = conflict_in_s(takeover_s);
+    return std::optional<AttemptPlan>(std::move(plan));
+  };
+  TerminationCondition cancel_only;
+  if (options_.cancel) cancel_only.withCancelFlag(options_.cancel);
+  bool planned_past_deadline = false;
   if (!result.local) {
-    auto whole = [&](int attempt) {
-      AttemptPlan plan = wholePlan(points, ahead, attempt);
-      plan.conflict_in_s = std::isinf(current_conflict) ? options_.window_s : current_conflict - takeover_s;
-      return std::optional<AttemptPlan>(std::move(plan));
-    };
     best = bestCandidate(whole, takeover_s, &state, stop);
-    // A hold is the answer within the cycle; once it is in force (or without holds), late beats
-    // never: plan on past the deadline until a first candidate, or the vehicle might wait at
-    // its hold for as long as the machine is too loaded to plan within the budget.
-    if ((!options_.hold_fallback || holding_) && !best.ok() && best.error().code == ErrorCode::kTimeout &&
-        deadlinePassed(stop)) {
-      TerminationCondition cancel_only;
-      if (options_.cancel) cancel_only.withCancelFlag(options_.cancel);
-      best = bestCandidate(whole, takeover_s, &state, cancel_only, true);
+    // A hold is the answer within the cycle; once it is in force (or without holds, or for a
+    // conflict beyond the horizon), late beats never: plan on past the deadline until a first
+    // candidate, or the vehicle might wait at its hold for as long as the machine is too loaded
+    // to plan within the budget.
+    if (!deadline_holds_ && !best.ok() && best.error().code == ErrorCode::kTimeout && deadlinePassed(stop)) {
+      // From a clear hold (safe to wait in) the first candidate built, as the next cycles plan
+      // again; otherwise until a clear one (or every attempt): only a clear one is adopted.
+      best = bestCandidate(whole, takeover_s, &state, cancel_only, holding_ && std::isinf(current_conflict));
+      planned_past_deadline = true;
     }
   }
-  if (best.ok() && !(best->conflict_s > current_conflict || (holding_ && std::isinf(best->conflict_s)))) {
-    best = make_error(ErrorCode::kUnreachable, "replan",
-                      holding_ ? "no candidate is clear of the obstacles within the horizon"
-                               : "no candidate meets its first obstacle later than the current trajectory");
-  }
-  // A clear hold is safe to wait in, so it is left only for a plan that keeps room from the
-  // obstacles. The conflict check keeps the vehicle's radius and no more, and a hold plans again
-  // every cycle: the first candidate it lets through is then typically one that slips past an
-  // obstacle by a hair (after a replan cut short by its budget, plans leaving the hold passed
-  // 0.1-5.2 m beyond the vehicle's radius from an obstacle in the seed-003 scenario).
-  if (best.ok() && holding_ && std::isinf(current_conflict)) {
-    const double room_m = roomAlong(best->route.built.trajectory, takeover_s, takeover_s, options_.horizon_s, kHoldRoomM);
-    if (room_m < kHoldRoomM) {
-      // Unless waiting comes closer still (an obstacle will pass the hold nearer than that).
-      const double hold_room_m = roomAlong(route_.built.trajectory, start_world_s_, now_s, options_.horizon_s, kHoldRoomM);
-      if (!(room_m > hold_room_m)) {
-        best = make_error(ErrorCode::kUnreachable, "replan",
-                          "the candidate clear of the obstacles passes " + formatRoomM(room_m) +
-                              " m from one, the hold " + formatRoomM(hold_room_m) +
-                              " m (a clear hold is left with " + formatRoomM(kHoldRoomM) + " m, or more than it keeps)");
+  // What may replace the current trajectory, as it would go out: clear of the obstacles (one that
+  // still meets one, later, would not pass the audit, which publishes no trajectory known to meet
+  // one), leaving a clear hold only with room, with the kept part from now to the takeover in
+  // front, and passed by the audit.
+  auto vetted = [&](Result<Candidate> best) -> Result<Candidate> {
+    if (!best.ok()) return best;
+    if (!std::isinf(best->conflict_s)) {
+      return make_error(ErrorCode::kUnreachable, "replan",
+                        fmt::format("no candidate is clear of the obstacles (the best meets one {:.1f} s after the "
+                                    "takeover)",
+                                    best->conflict_s - takeover_s));
+    }
+    // A clear hold is safe to wait in, so it is left only for a plan that keeps room from the
+    // obstacles. The conflict check keeps the vehicle's radius and no more, and a hold plans again
+    // every cycle: the first candidate it lets through is then typically one that slips past an
+    // obstacle by a hair (after a replan cut short by its budget, plans leaving the hold passed
+    // 0.1-5.2 m beyond the vehicle's radius from an obstacle in the seed-003 scenario).
+    if (holding_ && std::isinf(current_conflict)) {
+      const double room_m =
+          roomAlong(best->route.built.trajectory, takeover_s, takeover_s, options_.horizon_s, kHoldRoomM);
+      if (room_m < kHoldRoomM) {
+        // Unless waiting comes closer still (an obstacle will pass the hold nearer than that).
+        const double hold_room_m =
+            roomAlong(route_.built.trajectory, start_world_s_, now_s, options_.horizon_s, kHoldRoomM);
+        if (!(room_m > hold_room_m)) {
+          return make_error(ErrorCode::kUnreachable, "replan",
+                            "the candidate clear of the obstacles passes " + formatRoomM(room_m) +
+                                " m from one, the hold " + formatRoomM(hold_room_m) + " m (a clear hold is left with " +
+                                formatRoomM(kHoldRoomM) + " m, or more than it keeps)");
+        }
       }
     }
-  }
+    Candidate adopted = withKeptPart(std::move(best.value()), std::max(now_s, start_world_s_), takeover_s);
+    if (auto refused = auditRefusal(adopted.route.built.trajectory, std::max(now_s, start_world_s_), now_s,
+                                    revision_ + 1)) {
+      return *refused;
+    }
+    return adopted;
+  };
+  best = vetted(std::move(best));
   if (!best.ok()) {
     result.failure = best.error();
+    if (!local_outcome.empty() && best.error().field != "audit") {
+      result.failure->message += "; before it, " + local_outcome;
+    }
     ++failed_cycles_;
-    if (options_.hold_fallback && !std::isinf(current_conflict) && best.error().code != ErrorCode::kCancelled) {
+    // Within the horizon a hold answers (when it passes the audit too); a conflict beyond it
+    // leaves the current trajectory in force while the next cycles plan on.
+    const bool cancelled = best.error().code == ErrorCode::kCancelled;
+    if (options_.hold_fallback && !std::isinf(current_conflict) && conflict_in_horizon && !cancelled) {
       // A fixed wing cannot stop and wait: it loiters.
       const bool held = limits_.fixedWing() ? adoptLoiter(now_s, takeover_s, current_conflict, result.hold_failure)
                                             : adoptHold(now_s, takeover_s, current_conflict);
@@ -673,13 +789,25 @@ ReplanStep FlightReplanner::stepOnce(double now_s) {
         ++revision_;
         result.holding = true;
         result.loiter = limits_.fixedWing();
+        result.latency_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+        return result;
       }
     }
-    result.latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-    return result;
+    // No hold to answer with either, for a conflict the budget cut the search for: nothing better
+    // than planning on past the deadline until a clear route (or every attempt).
+    if (!std::isinf(current_conflict) && !cancelled && !planned_past_deadline && deadlinePassed(stop)) {
+      best = vetted(bestCandidate(whole, takeover_s, &state, cancel_only));
+    }
+    if (!best.ok()) {
+      result.latency_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+      return result;
+    }
+    result.failure.reset();
+    result.hold_failure.reset();
   }
   if (!best->route.legs.empty()) result.reused_tree_nodes = best->route.legs.front().reused_tree_nodes;
-  Candidate adopted = withKeptPart(std::move(best.value()), std::max(now_s, start_world_s_), takeover_s);
+  Candidate adopted = std::move(best.value());
   const double adopted_start_s = std::max(now_s, start_world_s_);
   adopt(std::move(adopted.route), std::move(adopted.points), adopted_start_s);
   holding_ = false;
@@ -818,11 +946,13 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
       if (room_m >= kHoldRoomM && off_tracks) break;
     }
   }
-  if (!best) {
+  // Only a clear hold is put in force, and only when the audit passes it too.
+  if (!best || !std::isinf(best_conflict)) {
     spdlog::debug("event=replan_no_hold stops_tried={} stops_infeasible={} conflict_in_s={:.1f}", stops.size(),
                   stops_infeasible, conflict_s - now_s);
     return false;
   }
+  if (auditRefusal(*best, from_s, now_s, revision_ + 1)) return false;
   installHold(std::move(*best), from_s, best_stop_s);
   loiter_circle_.reset();
   spdlog::debug("event=replan_hold stop_in_s={:.1f} conflict_in_s={:.1f} room_m={:.0f} stops_tried={} ms={:.1f}",
@@ -832,6 +962,7 @@ bool FlightReplanner::adoptHold(double now_s, double takeover_s, double conflict
 }
 
 void FlightReplanner::installHold(Trajectory hold, double from_s, double kept_until_s) {
+  ++trajectory_changes_;
   // The route points the kept part reaches keep their times; the others are not reached by the hold.
   std::vector<Eigen::Vector3d> points{hold.evaluate(0.0, Derivative::kPosition)};
   std::vector<double> times{from_s};

@@ -110,6 +110,14 @@ struct ReplanOptions {
   // Set from any thread to stop the planning in progress (start() and step() then fail with
   // kCancelled); the engine uses it to cancel in-flight plans.
   std::shared_ptr<std::atomic<bool>> cancel;
+  // The audit of every trajectory the flight is about to put in force (service/trajectory_audit.hpp,
+  // a check that is not this planner's; the mission pipeline sets it): an error (field "audit")
+  // when it refuses `trajectory`, which starts at world time start_world_s, checked at world time
+  // now_s as the flight's revision `revision`. A refused trajectory is never adopted: the current
+  // one stays in force, or a hold that passes the audit. Empty: no audit.
+  std::function<std::optional<Error>(const Trajectory& trajectory, double start_world_s, double now_s,
+                                     std::uint32_t revision)>
+      audit;
 };
 
 struct ReplanStep {
@@ -173,10 +181,15 @@ class FlightReplanner {
   std::uint32_t revision() const { return revision_; }
   // The route points not yet reached at world_s (the goal always stays).
   std::vector<Eigen::Vector3d> remainingPoints(double world_s) const;
-  // Whether the trajectory from now_s to now_s + horizon_s is clear of every obstacle in time.
+  // Whether the trajectory from now_s on is clear: of the moving obstacles up to now_s +
+  // horizon_s, of what stays in force (below) to its end.
   bool clearAhead(double now_s, double horizon_s) const;
-  // World time of the first conflict of `trajectory` (started at start_world_s) in
-  // [from_s, from_s + horizon_s]; infinity when there is none.
+  // World time of the first conflict of `trajectory` (started at start_world_s) from from_s on;
+  // infinity when there is none. The moving obstacles are checked where they will be over
+  // [from_s, from_s + horizon_s] (their predictions further ahead are not worth acting on: the
+  // next cycles look again); what stays in force (the terrain, the ceiling, fixed obstacles and
+  // the no-fly zones in force at each moment) over the whole rest of the trajectory, so a zone far
+  // ahead is seen when it appears, not when it comes within the horizon.
   double firstConflictS(const Trajectory& trajectory, double start_world_s, double from_s, double horizon_s) const;
   // The least room between the vehicle's sphere on `trajectory` and any obstacle over
   // [from_s, from_s + horizon_s] (CollisionWorld::obstacleDistance, sampled finely near them),
@@ -185,9 +198,9 @@ class FlightReplanner {
                    double cap_m) const;
 
  private:
-  // The cycle's stop: the replan budget counted from `started` (the start of the cycle), and the
-  // cancel flag.
-  TerminationCondition cycleStop(std::chrono::steady_clock::time_point started) const;
+  // The cycle's stop: the replan budget (`share` of it) counted from `started` (the start of the
+  // cycle), and the cancel flag.
+  TerminationCondition cycleStop(std::chrono::steady_clock::time_point started, double share = 1.0) const;
   // Whether the cycle's deadline has passed: `stop`'s own, or ReplanOptions::replan_budget_attempts.
   bool deadlinePassed(const TerminationCondition& stop) const;
   FlightReplanner() = default;
@@ -219,10 +232,13 @@ class FlightReplanner {
   RouteOptions attemptOptions(const std::vector<Eigen::Vector3d>& points, double at_world_s,
                               const TrajectoryState* state, int attempt, int variant, double conflict_in_s,
                               const std::optional<Rejoin>& rejoin) const;
-  // The local stretch for an attempt: from the takeover state to the rejoin knot; nullopt when
-  // the rejoin would be the end of the trajectory anyway (a whole replan is the same problem).
+  // The local stretch for an attempt: from the takeover state to the rejoin knot, the first
+  // past the attempt's time after the conflict that is clear of what stays in force there;
+  // nullopt when the rejoin would be the end of the trajectory anyway (a whole replan is the same
+  // problem), or for a retimed attempt when the conflict is with what stays in force
+  // (static_conflict: a no-fly zone does not pass while the vehicle slows down).
   std::optional<AttemptPlan> localPlan(const std::vector<Eigen::Vector3d>& route_points, double takeover_s,
-                                       double conflict_s, int attempt) const;
+                                       double conflict_s, int attempt, bool static_conflict) const;
   AttemptPlan wholePlan(const std::vector<Eigen::Vector3d>& route_points,
                         const std::vector<Eigen::Vector3d>& current_path, int attempt) const;
   // The current path over a local stretch as a planned route (no search), for retiming.
@@ -263,6 +279,18 @@ class FlightReplanner {
   // part reaches by kept_until_s keep their times, the others are not reached.
   void installHold(Trajectory hold, double from_s, double kept_until_s);
   ReplanStep stepOnce(double now_s);
+  // firstConflictS's two parts: the moving obstacles (and everything else) over the horizon, and
+  // what stays in force from from_s to the end of the trajectory.
+  double conflictWithinS(const Trajectory& trajectory, double start_world_s, double from_s, double horizon_s) const;
+  double staticConflictAfterS(const Trajectory& trajectory, double start_world_s, double from_s) const;
+  // The current trajectory's first conflict from now_s (firstConflictS). The part beyond the
+  // horizon is checked again only when the world or the trajectory changed since it was last
+  // found clear (what stays in force does not move, and that part only shrinks as time passes).
+  double currentConflictS(double now_s);
+  // The audit's verdict on a trajectory about to be adopted as `revision` (nothing: it passes, or
+  // there is no audit).
+  std::optional<Error> auditRefusal(const Trajectory& trajectory, double start_world_s, double now_s,
+                                    std::uint32_t revision) const;
 
   std::shared_ptr<const CollisionWorld> world_;
   VehicleLimits limits_;
@@ -279,6 +307,13 @@ class FlightReplanner {
   std::optional<LoiterCircle> loiter_circle_;  // the loiter in force
   double loiter_end_rad_ = 0.0;               // where its last arc ends
   std::shared_ptr<const RrtTree> leg_tree_;  // ReplanOptions::rrt_tree_reuse: the first leg's tree in force
+  // A replan whose deadline may answer with a hold: the trajectory build stops at the deadline
+  // too. Off when a hold is no answer (one in force, none allowed, or a conflict beyond the horizon).
+  bool deadline_holds_ = true;
+  // currentConflictS's memory: the current trajectory (counted by trajectory_changes_) was found
+  // clear beyond the horizon with what stayed in force at CollisionWorld::staticVersion().
+  std::uint64_t trajectory_changes_ = 0;
+  std::optional<std::pair<std::uint64_t, std::uint64_t>> clear_beyond_;  // (static version, trajectory_changes_)
 };
 
 }  // namespace skyroute

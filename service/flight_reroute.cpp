@@ -22,7 +22,8 @@ ReplanStep FlightReplanner::reroute(double now_s, const std::vector<Eigen::Vecto
     return result;
   };
   if (finished(now_s)) return done(make_error(ErrorCode::kInvalidArgument, "reroute", "the flight has ended"));
-  const double current_conflict = firstConflictS(route_.built.trajectory, start_world_s_, now_s, options_.horizon_s);
+  const double current_conflict = currentConflictS(now_s);
+  deadline_holds_ = false;  // a new order is no reason to hold
   result.conflict_ahead = !std::isinf(current_conflict);
   const double takeover_s = takeoverTime(now_s, current_conflict);
   result.takeover_s = takeover_s;
@@ -37,7 +38,7 @@ ReplanStep FlightReplanner::reroute(double now_s, const std::vector<Eigen::Vecto
   auto whole = [&](int attempt) {
     // The current path goes through the old order: no candidate can repeat it.
     AttemptPlan plan = wholePlan(points, {}, attempt);
-    plan.conflict_in_s = std::isinf(current_conflict) ? options_.window_s : current_conflict - takeover_s;
+    plan.conflict_in_s = current_conflict <= now_s + options_.horizon_s ? current_conflict - takeover_s : options_.window_s;
     return std::optional<AttemptPlan>(std::move(plan));
   };
   Result<Candidate> best = bestCandidate(whole, takeover_s, &state, stop);
@@ -47,11 +48,15 @@ ReplanStep FlightReplanner::reroute(double now_s, const std::vector<Eigen::Vecto
     best = bestCandidate(whole, takeover_s, &state, cancel_only, true);
   }
   if (!best.ok()) return done(best.error());
-  if (best->conflict_s < current_conflict) {
-    return done(make_error(ErrorCode::kUnreachable, "reroute",
-                           "the new order's trajectory meets an obstacle sooner than the current one"));
+  // Only a clear trajectory goes out (the audit publishes none known to meet an obstacle).
+  if (!std::isinf(best->conflict_s)) {
+    return done(make_error(ErrorCode::kUnreachable, "reroute", "the new order's trajectory meets an obstacle"));
   }
   Candidate adopted = withKeptPart(std::move(best.value()), std::max(now_s, start_world_s_), takeover_s);
+  if (auto refused = auditRefusal(adopted.route.built.trajectory, std::max(now_s, start_world_s_), now_s,
+                                      revision_ + 1)) {
+    return done(refused);
+  }
   adopt(std::move(adopted.route), std::move(adopted.points), std::max(now_s, start_world_s_));
   holding_ = false;
   ++revision_;

@@ -31,7 +31,7 @@ PlanError stageError(PlanErrorCode code, std::string field, std::string message,
 
 // Which stage a route error comes from: the trajectory stage names "trajectory" or a limit.
 PlanStage routeStage(const Error& e) {
-  if (isTrajectoryStageError(e) || e.field.rfind("limits", 0) == 0) return PlanStage::kTrajectory;
+  if (isTrajectoryStageError(e) || e.field.rfind("limits", 0) == 0 || e.field == "audit") return PlanStage::kTrajectory;
   return PlanStage::kLegs;
 }
 
@@ -86,6 +86,7 @@ std::optional<PlanError> validatePipelineOptions(const PipelineOptions& o) {
     return bad("planning.leg_max_iterations", "and planning.leg_time_cap_s are both 0: a leg's search would never stop");
   }
   if (!(o.replan.period_s > 0.0)) return bad("replanning.period_s", "must be positive");
+  if (auto audit = validateAuditOptions(o.audit)) return bad(audit->field, audit->message);
   return std::nullopt;
 }
 
@@ -195,6 +196,11 @@ Result<MissionPlan, PlanError> MissionPipeline::plan(const PipelineRequest& requ
   // Building and repairing a trajectory checks it segment by segment: a cancel ends it there,
   // first plan and every later replan of the mission alike.
   replan.route.trajectory.feasibility.stop_requested = stopWhen(replan.cancel);
+  // Every trajectory the flight puts in force, this first one included, passes the audit first.
+  plan.audit_label = std::make_shared<FlightAuditLabel>();
+  plan.audit_label->vehicle_id = r.vehicle_id;
+  replan.audit = flightAudit(plan.mission.world, plan.mission.limits, options_.audit, replan.horizon_s,
+                             options_.audit_counters, plan.audit_label);
   const std::size_t legs = plan.mission.ordered_m.size() - 1;
   report(PlanStage::kLegs, "planning " + std::to_string(legs) + " leg" + (legs == 1 ? "" : "s") + " with " +
                                std::string(plan.mission.planner->name) + " and the trajectory through them");

@@ -11,6 +11,8 @@
 //   legs       -- the request's planner finds each leg's 3D path
 //   trajectory -- one 7th-order minimum-snap trajectory through the legs' waypoints, checked
 //                 against the vehicle's limits and the terrain and repaired (route_planner.hpp)
+//   (audit)    -- the trajectory, before it is put in force, passes the audit (flight_audit.hpp),
+//                 a check that is not the planner's; a refusal fails the trajectory stage
 //   sampling   -- the trajectory as timed samples with ENU and WGS84 positions
 // The budget is reproducible by default: an iteration count per leg, with a wall-clock cap whose
 // firing the plan's notes (and so the status and the log) report.
@@ -29,6 +31,7 @@
 #include "planning/core/termination.hpp"
 #include "service/fleet_mission.hpp"
 #include "service/fleet_replanner.hpp"
+#include "service/flight_audit.hpp"
 #include "service/flight_replanner.hpp"
 #include "service/grid_leg_planner.hpp"
 #include "service/mission_order.hpp"
@@ -61,6 +64,9 @@ struct PipelineOptions {
   FleetReplanOptions fleet_replan;        // flying fleets kept clear of obstacles (fleet_replanner.hpp)
   MissionReorderOptions reorder;          // live re-ordering of flying missions (mission_reorder.hpp)
   VehicleModelDefaults vehicle;           // the model of requests that leave it to the service
+  AuditOptions audit;                     // the audit every trajectory passes before it is in force
+  // Where the audits are counted (the daemon's heartbeat); null: not counted.
+  std::shared_ptr<AuditCounters> audit_counters;
 
   // The first plan's leg pipeline is RRT* on an iteration budget; a replan must come back within
   // a cycle, so its RRT* gets fewer iterations per leg (informed sampling around the current path
@@ -104,6 +110,8 @@ struct MissionPlan {
   std::uint64_t seed = 0;
   std::vector<std::string> notes;            // e.g. a leg whose wall-clock cap fired
   double planning_time_s = 0.0;
+  // Whom the flight's audit log lines name (its revision base follows the engine's numbering).
+  std::shared_ptr<FlightAuditLabel> audit_label;
 };
 
 // What a look at changed obstacles did to a flying mission (MissionPipeline::reorder).

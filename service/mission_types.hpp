@@ -274,6 +274,8 @@ struct ServiceStatusData {
   double heartbeat_period_s = 1.0;  // the next heartbeat is due this long after this one
   std::uint32_t obstacles = 0;      // obstacles in force
   bool journal_ok = true;           // false while the state journal's writes fail (none kept: true)
+  std::uint32_t audits = 0;          // trajectories audited before publishing since start
+  std::uint32_t audit_failures = 0;  // of those, refused by the audit
 };
 
 struct FleetRequestData {

@@ -178,12 +178,14 @@ void CollisionWorld::upsertObstacle(const Obstacle& obstacle) {
   std::unique_lock lock(mutex_);
   auto& entries = fcl_->entries;
   auto it = std::find_if(entries.begin(), entries.end(), [&](const auto& e) { return e.obstacle.id == obstacle.id; });
+  const bool fixed_changed = !obstacle.moving() || (it != entries.end() && !it->obstacle.moving());
   if (it != entries.end()) {
     *it = std::move(entry);
   } else {
     entries.push_back(std::move(entry));
   }
   ++obstacle_version_;
+  if (fixed_changed) ++static_version_;
 }
 
 bool CollisionWorld::removeObstacle(std::uint64_t id) {
@@ -191,6 +193,7 @@ bool CollisionWorld::removeObstacle(std::uint64_t id) {
   auto& entries = fcl_->entries;
   auto it = std::find_if(entries.begin(), entries.end(), [&](const auto& e) { return e.obstacle.id == id; });
   if (it == entries.end()) return false;
+  if (!it->obstacle.moving()) ++static_version_;
   entries.erase(it);
   ++obstacle_version_;
   return true;
@@ -200,6 +203,7 @@ void CollisionWorld::clearObstacles() {
   std::unique_lock lock(mutex_);
   fcl_->entries.clear();
   ++obstacle_version_;
+  ++static_version_;
 }
 
 std::vector<Obstacle> CollisionWorld::obstacles() const {
@@ -215,10 +219,16 @@ std::uint64_t CollisionWorld::obstacleVersion() const {
   return obstacle_version_;
 }
 
+std::uint64_t CollisionWorld::staticVersion() const {
+  std::shared_lock lock(mutex_);
+  return static_version_;
+}
+
 void CollisionWorld::setNoFlyZones(std::vector<NoFlyZone> zones) {
   std::unique_lock lock(mutex_);
   zones_ = std::move(zones);
   ++obstacle_version_;
+  ++static_version_;
 }
 
 std::vector<NoFlyZone> CollisionWorld::noFlyZones() const {
@@ -337,12 +347,13 @@ bool CollisionWorld::isSegmentValidImpl(const Eigen::Vector3d& a_m, const Eigen:
   return true;
 }
 
-bool CollisionWorld::isStaticSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const {
+bool CollisionWorld::isStaticSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m,
+                                          std::optional<double> t_s, double duration_s) const {
   if (!(std::max(a_m.z(), b_m.z()) <= options_.ceiling_m)) return false;
   if (!(dilated_terrain_->minHeightAboveGround(a_m, b_m) >= options_.min_clearance_m)) return false;
   const double r = options_.vehicle_radius_m;
   std::shared_lock lock(mutex_);
-  if (zoneTouchingSegment(zones_, a_m, b_m, r)) return false;
+  if (zoneTouchingSegment(zones_, a_m, b_m, r, t_s, duration_s)) return false;
   for (const auto& e : fcl_->entries) {
     const Obstacle& o = e.obstacle;
     if (o.moving() || pointSegmentDistance(o.center_m, a_m, b_m) > o.boundingRadius() + r) continue;

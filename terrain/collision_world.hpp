@@ -69,6 +69,9 @@ class CollisionWorld {
   void clearObstacles();
   std::vector<Obstacle> obstacles() const;
   std::uint64_t obstacleVersion() const;  // grows with obstacle and no-fly zone changes
+  // Grows with the changes of what stays in force (fixed obstacles and no-fly zones), not with a
+  // moving obstacle's: what isStaticSegmentValid answers changes only with it.
+  std::uint64_t staticVersion() const;
 
   // No-fly zones (checked by the caller with checkNoFlyZone): every validity check below keeps the
   // vehicle's sphere out of them, at the check's time when it has one (a zone out of force then
@@ -96,9 +99,12 @@ class CollisionWorld {
   bool isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m, std::optional<double> t_s = std::nullopt,
                       double obstacle_margin_m = 0.0, double window_s = 0.0) const;
   bool isSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m, const ObstacleSnapshot& snapshot) const;
-  // Terrain and fixed obstacles only; moving obstacles ignored (for the part of a trajectory beyond
-  // the horizon where their positions are not worth predicting: replanning will see them).
-  bool isStaticSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m) const;
+  // Terrain, ceiling, fixed obstacles and no-fly zones only; moving obstacles ignored (for the part
+  // of a trajectory beyond the horizon where their positions are not worth predicting: replanning
+  // will see them). With a time, only the zones in force at some time of [t_s, t_s + duration_s]
+  // block (the segment flown then); without, every zone does.
+  bool isStaticSegmentValid(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m,
+                            std::optional<double> t_s = std::nullopt, double duration_s = 0.0) const;
   // Vehicle moving at constant velocity from a at t0 to b at t1, against moving obstacles at their
   // positions over that interval (conservative advancement on FCL distances: no tunnelling).
   bool isSegmentValidDuring(const Eigen::Vector3d& a_m, double t0_s, const Eigen::Vector3d& b_m,
@@ -133,6 +139,7 @@ class CollisionWorld {
   std::unique_ptr<FclObstacles> fcl_;
   std::vector<NoFlyZone> zones_;
   std::uint64_t obstacle_version_ = 0;
+  std::uint64_t static_version_ = 0;
   mutable std::once_flag regions_once_;
   mutable std::unique_ptr<const FlyableRegions> regions_;
 };

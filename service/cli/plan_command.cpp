@@ -164,10 +164,17 @@ void runPlan(const PlanArgs& a) {
   if (!world.ok()) fail(kTool, kExitBadInput, "terrain.dem " + world.error().describe());
   const double now_s = static_cast<double>(utcNowNs()) * 1e-9;
   loadNoFlyZones(kTool, a.nofly, config, **world, now_s);
+  // The daemon's audit, in the same pipeline: a trajectory that fails it fails the plan, and
+  // nothing is written.
+  p.audit_counters = std::make_shared<AuditCounters>();
   const MissionPipeline pipeline(*world, p);
   auto progress = [](PlanStage, const std::string& what) { std::cerr << what << " ..." << std::endl; };
   auto planned = pipeline.plan(PipelineRequest{mission, std::nullopt, std::nullopt}, now_s, {}, progress);
   if (!planned.ok()) failPlanError(kTool, a.mission, planned.error());
+  std::printf("audit: passed (%llu trajectory audited: samples every %g s against the DEM, the ceiling, %zu no-fly "
+              "zones and the vehicle's limits)\n",
+              static_cast<unsigned long long>(p.audit_counters->audits.load()), p.audit.step_s,
+              (*world)->noFlyZones().size());
   const MissionPlan& plan = *planned;
   const TrajectoryData data = pipeline.sample(
       plan, TrajectoryIdentity{mission.vehicle_id, mission.vehicle_id + "-plan", 0, mission.request_id});

@@ -52,7 +52,8 @@ nlohmann::json toJson(const LiveService& l) {
           {"pid", l.instance.pid},          {"uptime_s", uptimeS(s)},        {"queue_length", s.queue_length},
           {"vehicles", s.vehicles},         {"replans", s.replans},          {"obstacles", s.obstacles},
           {"terrain_loaded", s.terrain_loaded}, {"terrain", s.terrain_name}, {"version", s.service_version},
-          {"heartbeat_period_s", s.heartbeat_period_s}, {"shard_group", l.instance.shard_group}};
+          {"heartbeat_period_s", s.heartbeat_period_s}, {"shard_group", l.instance.shard_group},
+          {"audits", s.audits},             {"audit_failures", s.audit_failures}};
 }
 
 std::string describeLine(const LiveService& l) {
@@ -66,6 +67,7 @@ std::string describeLine(const LiveService& l) {
          (l.instance.shard_group.empty() ? "" : " shard_group=" + l.instance.shard_group) +
          " uptime_s=" + uptime + " queue=" + std::to_string(s.queue_length) + " vehicles=" + std::to_string(s.vehicles) +
          " replans=" + std::to_string(s.replans) + " obstacles=" + std::to_string(s.obstacles) +
+         " audits=" + std::to_string(s.audits) + " audit_failures=" + std::to_string(s.audit_failures) +
          " terrain=" + (s.terrain_loaded ? s.terrain_name : std::string("(none)")) + " version=" + s.service_version;
 }
 

@@ -81,6 +81,11 @@ TEST_F(NoFlyCli, PlanGoesRoundTheZoneAndItsPlanExcludesIt) {
   const auto r = runCli(planArgs() + " --nofly " + zones + " --out " + plan_path);
   ASSERT_EQ(r.exit_code, 0) << r.text;
   EXPECT_NE(r.text.find("no-fly zones: 1 in force"), std::string::npos) << r.text;
+  // The daemon's audit ran on what was written, in the same pipeline (docs/dds.md).
+  EXPECT_NE(r.text.find("audit: passed (1 trajectory audited: samples every 0.05 s against the DEM, the ceiling, 1 "
+                        "no-fly zones"),
+            std::string::npos)
+      << r.text;
   const nlohmann::json plan = nlohmann::json::parse(skyroute::testing::readTextFile(plan_path), nullptr, false);
   ASSERT_FALSE(plan.is_discarded());
   const auto& polygons = plan["geoFence"]["polygons"];
