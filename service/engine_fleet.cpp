@@ -77,8 +77,10 @@ void Engine::planFleetJob(Job& job) {
   // The flying fleet, kept and replanned from here on.
   std::shared_ptr<Fleet> flying;
   if (options.replanning && options.pipeline.fleet_replan.enabled) {
-    auto replanner = FleetReplanner::create(r, out, world_model, fleetMissionOptions(options.pipeline),
-                                            options.pipeline.fleet_replan, static_cast<double>(start_utc_ns) * 1e-9);
+    FleetReplanOptions replan_options = options.pipeline.fleet_replan;
+    replan_options.audit = pipeline.fleetAudit(r);  // every revision, as the first ones were
+    auto replanner = FleetReplanner::create(r, out, world_model, fleetMissionOptions(options.pipeline), replan_options,
+                                            static_cast<double>(start_utc_ns) * 1e-9);
     if (replanner.ok()) {
       flying = std::make_shared<Fleet>();
       flying->request_id = r.request_id;

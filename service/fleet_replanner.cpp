@@ -460,6 +460,11 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
     if (leg.to_point + 1 < points.size()) c.task_times_world_s.push_back(new_start_s + leg.end_s);
   }
   if (!c.legs.empty()) c.legs.front().start_s = 0.0;
+  // The audit's own check of the whole revision (zones at each sample's time, obstacles, limits);
+  // a refused candidate is never adopted, so never published.
+  if (options_.audit && options_.audit(i, c.trajectory, c.start_world_s, now_s, v.revision + 1)) {
+    return rejected(i, wait_s, "the audit refused it");
+  }
   return c;
 }
 

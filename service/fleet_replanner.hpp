@@ -46,6 +46,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <set>
@@ -62,6 +63,11 @@
 
 namespace skyroute {
 
+// The audit a fleet vehicle's revision passes before it is adopted (flight_audit.hpp, fleetAudit):
+// nothing when it passes, else the refusal (field "audit"), already counted and logged.
+using FleetAuditHook = std::function<std::optional<Error>(std::size_t vehicle, const Trajectory& trajectory,
+                                                          double start_world_s, double now_s, std::uint32_t revision)>;
+
 struct FleetReplanOptions {
   bool enabled = true;              // the engine keeps and replans its fleets
   double lead_s = 1.0;              // takeover this long after the step's time
@@ -70,6 +76,8 @@ struct FleetReplanOptions {
   double budget_s = 0.5;            // wall time of one step (candidates stop when it runs out)
   std::vector<double> waits_s = {10.0, 30.0, 60.0, 120.0};  // hovers tried after the detour
   std::uint64_t max_expansions = 200'000;                  // per space-time search
+  // Every candidate revision passes it before it is adopted (the engine sets it; unset: none).
+  FleetAuditHook audit;
 };
 
 // One vehicle of the flying fleet.

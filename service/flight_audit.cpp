@@ -35,4 +35,23 @@ decltype(ReplanOptions::audit) flightAudit(std::shared_ptr<const CollisionWorld>
   };
 }
 
+FleetAuditHook fleetAudit(std::shared_ptr<const CollisionWorld> world, const VehicleLimits& limits,
+                          const AuditOptions& options, double horizon_s, std::shared_ptr<AuditCounters> counters,
+                          const std::vector<std::string>& vehicle_ids) {
+  std::vector<decltype(ReplanOptions::audit)> hooks;
+  hooks.reserve(vehicle_ids.size());
+  for (const std::string& id : vehicle_ids) {
+    auto label = std::make_shared<FlightAuditLabel>();
+    label->vehicle_id = id;
+    hooks.push_back(flightAudit(world, limits, options, horizon_s, counters, std::move(label)));
+  }
+  return [hooks = std::move(hooks)](std::size_t vehicle, const Trajectory& trajectory, double start_world_s,
+                                    double now_s, std::uint32_t revision) -> std::optional<Error> {
+    if (vehicle >= hooks.size()) {
+      return make_error(ErrorCode::kInternal, "audit", "no vehicle " + std::to_string(vehicle) + " in the fleet");
+    }
+    return hooks[vehicle](trajectory, start_world_s, now_s, revision);
+  };
+}
+
 }  // namespace skyroute

@@ -11,7 +11,9 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "service/fleet_replanner.hpp"
 #include "service/flight_replanner.hpp"
 #include "service/trajectory_audit.hpp"
 
@@ -30,5 +32,12 @@ decltype(ReplanOptions::audit) flightAudit(std::shared_ptr<const CollisionWorld>
                                            const AuditOptions& options, double horizon_s,
                                            std::shared_ptr<AuditCounters> counters,
                                            std::shared_ptr<const FlightAuditLabel> label);
+
+// The audit of a fleet's vehicles (FleetReplanOptions::audit, and each vehicle's first trajectory
+// before the fleet is published): vehicle i's audits are counted and logged as flightAudit's,
+// naming vehicle_ids[i]. A vehicle index outside vehicle_ids is refused.
+FleetAuditHook fleetAudit(std::shared_ptr<const CollisionWorld> world, const VehicleLimits& limits,
+                          const AuditOptions& options, double horizon_s, std::shared_ptr<AuditCounters> counters,
+                          const std::vector<std::string>& vehicle_ids);
 
 }  // namespace skyroute

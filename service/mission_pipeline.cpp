@@ -336,7 +336,32 @@ FleetPlanOutput MissionPipeline::planFleet(const FleetRequestData& request, std:
                                            const TerminationCondition& stop) const {
   FleetMissionOptions fleet = fleetMissionOptions(options_);
   fleet.route.trajectory.feasibility.stop_requested = stopWhen(stop.sharedCancelFlag());
-  return planFleetMission(request, *world_, fleet, start_utc_ns, stop);
+  FleetPlanOutput out = planFleetMission(request, *world_, fleet, start_utc_ns, stop);
+  if (!out.ok()) return out;
+  // Every vehicle's first trajectory passes the audit, as a single flight's does.
+  const FleetAuditHook audit = fleetAudit(request);
+  const double start_world_s = static_cast<double>(start_utc_ns) * 1e-9;
+  for (std::size_t i = 0; i < out.flown.size() && audit; ++i) {
+    const std::optional<Error> refused = audit(i, out.flown[i], start_world_s + out.delays_s[i], start_world_s, 0);
+    if (!refused) continue;
+    PlanError error = toPlanError(*refused);
+    error.stage = PlanStage::kTrajectory;
+    error.field = "vehicle_ids[" + std::to_string(i) + "]";
+    out.status.state = PlanState::kFailed;
+    out.status.error_code = error.code;
+    out.status.field = error.field;
+    out.status.message = error.describe();
+    out.trajectories.clear();
+    break;
+  }
+  return out;
+}
+
+FleetAuditHook MissionPipeline::fleetAudit(const FleetRequestData& request) const {
+  auto world = world_->worldFor(request.limits.min_clearance_agl_m, request.limits.ceiling_amsl_m);
+  if (!world.ok()) return {};
+  return skyroute::fleetAudit(*world, toVehicleLimits(request.limits), options_.audit, options_.replan.horizon_s,
+                              options_.audit_counters, request.vehicle_ids);
 }
 
 }  // namespace skyroute

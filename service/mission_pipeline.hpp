@@ -150,9 +150,15 @@ class MissionPipeline {
   // ordered points follow (the points passed first, as flown). Nothing for a plan without
   // plan.reorder.
   ReorderOutcome reorder(MissionPlan& plan, double now_s, const TerminationCondition& stop = {}) const;
-  // A fleet request (fleet_mission.hpp) with this pipeline's trajectory stage and sample spacing.
+  // A fleet request (fleet_mission.hpp) with this pipeline's trajectory stage and sample spacing;
+  // each vehicle's trajectory passes the audit (fleetAudit) before the plan succeeds, and a
+  // refusal fails the fleet naming the vehicle (field vehicle_ids[i]; nothing is published).
   FleetPlanOutput planFleet(const FleetRequestData& request, std::int64_t start_utc_ns,
                             const TerminationCondition& stop = {}) const;
+  // The audit of the request's vehicles against this pipeline's world (counted in
+  // options.audit_counters), for the fleet's replanner to use on every revision; empty when the
+  // world has no layer for the request's clearance and ceiling.
+  FleetAuditHook fleetAudit(const FleetRequestData& request) const;
 
  private:
   std::shared_ptr<WorldModel> world_;

@@ -122,6 +122,11 @@ TEST_F(FleetE2E, FleetRequestGetsOneSeparatedTrajectoryPerVehicleAndAStatusWithT
     }
   }
   EXPECT_GE(closest, status.min_separation_m - 1.0);
+  // Each vehicle's trajectory passed the audit before the fleet was published (docs/dds.md).
+  const auto heartbeat = station_->freshHeartbeat(20.0);
+  ASSERT_TRUE(heartbeat);
+  EXPECT_GE(heartbeat->audits, 3u);
+  EXPECT_EQ(heartbeat->audit_failures, 0u);
   std::printf("fleet over DDS: planning %.3f s, makespan %d steps / %.1f s, separation %.0f m (min %.0f), "
               "repairs %u\n",
               status.planning_time_s, status.makespan_steps, status.makespan_s, closest, status.min_separation_m,

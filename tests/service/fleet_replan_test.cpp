@@ -12,6 +12,8 @@
 
 #include "planning/fleet/fleet_conflict_checker.hpp"
 #include "service/engine.hpp"
+#include "service/fleet_replanner.hpp"
+#include "service/mission_pipeline.hpp"
 #include "tests/service/default_world_fixture.hpp"
 #include "tests/service/fleet_flown.hpp"
 #include "tests/service/recording_sink.hpp"
@@ -94,6 +96,19 @@ class FleetReplanTest : public testing::DefaultWorldTest {
     for (std::size_t k = published_before; k < sink_.trajectories.size(); ++k)
       if (sink_.trajectories[k].vehicle_id == vehicle) revised.push_back(sink_.trajectories[k]);
     return {update, revised};
+  }
+
+  // A column (radius 120 m) sent now, moving at `velocity`, that is where `vehicle` of the plan
+  // `first` is at_s after the start.
+  ObstacleUpdateData columnAimedAt(const std::vector<TrajectoryData>& first, std::uint64_t id, const std::string& vehicle,
+                                   double at_s, const Eigen::Vector2d& velocity) const {
+    const TrajectoryData& t = *std::find_if(first.begin(), first.end(), [&](const TrajectoryData& f) {
+      return f.vehicle_id == vehicle;
+    });
+    const double now_s = static_cast<double>(now_ns_) * 1e-9;
+    const Eigen::Vector3d meet = sampledAt(t, kStartNs * 1e-9 + at_s);
+    const Eigen::Vector2d from = meet.head<2>() - velocity * (kStartNs * 1e-9 + at_s - now_s);
+    return column(id, from.x(), from.y(), velocity.x(), velocity.y(), 120.0);
   }
 
   // One replanning cycle and the fleet replan job it queues, at now_ns_.
@@ -183,13 +198,7 @@ TEST_F(FleetReplanTest, ThreeCrossingObstaclesFiveVehiclesFifteenTasks) {
   // Three columns, each aimed at where one vehicle will be: uav-a at 300 s, uav-c at 450 s and
   // uav-d at 600 s after the start, crossing its path from the side.
   auto aimedAt = [&](std::uint64_t id, const std::string& vehicle, double at_s, const Eigen::Vector2d& velocity) {
-    const TrajectoryData& t = *std::find_if(first.begin(), first.end(), [&](const TrajectoryData& f) {
-      return f.vehicle_id == vehicle;
-    });
-    const double now_s = static_cast<double>(now_ns_) * 1e-9;
-    const Eigen::Vector3d meet = sampledAt(t, kStartNs * 1e-9 + at_s);
-    const Eigen::Vector2d from = meet.head<2>() - velocity * (kStartNs * 1e-9 + at_s - now_s);
-    return column(id, from.x(), from.y(), velocity.x(), velocity.y(), 120.0);
+    return columnAimedAt(first, id, vehicle, at_s, velocity);
   };
   const std::vector<ObstacleUpdateData> updates = {aimedAt(1, "uav-a", 300.0, Eigen::Vector2d(0.0, 12.0)),
                                                    aimedAt(2, "uav-c", 450.0, Eigen::Vector2d(10.0, -6.0)),
@@ -369,6 +378,64 @@ TEST_F(FleetReplanTest, ATaskAnObstacleCoversIsReallocatedAndServed) {
   EXPECT_EQ(holders, 1);
   expectCleanFlight(r, {parked});
   expectNoGridConflicts(r);
+}
+
+// Every trajectory a fleet puts in force passes the audit: each vehicle's first one before the
+// fleet is published, and each replanned revision before it is adopted; the service counts them.
+TEST_F(FleetReplanTest, EveryTrajectoryOfAFleetIsAuditedAndCounted) {
+  const FleetRequestData r = fiveByFifteen();
+  planFleet(r);
+  const ServiceStatusData planned = engine_->status("svc");
+  EXPECT_EQ(planned.audits, r.vehicle_ids.size());
+  EXPECT_EQ(planned.audit_failures, 0u);
+  const std::vector<TrajectoryData> first = sink_.trajectories;
+  now_ns_ += seconds(60.0);
+  ASSERT_FALSE(engine_->updateObstacle(columnAimedAt(first, 1, "uav-a", 300.0, Eigen::Vector2d(0.0, 12.0))).has_value());
+  cycle();
+  now_ns_ += seconds(0.1);
+  cycle();
+  const std::size_t revisions = sink_.trajectories.size() - first.size();
+  ASSERT_GE(revisions, 1u) << "the column must make the fleet replan";
+  const ServiceStatusData replanned = engine_->status("svc");
+  EXPECT_GE(replanned.audits, planned.audits + revisions) << "a published revision was not audited";
+  EXPECT_EQ(replanned.audit_failures, 0u);
+}
+
+// A revision the audit refuses is never adopted: with an audit that refuses everything of uav-a,
+// the column crossing its path leaves it unresolved on the revision in force, and nothing new of
+// it is published.
+TEST_F(FleetReplanTest, ARevisionTheAuditRefusesIsNeverAdopted) {
+  const FleetRequestData r = fiveByFifteen();
+  planFleet(r);
+  const std::vector<TrajectoryData> first = sink_.trajectories;
+  EngineOptions options;
+  options.pipeline.fleet.min_separation_m = kSeparationM;
+  const MissionPipeline pipeline(world_, options.pipeline);
+  const FleetPlanOutput plan = pipeline.planFleet(r, kStartNs);
+  ASSERT_TRUE(plan.ok()) << plan.status.message;
+  FleetReplanOptions replan = options.pipeline.fleet_replan;
+  std::size_t refused = 0;
+  std::size_t passed = 0;
+  replan.audit = [&](std::size_t vehicle, const Trajectory&, double, double, std::uint32_t) -> std::optional<Error> {
+    if (vehicle != 0) {
+      ++passed;
+      return std::nullopt;
+    }
+    ++refused;
+    return make_error(ErrorCode::kInternal, "audit", "refused by the test");
+  };
+  auto replanner = FleetReplanner::create(r, plan, world_, fleetMissionOptions(options.pipeline), replan, kStartNs * 1e-9);
+  ASSERT_TRUE(replanner.ok()) << replanner.error().describe();
+  now_ns_ += seconds(60.0);
+  ASSERT_FALSE(engine_->updateObstacle(columnAimedAt(first, 1, "uav-a", 300.0, Eigen::Vector2d(0.0, 12.0))).has_value());
+  const FleetReplanStep step = (*replanner)->step(static_cast<double>(now_ns_) * 1e-9, TerminationCondition{});
+  ASSERT_TRUE(std::find(step.affected.begin(), step.affected.end(), 0u) != step.affected.end())
+      << "the column must meet uav-a";
+  EXPECT_GE(refused, 1u) << "no candidate of uav-a reached the audit";
+  EXPECT_TRUE(std::find(step.changed.begin(), step.changed.end(), 0u) == step.changed.end());
+  EXPECT_TRUE(std::find(step.unresolved.begin(), step.unresolved.end(), 0u) != step.unresolved.end());
+  EXPECT_EQ((*replanner)->vehicle(0).revision, 0u);
+  std::printf("audit refused %zu candidates of uav-a, passed %zu of the others\n", refused, passed);
 }
 
 }  // namespace
