@@ -20,7 +20,7 @@ struct DaemonConfig {
   int domain = 0;
   std::string service_id = "skyrouted";
   double heartbeat_period_s = 1.0;      // ServiceStatus period
-  double flush_timeout_s = 0.5;         // on stop, writers wait this long (in all) for acknowledgements
+  double flush_timeout_s = 0.5;         // on stop: the engine stops and writers are acknowledged by then
   double startup_probe_s = 0.3;         // before serving, listen this long for another daemon with this service_id
   // Hot standby (docs/dds.md): the ownership strength of the trajectory, status and heartbeat
   // writers in each role (the primary's must be the higher), and their liveliness lease.

@@ -458,17 +458,21 @@ void MissionService::answerReachable(Clock::time_point now, bool all) {
 
 Status MissionService::deactivate() {
   if (state_ != State::kActive) return Status::success();
+  // One deadline for the whole stop: the time the engine takes to stop its plans counts against
+  // dds.flush_timeout_s too, so a stop is never the cancel's time plus the whole flush.
+  const auto began = Clock::now();
+  const auto deadline = began + seconds(config().flush_timeout_s);
   // The engine first: its plans see the cancel at their next check, and each is answered
   // cancelled while the writers are still there. Requests arriving meanwhile are refused busy.
   engine_->stop();
   stopDdsThread();
+  const auto engine_stopped = Clock::now();
   if (journal_) {
     const JournalWriteStats w = journal_->writeStats();
     spdlog::info("event=journal_stats writes={} mean_ms={:.3f} max_ms={:.3f}", w.writes,
                  w.writes ? w.total_ms / static_cast<double>(w.writes) : 0.0, w.max_ms);
   }
-  // Flush: reliable readers get what was written, all writers sharing one deadline.
-  const auto deadline = Clock::now() + seconds(config().flush_timeout_s);
+  // Flush: reliable readers get what was written, all writers sharing what is left of the deadline.
   auto left_s = [&] { return std::max(0.0, std::chrono::duration<double>(deadline - Clock::now()).count()); };
   {
     std::shared_lock lock(edge_mutex_);
@@ -478,7 +482,10 @@ Status MissionService::deactivate() {
     if (edge_->ros2) edge_->ros2->flush(left_s());
   }
   state_ = State::kInactive;
-  spdlog::info("event=inactive");
+  const auto flushed = Clock::now();
+  spdlog::info("event=inactive engine_stop_s={:.3f} flush_s={:.3f}",
+               std::chrono::duration<double>(engine_stopped - began).count(),
+               std::chrono::duration<double>(flushed - engine_stopped).count());
   return Status::success();
 }
 

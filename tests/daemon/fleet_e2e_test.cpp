@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -164,6 +165,51 @@ TEST(FleetStatusWire, RoundTripsAndRejectsNonFiniteNumbers) {
   auto rejected = dds::fromWire(wire.msg());
   ASSERT_FALSE(rejected.ok());
   EXPECT_EQ(rejected.error().field, "allocation[1].delay_s");
+}
+
+// SIGTERM while a 32-vehicle, 96-task fleet builds its trajectories: the daemon exits 0 within the
+// second docs/dds.md promises (the engine's stop and the flush share dds.flush_timeout_s), and
+// the fleet is answered.
+class FleetStopE2E : public testing::FleetDaemonTest {};
+
+TEST_F(FleetStopE2E, SigtermWhileA32VehicleFleetIsPlannedStopsWithinASecond) {
+  constexpr int kStopDomain = 218;
+  startDaemon(kStopDomain, {"--log-level", "debug"}, "skyrouted_fleet_stop", 60.0);
+  FleetRequestData r;
+  r.request_id = "fleet-32";
+  for (int i = 0; i < 32; ++i) {
+    r.vehicle_ids.push_back("v-" + std::to_string(i));
+    r.begins.push_back(above(-4200.0 + 270.0 * (i % 8), -4200.0 + 270.0 * (i / 8), 100));
+  }
+  r.ends = r.begins;
+  for (int k = 0; k < 96; ++k) r.tasks.push_back(above(-3000.0 + 560.0 * (k % 12), -1500.0 + 700.0 * (k / 12), 150));
+  ASSERT_TRUE(fleet_requests_->write(r).ok());
+  // The trajectories stage has begun (its first vehicle is built).
+  ASSERT_TRUE(station_->pumpUntil(
+      [&] { return daemon_.err().find("event=fleet_trajectory") != std::string::npos || !daemon_.running(); }, 60.0))
+      << daemon_.err();
+  ASSERT_TRUE(daemon_.running()) << daemon_.err();
+  const bool finished_before = daemon_.err().find("event=fleet_succeeded") != std::string::npos;
+  const auto sent = std::chrono::steady_clock::now();
+  daemon_.signal(SIGTERM);
+  const int code = daemon_.wait(5.0);
+  const double stop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  std::printf("SIGTERM during a 32-vehicle fleet plan: stopped in %.3f s (plan finished before: %d)\n", stop_s,
+              finished_before);
+  EXPECT_EQ(code, 0) << daemon_.err();
+  EXPECT_LT(stop_s, 1.0) << daemon_.err();
+  ASSERT_TRUE(station_->pumpUntil(
+      [&] {
+        return std::any_of(fleet_log_.begin(), fleet_log_.end(),
+                           [&](const FleetStatusData& s) { return s.request_id == r.request_id && isTerminal(s.state); });
+      },
+      5.0));
+  // Cancelled, unless its plan was decided before the engine's stop took effect (published
+  // before the stop's answer: both are answered, never failed).
+  for (const FleetStatusData& s : fleet_log_) {
+    if (s.request_id != r.request_id || !isTerminal(s.state)) continue;
+    EXPECT_TRUE(s.state == PlanState::kCancelled || s.state == PlanState::kSucceeded) << s.message;
+  }
 }
 
 }  // namespace
