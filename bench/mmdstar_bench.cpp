@@ -154,7 +154,7 @@ const double kPaperReExp[2][2][5] = {
 const double kPaperReS[2][2][5] = {{{0.06, 0.60, 1.50, 2.70, 4.45}, {0.06, 0.54, 1.15, 1.85, 2.74}},
                                    {{0.06, 0.40, 0.91, 1.54, 2.49}, {0.07, 0.41, 0.85, 1.33, 1.83}}};
 
-bool sameMatrix(const MissionPlan& a, const MissionPlan& b) {
+bool sameMatrix(const MissionOrderPlan& a, const MissionOrderPlan& b) {
   for (std::size_t i = 0; i < a.cost_matrix.size(); ++i)
     for (std::size_t j = 0; j < a.cost_matrix.size(); ++j) {
       const double x = a.cost_matrix[i][j], y = b.cost_matrix[i][j];

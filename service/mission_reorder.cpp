@@ -210,7 +210,7 @@ ReorderCheck MissionReorder::check(std::span<const Obstacle> obstacles, std::spa
   // The repair runs whatever happens next: the searches must see every change.
   const std::vector<GridCell> repair = std::move(pending_);
   pending_.clear();
-  Result<MissionPlan> plan = planner.replan(repair, stop);
+  Result<MissionOrderPlan> plan = planner.replan(repair, stop);
   out.repaired = true;
   const SearchStats& after = searches.stats();
   out.search.expansions = after.expansions - before.expansions;

@@ -94,21 +94,21 @@ Result<MissionPlanner> MissionPlanner::create(const GridLayer& grid, GridCell be
 
 std::string MissionPlanner::pointName(int point) const { return nameOf(point, search_->pointCount()); }
 
-Result<MissionPlan> MissionPlanner::preplan(const TerminationCondition& stop) {
+Result<MissionOrderPlan> MissionPlanner::preplan(const TerminationCondition& stop) {
   const SearchStats before = search_->stats();
   const auto t0 = Clock::now();
   const PlannerStatus status = search_->preplan(stop);
   return finishPlan(status, stop, before, msSince(t0));
 }
 
-Result<MissionPlan> MissionPlanner::replan(std::span<const GridCell> changed, const TerminationCondition& stop) {
+Result<MissionOrderPlan> MissionPlanner::replan(std::span<const GridCell> changed, const TerminationCondition& stop) {
   const SearchStats before = search_->stats();
   const auto t0 = Clock::now();
   const PlannerStatus status = search_->applyChanges(changed, stop);
   return finishPlan(status, stop, before, msSince(t0));
 }
 
-Result<MissionPlan> MissionPlanner::finishPlan(PlannerStatus status, const TerminationCondition& stop,
+Result<MissionOrderPlan> MissionPlanner::finishPlan(PlannerStatus status, const TerminationCondition& stop,
                                                const SearchStats& before, double search_ms) {
   if (isStopped(status)) {
     const bool cancelled = stop.reason() == TerminationCondition::Reason::kCancelled;
@@ -116,7 +116,7 @@ Result<MissionPlan> MissionPlanner::finishPlan(PlannerStatus status, const Termi
                       cancelled ? "mission planning was cancelled" : "mission planning ran out of time");
   }
   const auto t0 = Clock::now();
-  MissionPlan plan;
+  MissionOrderPlan plan;
   const int count = search_->pointCount();
   plan.cost_matrix.assign(count, std::vector<double>(count, kInfiniteCost));
   for (int from = 0; from < count; ++from)

@@ -53,7 +53,7 @@ struct MissionLeg {
   std::vector<GridCell> cells;
 };
 
-struct MissionPlan {
+struct MissionOrderPlan {
   std::vector<int> order;  // the vehicle's point first (B before take-off), E last
   double cost = 0.0;       // sum of the legs, cell edges
   // cost_matrix[from][to] over all n+2 points; infinity where the pair is not planned.
@@ -78,10 +78,10 @@ class MissionPlanner {
                                        GridCell end, const MissionOptions& options = {});
 
   // Lines 33-43: every pair, then the order. kTimeout / kCancelled when `stop` fired.
-  Result<MissionPlan> preplan(const TerminationCondition& stop = {});
+  Result<MissionOrderPlan> preplan(const TerminationCondition& stop = {});
   // Lines 51-72: the cells in `changed` flipped; repair, re-solve the order from the vehicle.
   // kUnreachable naming a point that the change cut off.
-  Result<MissionPlan> replan(std::span<const GridCell> changed, const TerminationCondition& stop = {});
+  Result<MissionOrderPlan> replan(std::span<const GridCell> changed, const TerminationCondition& stop = {});
 
   // The next cell towards the first point of the current order (line 49).
   GridCell nextCell() const;
@@ -105,19 +105,19 @@ class MissionPlanner {
   }
   bool finished() const { return finished_; }
   GridCell vehicleCell() const { return search_->vehicleCell(); }
-  const MissionPlan& plan() const { return plan_; }
+  const MissionOrderPlan& plan() const { return plan_; }
   const MissionSearch& search() const { return *search_; }
 
  private:
   MissionPlanner(std::unique_ptr<MissionSearch> search, const MissionOptions& options)
       : search_(std::move(search)), options_(options) {}
-  Result<MissionPlan> finishPlan(PlannerStatus status, const TerminationCondition& stop, const SearchStats& before,
+  Result<MissionOrderPlan> finishPlan(PlannerStatus status, const TerminationCondition& stop, const SearchStats& before,
                                  double search_ms);
   std::string pointName(int point) const;
 
   std::unique_ptr<MissionSearch> search_;
   MissionOptions options_;
-  MissionPlan plan_;
+  MissionOrderPlan plan_;
   bool finished_ = false;
 };
 

@@ -56,7 +56,7 @@ GridCell cellOption(const std::string& text, const std::string& option) {
 }
 
 nlohmann::json describePlan(const MissionGridArgs& args, MissionAlgorithm algorithm, const GridLayer& grid,
-                            const std::vector<GridCell>& all, const MissionPlanner& planner, const MissionPlan& plan) {
+                            const std::vector<GridCell>& all, const MissionPlanner& planner, const MissionOrderPlan& plan) {
   const int count = static_cast<int>(all.size());
   nlohmann::json j;
   j["algo"] = std::string(to_string(algorithm));
@@ -95,7 +95,7 @@ nlohmann::json describePlan(const MissionGridArgs& args, MissionAlgorithm algori
   return j;
 }
 
-void printPlan(const GridLayer& grid, const nlohmann::json& j, const MissionPlan& plan) {
+void printPlan(const GridLayer& grid, const nlohmann::json& j, const MissionOrderPlan& plan) {
   const int count = static_cast<int>(plan.cost_matrix.size());
   std::printf("grid        %d x %d (cell %.1f m), %zu blocked\n", grid.width(), grid.height(), grid.cellSize(),
               grid.blockedCount());
