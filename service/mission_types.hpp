@@ -274,6 +274,7 @@ struct ServiceStatusData {
   double heartbeat_period_s = 1.0;  // the next heartbeat is due this long after this one
   std::uint32_t obstacles = 0;      // obstacles in force
   bool journal_ok = true;           // false while the state journal's writes fail (none kept: true)
+  std::int64_t life_started_utc_ns = 0;  // the current life's start (a shard that stalled began anew)
 };
 
 struct FleetRequestData {
