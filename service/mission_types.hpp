@@ -276,6 +276,7 @@ struct ServiceStatusData {
   bool journal_ok = true;           // false while the state journal's writes fail (none kept: true)
   std::uint32_t audits = 0;          // trajectories audited before publishing since start
   std::uint32_t audit_failures = 0;  // of those, refused by the audit
+  std::int64_t life_started_utc_ns = 0;  // the current life's start (a shard that stalled began anew)
 };
 
 struct FleetRequestData {

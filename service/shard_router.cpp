@@ -22,8 +22,11 @@ bool ShardRouter::readLocked(const ShardMember& member, std::int64_t arrived_utc
   return coversArrival(member.started_utc_ns, member.past_coverage, arrived_utc_ns, join_margin_ns_);
 }
 
-ShardRouter::ShardRouter(ShardMember self, std::int64_t join_margin_ns)
-    : self_(std::move(self)), join_margin_ns_(join_margin_ns), members_{self_} {}
+ShardRouter::ShardRouter(ShardMember self, std::int64_t join_margin_ns, std::string self_instance_id)
+    : self_(std::move(self)),
+      join_margin_ns_(join_margin_ns),
+      self_instance_id_(std::move(self_instance_id)),
+      members_{self_} {}
 
 std::string ShardRouter::ownerOfKeyLocked(const std::string& key) const {
   if (!settled_) return {};
@@ -202,8 +205,9 @@ void ShardRouter::recoverRequests(const std::vector<JournaledRequest>& copies) {
   }
 }
 
-void ShardRouter::onTrajectory(const TrajectoryData& trajectory) {
-  if (trajectory.samples.empty()) return;
+namespace {
+
+PublishedRevision revisionOf(const TrajectoryData& trajectory, const std::string& source_instance) {
   PublishedRevision p;
   p.identity.vehicle_id = trajectory.vehicle_id;
   p.identity.plan_id = trajectory.plan_id;
@@ -212,9 +216,66 @@ void ShardRouter::onTrajectory(const TrajectoryData& trajectory) {
   p.identity.created_utc_ns = trajectory.created_utc_ns;
   p.flight_start_utc_ns = flightStartUtcNs(trajectory);
   p.end_utc_ns = trajectory.samples.back().utc_ns;
-  p.source_instance = trajectory.source_instance;
+  p.source_instance = source_instance;
+  return p;
+}
+
+}  // namespace
+
+void ShardRouter::recordRevisionLocked(PublishedRevision revision) {
+  PublishedRevision& kept = published_[revision.identity.vehicle_id];
+  if (kept.identity.plan_id == revision.identity.plan_id && kept.identity.revision > revision.identity.revision) return;
+  kept = std::move(revision);
+}
+
+bool ShardRouter::onTrajectory(const TrajectoryData& trajectory) {
+  if (trajectory.samples.empty()) return false;
+  PublishedRevision p = revisionOf(trajectory, trajectory.source_instance);
   std::lock_guard lock(mutex_);
-  published_[trajectory.vehicle_id] = std::move(p);
+  bool taken_over = false;
+  if (settled_ && !self_instance_id_.empty() && trajectory.source_instance != self_instance_id_) {
+    const auto mine = published_.find(trajectory.vehicle_id);
+    const auto owner = vehicle_owner_.find(trajectory.vehicle_id);
+    taken_over = mine != published_.end() && mine->second.source_instance == self_instance_id_ &&
+                 mine->second.identity.plan_id == trajectory.plan_id &&
+                 trajectory.revision >= mine->second.identity.revision && owner != vehicle_owner_.end() &&
+                 owner->second == self_.service_id;
+  }
+  recordRevisionLocked(std::move(p));
+  return taken_over;
+}
+
+void ShardRouter::onPublished(const TrajectoryData& trajectory) {
+  if (trajectory.samples.empty()) return;
+  PublishedRevision p = revisionOf(trajectory, self_instance_id_);
+  std::lock_guard lock(mutex_);
+  recordRevisionLocked(std::move(p));
+}
+
+bool ShardRouter::supersededOnWire(const TrajectoryData& trajectory) const {
+  std::lock_guard lock(mutex_);
+  const auto wire = published_.find(trajectory.vehicle_id);
+  return wire != published_.end() && wire->second.source_instance != self_instance_id_ &&
+         wire->second.identity.plan_id == trajectory.plan_id && wire->second.identity.revision >= trajectory.revision;
+}
+
+ShardActions ShardRouter::beginLife(std::int64_t started_utc_ns, std::int64_t now_utc_ns) {
+  std::lock_guard lock(mutex_);
+  ShardActions actions;
+  self_.started_utc_ns = started_utc_ns;
+  for (ShardMember& m : members_) {
+    if (m.service_id == self_.service_id) m = self_;
+  }
+  // Unsettled, it owns nothing: every vehicle it owned moves away from it now (to nobody, as far
+  // as it knows, until it has listened to the others again).
+  settled_ = false;
+  reassignLocked(now_utc_ns, actions);
+  return actions;
+}
+
+std::int64_t ShardRouter::lifeStartedUtcNs() const {
+  std::lock_guard lock(mutex_);
+  return self_.started_utc_ns;
 }
 
 bool ShardRouter::ownsVehicle(const std::string& vehicle_id) const {

@@ -43,7 +43,7 @@ struct PublishedRevision {
   TrajectoryData identity;            // vehicle, plan, revision, request (no samples)
   std::int64_t flight_start_utc_ns = 0;
   std::int64_t end_utc_ns = 0;        // the last sample's time: the flight is over after it
-  std::string source_instance;        // the daemon that wrote it
+  std::string source_instance;        // the daemon that wrote it (its instance id)
 };
 
 struct VehicleMove {
@@ -69,9 +69,10 @@ struct ShardActions {
 
 class ShardRouter {
  public:
-  // self: this daemon's service id and start. Until the first setMembers() with settled = true it
-  // owns nothing and plans nothing (the other members are still being discovered).
-  ShardRouter(ShardMember self, std::int64_t join_margin_ns);
+  // self: this daemon's service id and start; self_instance_id: its instance id, which names the
+  // trajectories it writes (TrajectoryData::source_instance). Until the first setMembers() with
+  // settled = true it owns nothing and plans nothing (the other members are still being discovered).
+  ShardRouter(ShardMember self, std::int64_t join_margin_ns, std::string self_instance_id = {});
 
   // The live members (this daemon is added when missing). settled: this daemon has listened long
   // enough to know them. Returns what moves.
@@ -90,8 +91,24 @@ class ShardRouter {
   static std::string missionKey(const std::string& vehicle_id);
   static std::string fleetKey(const std::string& request_id);
 
-  // Every trajectory on the wire (this daemon's own included).
-  void onTrajectory(const TrajectoryData& trajectory);
+  // A new life of this daemon, started at started_utc_ns (after a stall its peers may have taken
+  // for its death; docs/dds.md "A paused shard"): every vehicle and fleet it owned is released,
+  // it owns nothing until the next settled setMembers(), and from then on it is a member that
+  // joined at started_utc_ns: it has read only the requests that arrive after it, so it takes
+  // back none of its old vehicles while a member that read their requests is live.
+  ShardActions beginLife(std::int64_t started_utc_ns, std::int64_t now_utc_ns);
+  std::int64_t lifeStartedUtcNs() const;
+
+  // Every trajectory another daemon writes (the reader leaves out this daemon's own writer).
+  // Returns true when it is another daemon's revision of a vehicle this daemon owns, of the plan
+  // this daemon last wrote for it and at least as new: the others took this daemon for dead and
+  // took the vehicle over, so what this daemon believes it owns is stale (begin a new life).
+  bool onTrajectory(const TrajectoryData& trajectory);
+  // Every trajectory this daemon writes, once written.
+  void onPublished(const TrajectoryData& trajectory);
+  // Whether another daemon's revision of this trajectory's plan on the wire is at least as new:
+  // publishing it would make one (plan id, revision) stand for two trajectories, or go back.
+  bool supersededOnWire(const TrajectoryData& trajectory) const;
 
   // Whether this daemon answers for the vehicle (its statuses and trajectories) or the fleet request.
   bool ownsVehicle(const std::string& vehicle_id) const;
@@ -115,10 +132,14 @@ class ShardRouter {
   void loseLocked(const std::string& vehicle_id, ShardActions& actions);
   void dropUnusedFleetLocked(const std::string& key, ShardActions& actions);
   bool readLocked(const ShardMember& member, std::int64_t arrived_utc_ns) const;
+  // Keeps `revision` as the vehicle's trajectory in force, unless the wire already holds a newer
+  // revision of the same plan (samples from two writers may arrive out of order).
+  void recordRevisionLocked(PublishedRevision revision);
 
   mutable std::mutex mutex_;
   ShardMember self_;
   std::int64_t join_margin_ns_;
+  std::string self_instance_id_;
   bool settled_ = false;
   std::vector<ShardMember> members_;
   std::map<std::string, Plan> plans_;                    // key -> the plan's request

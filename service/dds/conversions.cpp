@@ -244,7 +244,7 @@ struct CopyFromWire {
 #define SKYROUTE_SERVICE_STATUS_MEMBERS(MEMBER)                                                                \
   MEMBER(service_id) MEMBER(instance_id) MEMBER(started_utc_ns) MEMBER(heartbeat_period_s) MEMBER(stamp_utc_ns) \
   MEMBER(terrain_loaded) MEMBER(terrain_name) MEMBER(vehicles) MEMBER(replans) MEMBER(queue_length)           \
-  MEMBER(obstacles) MEMBER(service_version) MEMBER(idl_version) MEMBER(journal_ok) MEMBER(audits) MEMBER(audit_failures)
+  MEMBER(obstacles) MEMBER(service_version) MEMBER(idl_version) MEMBER(journal_ok) MEMBER(audits) MEMBER(audit_failures) MEMBER(life_started_utc_ns)
 #define SKYROUTE_FLEET_STATUS_MEMBERS(MEMBER)                                                                 \
   MEMBER(request_id) MEMBER(state) MEMBER(error_code) MEMBER(field) MEMBER(message) MEMBER(makespan_steps) \
   MEMBER(makespan_s) MEMBER(min_separation_m) MEMBER(achieved_separation_m) MEMBER(separation_repairs)      \

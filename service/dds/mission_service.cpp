@@ -131,8 +131,12 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
     if (auto e = emplaceCreated(edge->members, Reader<ServiceStatusData>::create(p))) return *e;
   }
   // Shards follow every vehicle's last revision on the wire; a standby the primary's.
+  // A shard's reader leaves out its own writer: with equal strengths, its own live writer could
+  // win the tie at its reader and hide another daemon's revisions of a vehicle it wrote (the
+  // router takes this daemon's own trajectories from publishTrajectory instead).
   if (!config.shard_group.empty() || config.role == "standby") {
-    if (auto e = emplaceCreated(edge->published, Reader<TrajectoryData>::create(p))) return *e;
+    const bool ignore_own = !config.shard_group.empty();
+    if (auto e = emplaceCreated(edge->published, Reader<TrajectoryData>::create(p, ignore_own))) return *e;
   }
   if (config.ros2_enabled) edge->ros2 = Ros2Mirror::create(p, world.frame().anchor());
   if (auto e = emplaceCreated(edge->loop, WaitLoop::create(p))) return *e;
@@ -242,7 +246,12 @@ Result<std::unique_ptr<MissionService::Edge>> MissionService::makeEdge(const Dae
         *edge->published,
         [this](TrajectoryData&& t) {
           if (router_) {
-            router_->onTrajectory(t);
+            if (router_->onTrajectory(t)) {
+              spdlog::warn("event=shard_taken_over vehicle={} plan={} revision={} by={} message=\"another daemon "
+                           "published the next revision of a vehicle this shard owns: it was taken for dead\"",
+                           t.vehicle_id, t.plan_id, t.revision, t.source_instance);
+              beginShardLife("taken_over");
+            }
           } else {
             noteWireRevision(t);
           }
@@ -290,6 +299,7 @@ Status MissionService::configure(const DaemonConfig& config) {
   auto engine = Engine::create(*world, config.engine, journal_sink_ ? static_cast<EngineSink&>(*journal_sink_) : *this);
   if (!engine.ok()) return engine.error();
   instance_.shard_group = config.shard_group;
+  life_started_utc_ns_ = instance_.started_utc_ns;
   if (!config.shard_group.empty()) {
     const auto margin_ns = static_cast<std::int64_t>(kShardJoinMarginS * 1e9);
     if (journal_) {
@@ -298,7 +308,8 @@ Status MissionService::configure(const DaemonConfig& config) {
       if (Status s = journal_->beginShardLife(instance_.started_utc_ns); !s.ok()) return s.error();
     }
     router_ = std::make_unique<ShardRouter>(
-        ShardMember{config.service_id, instance_.started_utc_ns, instance_.past_coverage}, margin_ns);
+        ShardMember{config.service_id, instance_.started_utc_ns, instance_.past_coverage}, margin_ns,
+        instance_.instance_id);
     // Shards plan the same vehicles in turn, each counting its own plans: its instance in the plan id.
     (*engine)->setPlanIdTag(instance_.instance_id.substr(0, 8));
   }
@@ -310,6 +321,7 @@ Status MissionService::configure(const DaemonConfig& config) {
     }
   }
   bad_samples_log_.setWindowS(config.engine.log_repeat_window_s);
+  fence_log_.setWindowS(config.engine.log_repeat_window_s);
   auto edge = makeEdge(config, **world);
   if (!edge.ok()) return edge.error();
 
@@ -401,7 +413,10 @@ Status MissionService::activate() {
     recovered_.reset();
   }
   engine_->start();
-  if (router_) startShard();
+  if (router_) {
+    startShard();
+    startStallWatch();
+  }
   startDdsThread();
   state_ = State::kActive;
   spdlog::info("event=active service_id={} domain={} instance={}", config().service_id, edge_->domain,
@@ -467,6 +482,7 @@ Status MissionService::deactivate() {
   engine_->stop();
   stopDdsThread();
   const auto engine_stopped = Clock::now();
+  if (stall_watch_) stall_watch_->stop();
   if (journal_) {
     const JournalWriteStats w = journal_->writeStats();
     spdlog::info("event=journal_stats writes={} mean_ms={:.3f} max_ms={:.3f}", w.writes,
@@ -494,6 +510,7 @@ Status MissionService::cleanup() {
     return make_error(ErrorCode::kInvalidArgument, "lifecycle", "cleanup needs the inactive state");
   }
   if (state_ == State::kUnconfigured) return Status::success();
+  stall_watch_.reset();
   engine_.reset();
   journal_sink_.reset();
   journal_.reset();
@@ -561,6 +578,8 @@ Status MissionService::reload(const DaemonConfig& config) {
   }
   (void)engine_->setOptions(config.engine);  // validated above
   bad_samples_log_.setWindowS(config.engine.log_repeat_window_s);
+  fence_log_.setWindowS(config.engine.log_repeat_window_s);
+  if (stall_watch_) stall_watch_->setThresholdS(config.liveliness_lease_s * kStallFractionOfLease);
   {
     std::lock_guard lock(config_mutex_);
     config_ = config;
@@ -584,6 +603,7 @@ Status MissionService::reload(const DaemonConfig& config) {
 void MissionService::publishStatus(const PlanStatusData& status) {
   std::shared_lock ownership(ownership_mutex_);
   if (router_ && !router_->ownsVehicle(status.vehicle_id)) return;  // its owner answers
+  if (router_ && fencedByStall("status", status.vehicle_id)) return;
   PlanStatusData addressed = status;
   addressed.service_instance = instance_.instance_id;
   addressed.service_id = instance_.service_id;
@@ -595,10 +615,25 @@ void MissionService::publishStatus(const PlanStatusData& status) {
 
 void MissionService::publishTrajectory(const TrajectoryData& trajectory) {
   std::shared_lock ownership(ownership_mutex_);
-  if (router_ && !router_->ownsVehicle(trajectory.vehicle_id)) return;
+  if (router_) {
+    if (!router_->ownsVehicle(trajectory.vehicle_id)) return;
+    if (fencedByStall("trajectory", trajectory.vehicle_id)) return;
+    // One (plan id, revision) never stands for two trajectories: what another daemon already
+    // published of this plan at this revision or later is not overwritten from here.
+    if (router_->supersededOnWire(trajectory)) {
+      fence_log_.warn("superseded:" + trajectory.vehicle_id,
+                      fmt::format("event=publication_fenced topic=trajectory vehicle={} plan={} revision={} "
+                                  "reason=superseded message=\"another daemon published this revision of the plan "
+                                  "or a later one\"",
+                                  trajectory.vehicle_id, trajectory.plan_id, trajectory.revision));
+      return;
+    }
+  }
   std::shared_lock lock(edge_mutex_);
   if (Status s = edge_->trajectories->write(trajectory); !s.ok()) {
     spdlog::error("event=write_failed topic=trajectory field={} message=\"{}\"", s.error().field, s.error().message);
+  } else if (router_) {
+    router_->onPublished(trajectory);
   }
   if (edge_->ros2) edge_->ros2->publish(trajectory);
 }
@@ -606,6 +641,7 @@ void MissionService::publishTrajectory(const TrajectoryData& trajectory) {
 void MissionService::retractTrajectory(const std::string& vehicle_id) {
   std::shared_lock ownership(ownership_mutex_);
   if (router_ && !router_->ownsVehicle(vehicle_id)) return;
+  if (router_ && fencedByStall("retraction", vehicle_id)) return;
   TrajectoryData key;
   key.vehicle_id = vehicle_id;
   std::shared_lock lock(edge_mutex_);
@@ -618,6 +654,7 @@ void MissionService::retractTrajectory(const std::string& vehicle_id) {
 void MissionService::publishFleetStatus(const FleetStatusData& status) {
   std::shared_lock ownership(ownership_mutex_);
   if (router_ && !router_->ownsFleet(status.request_id)) return;
+  if (router_ && fencedByStall("fleet_status", status.request_id)) return;
   std::shared_lock lock(edge_mutex_);
   if (Status s = edge_->fleet_statuses->write(status); !s.ok()) {
     spdlog::error("event=write_failed topic=fleet_status field={} message=\"{}\"", s.error().field, s.error().message);
@@ -633,6 +670,7 @@ void MissionService::publishHeartbeat() {
   status.service_version = SKYROUTE_VERSION;
   status.idl_version = kIdlVersion;
   status.journal_ok = !journal_ || journal_->writable();
+  status.life_started_utc_ns = life_started_utc_ns_;
   std::shared_lock lock(edge_mutex_);
   (void)edge_->heartbeat->write(status);
 }
@@ -758,6 +796,9 @@ void MissionService::ddsThread() {
   WaitLoop& loop = *edge_->loop;
   auto next_heartbeat = Clock::now();
   for (;;) {
+    // First: a shard that stood still for longer than its stall threshold publishes nothing more
+    // (not even a heartbeat of the life it had) before it has begun a new one.
+    if (stall_watch_ && stall_watch_->suspect()) beginShardLife("stall");
     const auto now = Clock::now();
     republishDue(now);
     shardCheckDue(now);

@@ -40,6 +40,7 @@
 #include "service/journaling_sink.hpp"
 #include "service/log_throttle.hpp"
 #include "service/shard_router.hpp"
+#include "service/stall_watch.hpp"
 #include "service/state_dir_lock.hpp"
 #include "service/state_journal.hpp"
 
@@ -140,6 +141,18 @@ class MissionService final : public EngineSink {
   ShardActions decideShard(const std::function<ShardActions()>& decide);
   // Lets go of what `actions` releases (under ownership_mutex_, taken here), then starts what it plans.
   void applyShardActions(const ShardActions& actions);
+  // A paused shard (docs/dds.md "A paused shard"). The stall watch notices when this process did
+  // not run for longer than kStallFractionOfLease of the liveliness lease: the others may have
+  // taken it for dead and taken its vehicles over. From then on it publishes nothing (trajectories,
+  // statuses, retractions, fleet statuses) until the DDS thread has begun a new life: every
+  // vehicle released, then, after listening again, owning only what a member that joined now would.
+  static constexpr double kStallFractionOfLease = 0.5;
+  void startStallWatch();
+  // cause: "stall" (the watch), or "taken_over" (another daemon published the next revision of a
+  // vehicle this one owns; logged as a stall when the watch saw one too). DDS thread.
+  void beginShardLife(const std::string& cause);
+  // True (and logged, rate-limited) while a stall is suspected: nothing goes out. Engine threads.
+  bool fencedByStall(const char* topic, const std::string& key);
 
   mutable std::mutex config_mutex_;  // config_ (reload writes it, the DDS thread reads it)
   DaemonConfig config_;
@@ -187,6 +200,9 @@ class MissionService final : public EngineSink {
   std::vector<std::string> shard_members_logged_;                    // DDS thread only
   bool shard_settled_logged_ = false;                                // DDS thread only
   std::set<std::string> taken_vehicles_;  // DDS thread only: republished with republish_at_
+  std::unique_ptr<StallWatch> stall_watch_;  // shards only, from activate()
+  std::int64_t life_started_utc_ns_ = 0;     // this life's start (heartbeats, journal); DDS thread after activate
+  LogThrottle fence_log_;                    // publications held back, rate-limited per reason and key
   LogThrottle bad_samples_log_;      // refused samples, rate-limited per reason
   std::atomic<std::uint64_t> bad_samples_{0};
 };

@@ -6,6 +6,7 @@
 // A dead owner needs nothing: its liveliness lease ends its ownership at every reader.
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include <spdlog/spdlog.h>
 
@@ -102,7 +103,7 @@ void MissionService::recordShardCoverage() {
   // Every request that reached this shard a margin ago has been read and journaled by now
   // (routeMission runs on this thread): the others may count on this shard's copies up to then.
   const auto margin_ns = static_cast<std::int64_t>(kShardJoinMarginS * 1e9);
-  if (Status s = journal_->recordShardCoverage(instance_.started_utc_ns, utcNowNs() - margin_ns); !s.ok()) {
+  if (Status s = journal_->recordShardCoverage(life_started_utc_ns_, utcNowNs() - margin_ns); !s.ok()) {
     spdlog::warn("event=journal_write_failed what=shard_coverage message=\"{}\"", s.error().message);
   }
 }
@@ -132,6 +133,66 @@ bool MissionService::routeCancel(const CancelRequestData& cancel) {
     }
   }
   return router_->onCancel(cancel);
+}
+
+void MissionService::startStallWatch() {
+  stall_watch_ = std::make_unique<StallWatch>(config().liveliness_lease_s * kStallFractionOfLease, [this] {
+    // The DDS thread begins the new life: wake it now rather than at its next deadline.
+    std::shared_lock lock(edge_mutex_);
+    if (edge_ && edge_->loop) edge_->loop->wake();
+  });
+  stall_watch_->start();
+}
+
+bool MissionService::fencedByStall(const char* topic, const std::string& key) {
+  if (!stall_watch_ || !stall_watch_->suspect()) return false;
+  fence_log_.warn(std::string("stall:") + topic,
+                  fmt::format("event=publication_fenced topic={} key={} reason=stall message=\"this shard stood still "
+                              "for longer than its stall threshold; it publishes nothing before its new life\"",
+                              topic, key));
+  return true;
+}
+
+void MissionService::beginShardLife(const std::string& cause) {
+  std::optional<double> paused_s;
+  std::int64_t started_utc_ns = 0;
+  const std::int64_t now_utc_ns = utcNowNs();
+  // Under ownership_mutex_: no engine thread writes between the stall being taken and every
+  // vehicle being let go (unregistered).
+  const ShardActions actions = decideShard([&] {
+    if (stall_watch_) paused_s = stall_watch_->take();
+    started_utc_ns = std::max(now_utc_ns, router_->lifeStartedUtcNs() + 1);
+    return router_->beginLife(started_utc_ns, now_utc_ns);
+  });
+  life_started_utc_ns_ = started_utc_ns;
+  taken_vehicles_.clear();
+  if (journal_) {
+    // The life that ended keeps what it last recorded as read; requests read from now on count
+    // for the new one (a restart advertises both).
+    if (Status s = journal_->beginShardLife(started_utc_ns); !s.ok()) {
+      spdlog::warn("event=journal_write_failed what=shard_life message=\"{}\"", s.error().message);
+    }
+  }
+  // It owns nothing until it has listened again for a lease and the longest heartbeat period:
+  // its own DDS stack may have let the others' liveliness lapse while it stood still, and their
+  // heartbeats make them members again.
+  const DaemonConfig c = config();
+  double period_s = c.heartbeat_period_s;
+  for (const ServiceInstance& i : liveShardMembers(edge_->members->handle(), c.shard_group)) {
+    period_s = std::max(period_s, i.heartbeat_period_s);
+  }
+  const double settle_s = c.liveliness_lease_s + period_s;
+  shard_settle_at_ = Clock::now() + seconds(settle_s);
+  shard_check_at_.push_back(shard_settle_at_);
+  std::sort(shard_check_at_.begin(), shard_check_at_.end());
+  // The cause named is the stall whenever the watch saw one, whichever noticed it first.
+  spdlog::warn("event=shard_new_life cause={} paused_s={:.2f} released={} life_started_utc_ns={} settle_s={:.2f} "
+               "message=\"the other members may have taken this shard for dead: it lets go of every vehicle and "
+               "joins again\"",
+               paused_s ? "stall" : cause, paused_s.value_or(0.0), actions.release_vehicles.size(), started_utc_ns,
+               settle_s);
+  applyShardActions(actions);
+  publishHeartbeat();  // the others learn of the new life at once
 }
 
 void MissionService::applyShardActions(const ShardActions& actions) {

@@ -117,10 +117,13 @@ class Reader {
   // service can answer it (a request with a NaN still gets a status naming the field).
   using RejectHandler = std::function<void(const Error&, const Plain& identity)>;
 
-  static Result<Reader> create(dds_entity_t participant) {
+  // ignore_own_participant: the reader is not matched with the writers of its own participant
+  // (a daemon that follows what the others publish, not its own samples).
+  static Result<Reader> create(dds_entity_t participant, bool ignore_own_participant = false) {
     Qos qos = Traits::qos();
     auto topic = createTopic(participant, Traits::descriptor(), Traits::kName, qos.get());
     if (!topic) return topic.error();
+    if (ignore_own_participant) dds_qset_ignorelocal(qos.get(), DDS_IGNORELOCAL_PARTICIPANT);
     auto reader = createReader(participant, topic->get(), qos.get());
     if (!reader) return reader.error();
     return Reader(std::move(*topic), std::move(*reader));

@@ -7,9 +7,10 @@
 namespace skyroute::dds {
 
 namespace {
-// Attach arguments: index + 1 of a source; these two mark the stop triggers.
+// Attach arguments: index + 1 of a source; these two mark the stop triggers, the third a wake.
 constexpr dds_attach_t kGuardArg = -1;
 constexpr dds_attach_t kWaitsetArg = -2;
+constexpr dds_attach_t kWakeArg = -3;
 }  // namespace
 
 Result<WaitLoop> WaitLoop::create(dds_entity_t participant) {
@@ -21,7 +22,11 @@ Result<WaitLoop> WaitLoop::create(dds_entity_t participant) {
   if (rc != DDS_RETCODE_OK) return ddsError(rc, "dds_waitset_attach(guard condition)");
   rc = dds_waitset_attach(waitset->get(), waitset->get(), kWaitsetArg);
   if (rc != DDS_RETCODE_OK) return ddsError(rc, "dds_waitset_attach(waitset)");
-  return WaitLoop(std::move(*waitset), std::move(*guard));
+  auto wake = createGuardCondition(participant);
+  if (!wake) return wake.error();
+  rc = dds_waitset_attach(waitset->get(), wake->get(), kWakeArg);
+  if (rc != DDS_RETCODE_OK) return ddsError(rc, "dds_waitset_attach(wake condition)");
+  return WaitLoop(std::move(*waitset), std::move(*guard), std::move(*wake));
 }
 
 Status WaitLoop::addSource(dds_entity_t reader, std::function<Status()> take) {
@@ -55,6 +60,8 @@ Status WaitLoop::addStatus(dds_entity_t entity, uint32_t mask, std::function<voi
 
 void WaitLoop::stop() const { (void)dds_set_guardcondition(guard_.get(), true); }
 
+void WaitLoop::wake() const { (void)dds_set_guardcondition(wake_.get(), true); }
+
 bool WaitLoop::stopRequested() const {
   // The waitset's own trigger (signalStop) cannot be read back; it stays set, so every later
   // wait reports it at once.
@@ -73,6 +80,9 @@ Result<WaitLoop::Outcome> WaitLoop::runOnce(double timeout_s) {
     const dds_attach_t arg = triggered[i];
     if (arg == kGuardArg || arg == kWaitsetArg) {
       stop_requested = true;
+    } else if (arg == kWakeArg) {
+      bool woken = false;
+      (void)dds_take_guardcondition(wake_.get(), &woken);  // reset: the next wait waits again
     } else if (arg >= 1 && static_cast<std::size_t>(arg) <= sources_.size()) {
       Status taken = sources_[static_cast<std::size_t>(arg - 1)]->take();
       if (!taken) return taken.error();

@@ -1,7 +1,8 @@
 // A waitset that dispatches samples of several typed readers on the calling thread (never in
 // Cyclone's listener threads), until stop() triggers its guard condition or a deadline passes.
-// stop() may be called from any thread. From a signal handler, call signalStop() with the
-// handle from waitsetHandle(): it only triggers the waitset (as the Cyclone examples do).
+// stop() and wake() (ends the current wait early, once) may be called from any thread. From a
+// signal handler, call signalStop() with the handle from waitsetHandle(): it only triggers the
+// waitset (as the Cyclone examples do).
 #pragma once
 
 #include <functional>
@@ -48,12 +49,14 @@ class WaitLoop {
   Result<Outcome> runOnce(double timeout_s);
 
   void stop() const;  // thread-safe
+  void wake() const;  // thread-safe: the current (or next) wait returns at once, kTimedOut
   bool stopRequested() const;
   dds_entity_t waitsetHandle() const { return waitset_.get(); }
   static void signalStop(dds_entity_t waitset) { (void)dds_waitset_set_trigger(waitset, true); }
 
  private:
-  WaitLoop(Entity waitset, Entity guard) : waitset_(std::move(waitset)), guard_(std::move(guard)) {}
+  WaitLoop(Entity waitset, Entity guard, Entity wake)
+      : waitset_(std::move(waitset)), guard_(std::move(guard)), wake_(std::move(wake)) {}
   Status addSource(dds_entity_t reader, std::function<Status()> take);
 
   // A reader source whose take returns the number of samples taken or the error.
@@ -72,6 +75,7 @@ class WaitLoop {
   };
   Entity waitset_;
   Entity guard_;
+  Entity wake_;
   std::vector<std::unique_ptr<Source>> sources_;
 };
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -34,6 +35,7 @@ struct Station {
   int heartbeats = 0;
   std::vector<std::int64_t> heartbeat_stamps_ns;  // each heartbeat's stamp, as the daemon sent it
   std::optional<ServiceStatusData> last_heartbeat;
+  std::map<std::string, ServiceStatusData> heartbeat_of;  // each service_id's last heartbeat
 
   static std::unique_ptr<Station> open(int domain) {
     auto s = std::make_unique<Station>();
@@ -59,6 +61,7 @@ struct Station {
     (void)s->loop->add(*s->heartbeat, [self](ServiceStatusData&& x) {
       ++self->heartbeats;
       self->heartbeat_stamps_ns.push_back(x.stamp_utc_ns);
+      self->heartbeat_of[x.service_id] = x;
       self->last_heartbeat = std::move(x);
     }, ignore);
     (void)s->loop->add(*s->obstacle_echo, [self](ObstacleUpdateData&& x) { self->obstacle_log.push_back(std::move(x)); }, ignore);

@@ -7,18 +7,24 @@
 // for all its vehicles. A daemon that joins takes new requests and leaves the others in place.
 // A shard killed and restarted on its journal (--state-dir) still has its copies of the requests
 // it read: when the owner of some of those vehicles dies later, it takes over the ones it ranks
-// next for. DDS domains 131-134.
+// next for. A shard paused (SIGSTOP) longer than its lease, whose vehicles the others take over
+// meanwhile, publishes none of them when it runs again, and no plan id and revision ever stand
+// for two different trajectories. DDS domains 131-134 and 232.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
+#include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "service/shard_assignment.hpp"
@@ -33,6 +39,28 @@ std::size_t countOf(const std::string& text, const std::string& what) {
   std::size_t n = 0;
   for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
   return n;
+}
+
+// What a trajectory says, whoever sent it and whenever: its samples' times and positions (to the
+// millimetre), hashed (FNV-1a 64). A revision sent again unchanged hashes alike.
+std::uint64_t contentHash(const TrajectoryData& t) {
+  std::uint64_t h = 14695981039346656037ULL;
+  const auto mix = [&h](std::int64_t value) {
+    for (int byte = 0; byte < 8; ++byte) {
+      h ^= (static_cast<std::uint64_t>(value) >> (8 * byte)) & 0xffU;
+      h *= 1099511628211ULL;
+    }
+  };
+  mix(static_cast<std::int64_t>(t.samples.size()));
+  for (const TrajectorySampleData& s : t.samples) {
+    mix(s.utc_ns);
+    for (int axis = 0; axis < 3; ++axis) mix(std::llround(s.position_enu_m[axis] * 1000.0));
+  }
+  return h;
+}
+
+double durationS(const TrajectoryData& t) {
+  return t.samples.empty() ? 0.0 : static_cast<double>(t.samples.back().utc_ns - t.samples.front().utc_ns) * 1e-9;
 }
 
 class ShardE2E : public DaemonFixture {
@@ -473,6 +501,154 @@ TEST_F(ShardE2E, AShardRestartedOnItsJournalTakesOverTheVehiclesItRanksNextForWh
     EXPECT_LE(trajectoryWriters(v, settled_mark).size(), 1u) << v << " written by two daemons after the move";
     EXPECT_EQ(statusWritersOf("req-" + v).size(), 1u) << v;
   }
+}
+
+
+// A shard paused (SIGSTOP) for 3 s, six times its liveliness lease, while it owns vehicles in
+// flight: the others take them over meanwhile and replan one of them around an obstacle. When it
+// runs again (SIGCONT) it must not publish any of them (nor answer for them), and no (plan id,
+// revision) may ever reach the ground station with two different trajectories.
+TEST_F(ShardE2E, AShardPausedPastItsLeasePublishesNoneOfTheVehiclesItLostAndNoRevisionHasTwoContents) {
+  ASSERT_NO_FATAL_FAILURE(startGroup(232, 3));
+  std::vector<std::string> vehicles;
+  for (int i = 0; i < 6; ++i) vehicles.push_back("p-" + std::to_string(100 + i));
+  ASSERT_NO_FATAL_FAILURE(sendMissions(vehicles, 0));
+
+  // The shard with the most vehicles is paused.
+  std::map<std::string, std::vector<std::string>> vehicles_of;  // service id -> its vehicles
+  for (const std::string& v : vehicles) {
+    const std::set<std::string> writers = statusWriters(v);
+    ASSERT_EQ(writers.size(), 1u) << v << "\n" << logs();
+    vehicles_of[*writers.begin()].push_back(v);
+  }
+  const auto paused_it = std::max_element(vehicles_of.begin(), vehicles_of.end(),
+                                          [](const auto& a, const auto& b) { return a.second.size() < b.second.size(); });
+  const std::string paused = paused_it->first;
+  const std::vector<std::string> lost = paused_it->second;
+  const std::size_t paused_index = static_cast<std::size_t>(paused.back() - 'a');
+  const std::string paused_instance = activeInstance(paused_index);
+  ASSERT_FALSE(paused_instance.empty()) << shards_[paused_index].err();
+  const std::string& watched = lost.front();  // the vehicle the obstacles block
+
+  // An obstacle on the vehicle's trajectory in force, at least 20 s and distance_m ahead of where
+  // it is now (within the replanning horizon): its owner replans around it.
+  const auto blockAhead = [&](std::uint64_t id, double distance_m) {
+    const TrajectoryData* current = station_->lastReceived(watched);
+    ASSERT_NE(current, nullptr);
+    const std::int64_t now_ns = utcNowNs();
+    const TrajectorySampleData* here = nullptr;
+    const TrajectorySampleData* target = nullptr;
+    for (const TrajectorySampleData& s : current->samples) {
+      if (!here && s.utc_ns >= now_ns) here = &s;
+      if (here && s.utc_ns >= now_ns + 20'000'000'000LL &&
+          (s.position_enu_m - here->position_enu_m).norm() >= distance_m) {
+        target = &s;
+        break;
+      }
+    }
+    ASSERT_NE(target, nullptr) << "the trajectory of " << watched << " does not reach " << distance_m << " m further";
+    ObstacleUpdateData blocking;
+    blocking.obstacle.id = id;
+    blocking.obstacle.size_m = Eigen::Vector3d::Constant(40.0);
+    blocking.obstacle.center_m = target->position_enu_m;
+    blocking.valid_from_utc_ns = utcNowNs();
+    EXPECT_TRUE(station_->obstacles->write(blocking).ok());
+  };
+  // The newest revision of `v` at the station, and whether one newer than `revision` has come,
+  // from another daemon than the paused one when `others_only`.
+  const auto newestRevision = [&](const std::string& v) {
+    const TrajectoryData* t = station_->latest(v);
+    return t ? t->revision : 0u;
+  };
+  const auto revisionAfter = [&](const std::string& v, std::uint32_t revision, bool others_only) {
+    return std::any_of(station_->trajectory_log.begin(), station_->trajectory_log.end(), [&](const TrajectoryData& t) {
+      return t.vehicle_id == v && t.revision > revision && (!others_only || t.source_instance != paused_instance);
+    });
+  };
+
+  std::map<std::string, std::uint32_t> before_pause;
+  for (const std::string& v : lost) before_pause[v] = newestRevision(v);
+  const auto pause_started = Clock::now();
+  shards_[paused_index].signal(SIGSTOP);
+  // Its peers take every one of its vehicles over (their next revisions reach the station).
+  ASSERT_TRUE(station_->pumpUntil(
+      [&] {
+        return std::all_of(lost.begin(), lost.end(),
+                           [&](const auto& v) { return revisionAfter(v, before_pause[v], true); });
+      },
+      30.0))
+      << "the vehicles of the paused " << paused << " were not taken over\n" << logs();
+  // ... and one of them is replanned by its new owner around an obstacle, still during the pause.
+  const std::uint32_t taken_revision = newestRevision(watched);
+  ASSERT_NO_FATAL_FAILURE(blockAhead(1, 200.0));
+  ASSERT_TRUE(station_->pumpUntil([&] { return revisionAfter(watched, taken_revision, true); }, 30.0))
+      << watched << " was not replanned around the obstacle\n" << logs();
+  station_->pumpUntil([&] { return Clock::now() - pause_started >= std::chrono::seconds(3); }, 10.0);
+  const std::size_t resumed_mark = station_->trajectory_log.size();
+  const std::size_t resumed_status_mark = station_->status_log.size();
+  const double paused_s = std::chrono::duration<double>(Clock::now() - pause_started).count();
+  shards_[paused_index].signal(SIGCONT);
+
+  // Running again (its heartbeat reaches the station), every daemon, the paused one included,
+  // reads a second obstacle ahead of the watched vehicle, and its owner answers it.
+  const std::int64_t resumed_ns = utcNowNs();
+  const auto beatSince = [&](const std::string& service_id, std::int64_t since_ns) {
+    const auto beat = station_->heartbeat_of.find(service_id);
+    return beat != station_->heartbeat_of.end() && beat->second.stamp_utc_ns >= since_ns;
+  };
+  ASSERT_TRUE(station_->pumpUntil([&] { return beatSince(paused, resumed_ns); }, 20.0))
+      << paused << " did not heartbeat after SIGCONT\n" << logs();
+  const std::int64_t second_obstacle_ns = utcNowNs();
+  ASSERT_NO_FATAL_FAILURE(blockAhead(2, 400.0));
+  // (Whatever happens from here, the checks below run: they say what went wrong.)
+  EXPECT_TRUE(station_->pumpUntil(
+      [&] {
+        return std::any_of(station_->trajectory_log.begin() + static_cast<std::ptrdiff_t>(resumed_mark),
+                           station_->trajectory_log.end(), [&](const TrajectoryData& t) {
+                             return t.vehicle_id == watched && t.created_utc_ns >= second_obstacle_ns;
+                           });
+      },
+      30.0))
+      << watched << " was not replanned around the second obstacle";
+  // Every daemon holds both obstacles, then heartbeats once more: the replanning cycle each ran
+  // at once for the second one is over.
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::string id = serviceId(i);
+    EXPECT_TRUE(station_->pumpUntil(
+        [&] { return beatSince(id, second_obstacle_ns) && station_->heartbeat_of[id].obstacles >= 2; }, 20.0))
+        << id << " never held the second obstacle";
+    const std::int64_t held_ns = station_->heartbeat_of[id].stamp_utc_ns;
+    EXPECT_TRUE(station_->pumpUntil([&] { return beatSince(id, held_ns + 1); }, 20.0)) << id;
+  }
+
+  // No (plan id, revision) with two different trajectories, ever.
+  std::map<std::pair<std::string, std::uint32_t>, const TrajectoryData*> first_of;
+  for (const TrajectoryData& t : station_->trajectory_log) {
+    const auto [it, inserted] = first_of.emplace(std::make_pair(t.plan_id, t.revision), &t);
+    if (inserted) continue;
+    const TrajectoryData& earlier = *it->second;
+    EXPECT_EQ(contentHash(earlier), contentHash(t))
+        << "plan " << t.plan_id << " revision " << t.revision << " stands for two trajectories: " << durationS(earlier)
+        << " s from " << earlier.source_instance << " and " << durationS(t) << " s from " << t.source_instance;
+  }
+  // The paused shard publishes none of the vehicles it lost, and answers for none of them.
+  for (std::size_t i = resumed_mark; i < station_->trajectory_log.size(); ++i) {
+    const TrajectoryData& t = station_->trajectory_log[i];
+    if (std::find(lost.begin(), lost.end(), t.vehicle_id) == lost.end()) continue;
+    EXPECT_NE(t.source_instance, paused_instance)
+        << paused << " published " << t.vehicle_id << " (plan " << t.plan_id << " revision " << t.revision
+        << ") after its pause although its peers had taken it over";
+  }
+  for (std::size_t i = resumed_status_mark; i < station_->status_log.size(); ++i) {
+    const PlanStatusData& s = station_->status_log[i];
+    if (std::find(lost.begin(), lost.end(), s.vehicle_id) == lost.end()) continue;
+    EXPECT_NE(s.service_id, paused) << paused << " answered for " << s.vehicle_id << " after its pause";
+  }
+  EXPECT_NE(shards_[paused_index].err().find("event=shard_new_life cause=stall"), std::string::npos)
+      << paused << " did not notice its pause\n" << shards_[paused_index].err();
+  std::cout << "[ shard ] " << paused << " paused " << paused_s << " s with " << lost.size() << " vehicles; "
+            << (station_->trajectory_log.size() - resumed_mark) << " trajectories after it ran again\n";
+  if (HasFailure() || std::getenv("SKYROUTE_E2E_LOGS")) std::cout << logs();
 }
 
 }  // namespace

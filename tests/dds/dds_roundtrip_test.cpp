@@ -248,6 +248,7 @@ TEST(DdsRoundTrip, CancelHeartbeatAndFleet) {
   EXPECT_EQ(cancel->vehicle_id, "uav-2");
 
   ServiceStatusData heartbeat{"skyrouted-1", 1'790'000'000'000'000'001LL, true, "N44W072", 20, 31, 4, "0.1.0", "1"};
+  heartbeat.life_started_utc_ns = 1'789'999'999'000'000'007LL;
   // Best effort on loopback: a lost sample would show as nothing received.
   auto hb = roundTrip(117, heartbeat);
   ASSERT_TRUE(hb.has_value());
@@ -260,6 +261,7 @@ TEST(DdsRoundTrip, CancelHeartbeatAndFleet) {
   EXPECT_EQ(hb->queue_length, 4u);
   EXPECT_EQ(hb->service_version, "0.1.0");
   EXPECT_EQ(hb->idl_version, "1");
+  EXPECT_EQ(hb->life_started_utc_ns, heartbeat.life_started_utc_ns);
 
   FleetRequestData fleet;
   fleet.request_id = "fleet-1";

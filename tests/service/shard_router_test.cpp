@@ -4,6 +4,8 @@
 // arrive after it, a fleet has one owner for all its vehicles, and a cancelled mission is never
 // planned again by the next owner. A shard restarted on its journal gets its copies back without
 // planning them, and the members agree which requests it read (its earlier lives, not its gap).
+// A shard that stood still begins a new life: it lets go of everything and takes back none of its
+// old vehicles; another daemon's revision of its own plan reveals a takeover and fences it.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -326,6 +328,106 @@ TEST(ShardRouter, AFleetReplacedForAllItsVehiclesIsForgotten) {
   EXPECT_TRUE(alone.onMission(mission("f-1", "m1"), 11 * kSecond).forget_requests.empty()) << "f-2 still flies it";
   EXPECT_EQ(alone.onMission(mission("f-2", "m2"), 12 * kSecond).forget_requests,
             std::vector<std::string>{ShardRouter::fleetKey("fleet-1")});
+}
+
+
+// A shard that stood still past its lease (docs/dds.md "A paused shard"): its peers took its
+// vehicles over. Beginning a new life it lets go of every vehicle it had, owns nothing until it
+// settles again, and then, a joiner as of the new life, takes back none of the old vehicles
+// while a member that read their requests is live; it takes new requests as any member does.
+TEST(ShardRouter, ANewLifeReleasesEveryVehicleAndTakesBackNoneOfThemWhileTheirReadersLive) {
+  Group g;
+  std::vector<MissionRequestData> missions;
+  for (int i = 0; i < 30; ++i) missions.push_back(mission("uav-" + std::to_string(i), "r" + std::to_string(i)));
+  for (const MissionRequestData& m : missions)
+    for (auto& [id, r] : g.routers) r->onMission(m, 10 * kSecond);
+  std::vector<std::string> of_b;
+  for (const MissionRequestData& m : missions)
+    if (g.ownersOf(m.vehicle_id) == std::vector<std::string>{"shard-b"}) of_b.push_back(m.vehicle_id);
+  ASSERT_FALSE(of_b.empty());
+
+  // shard-b stood still from 20 s to 23 s; the others saw it go and took its vehicles.
+  const std::vector<ShardMember> without_b{{"shard-a", 0}, {"shard-c", 0}};
+  for (const char* id : {"shard-a", "shard-c"}) g.routers[id]->setMembers(without_b, true, 21 * kSecond);
+  ShardRouter& b = *g.routers["shard-b"];
+  const ShardActions released = b.beginLife(23 * kSecond, 23 * kSecond);
+  EXPECT_EQ(released.release_vehicles.size(), of_b.size());
+  EXPECT_TRUE(released.plan.empty() && released.resume.empty());
+  EXPECT_EQ(b.lifeStartedUtcNs(), 23 * kSecond);
+  EXPECT_EQ(b.ownedVehicles(), 0u);
+  for (const std::string& v : of_b) EXPECT_FALSE(b.ownsVehicle(v)) << v;
+
+  // Back with its new life, as the others see it in its heartbeats; it has listened and settles.
+  const std::vector<ShardMember> again{{"shard-a", 0}, {"shard-b", 23 * kSecond}, {"shard-c", 0}};
+  for (auto& [id, r] : g.routers) {
+    const ShardActions a = r->setMembers(again, true, 25 * kSecond);
+    EXPECT_TRUE(a.release_vehicles.empty() && a.plan.empty() && a.resume.empty()) << id << " moved a vehicle";
+  }
+  for (const MissionRequestData& m : missions) {
+    const auto owners = g.ownersOf(m.vehicle_id);
+    ASSERT_EQ(owners.size(), 1u) << m.vehicle_id;
+    EXPECT_NE(owners[0], "shard-b") << m.vehicle_id << " went back to the shard that stood still";
+  }
+  // It takes new requests as any member does.
+  int by_b = 0;
+  for (int i = 0; i < 40; ++i) {
+    const MissionRequestData m = mission("new-" + std::to_string(i), "n" + std::to_string(i));
+    for (auto& [id, r] : g.routers) r->onMission(m, 30 * kSecond);
+    const auto owners = g.ownersOf(m.vehicle_id);
+    ASSERT_EQ(owners.size(), 1u);
+    by_b += owners[0] == "shard-b";
+  }
+  EXPECT_GT(by_b, 3);
+}
+
+// The trajectories on the wire fence a shard: another daemon's revision of the plan it last wrote
+// for a vehicle it owns says it was taken for dead; and a revision it is about to write that
+// another daemon already wrote (or overtook) is superseded.
+TEST(ShardRouter, AnotherDaemonsRevisionOfOurPlanRevealsATakeoverAndSupersedesOurs) {
+  const std::vector<ShardMember> members{{"shard-a", 0}, {"shard-b", 0}};
+  ShardRouter a(members[0], kMargin, "instance-a");
+  a.setMembers(members, true, 5 * kSecond);
+  std::string mine;
+  for (int i = 0; i < 20 && mine.empty(); ++i) {
+    const MissionRequestData m = mission("uav-" + std::to_string(i), "r" + std::to_string(i));
+    a.onMission(m, 10 * kSecond);
+    if (a.ownsVehicle(m.vehicle_id)) mine = m.vehicle_id;
+  }
+  ASSERT_FALSE(mine.empty());
+  const MissionRequestData m = mission(mine, "r");
+  TrajectoryData ours = published(m, 4, 10 * kSecond, 500 * kSecond);
+  a.onPublished(ours);
+
+  TrajectoryData theirs = ours;
+  theirs.source_instance = "instance-b";
+  theirs.revision = 5;
+  TrajectoryData other_plan = theirs;
+  other_plan.plan_id = mine + "-other";
+  TrajectoryData older = theirs;
+  older.revision = 3;
+  EXPECT_FALSE(a.onTrajectory(older)) << "an older revision reveals nothing";
+  EXPECT_FALSE(a.onTrajectory(other_plan)) << "another plan is a new request's, not a takeover";
+  a.onPublished(ours);  // ours again in force on the wire
+  EXPECT_TRUE(a.onTrajectory(theirs));
+
+  // Our next revision 5 stands for another trajectory than theirs: superseded; 6 is not.
+  TrajectoryData next = ours;
+  next.revision = 5;
+  EXPECT_TRUE(a.supersededOnWire(next));
+  next.revision = 6;
+  EXPECT_FALSE(a.supersededOnWire(next));
+  // Our own revisions never supersede ours.
+  a.onPublished(next);
+  next.revision = 6;
+  EXPECT_FALSE(a.supersededOnWire(next));
+  // A vehicle this shard does not own: another daemon's revisions are no takeover.
+  ShardRouter b(members[1], kMargin, "instance-b");
+  b.setMembers(members, true, 5 * kSecond);
+  b.onMission(m, 10 * kSecond);
+  ASSERT_FALSE(b.ownsVehicle(mine));
+  TrajectoryData from_a = ours;
+  from_a.source_instance = "instance-a";
+  EXPECT_FALSE(b.onTrajectory(from_a));
 }
 
 }  // namespace
