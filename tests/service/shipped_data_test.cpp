@@ -55,7 +55,7 @@ TEST_F(ShippedData, MissingDataNamesTheFolderSearched) {
 }
 
 TEST(ShippedDataOfThisProcess, TheTestBinaryResolvesFromProcSelfExe) {
-  // This test runs from build/tests/service/, so its share/skyroute is build/tests/share/skyroute.
+  // This test runs from build/tests/, so its share/skyroute is build/share/skyroute.
   const auto dirs = shippedDataDirs();
   ASSERT_EQ(dirs.size(), 1u);
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe");
