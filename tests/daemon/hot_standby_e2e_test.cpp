@@ -15,11 +15,13 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "tests/daemon/daemon_fixture.hpp"
+#include "tests/daemon/obstacle_reach.hpp"
 
 namespace skyroute::testing {
 namespace {
@@ -144,23 +146,10 @@ class HotStandbyE2E : public DaemonFixture {
     const TrajectoryData* current = station_->latest("uav-h");
     ASSERT_NE(current, nullptr);
     const std::int64_t now_ns = utcNowNs();
-    const TrajectorySampleData* here = nullptr;
-    const TrajectorySampleData* target = nullptr;
-    for (const TrajectorySampleData& s : current->samples) {
-      if (!here && s.utc_ns >= now_ns) here = &s;
-      if (here && s.utc_ns >= now_ns + 20'000'000'000LL && (s.position_enu_m - here->position_enu_m).norm() >= distance_m) {
-        target = &s;
-        break;
-      }
-    }
-    ASSERT_NE(target, nullptr) << "the trajectory does not reach " << distance_m << " m further";
-    ASSERT_LT(static_cast<double>(target->utc_ns - now_ns) * 1e-9, 44.0) << "beyond the replanning horizon";
-    ObstacleUpdateData blocking;
-    blocking.obstacle.id = id;
-    blocking.obstacle.size_m = Eigen::Vector3d::Constant(40.0);
-    blocking.obstacle.center_m = target->position_enu_m;
-    blocking.valid_from_utc_ns = utcNowNs();
-    ASSERT_TRUE(station_->obstacles->write(blocking).ok());
+    const std::optional<BlockAhead> block = testing::blockAhead(*current, id, distance_m, now_ns);
+    ASSERT_TRUE(block) << "the trajectory does not reach " << distance_m << " m further";
+    ASSERT_LT(static_cast<double>(block->meets_utc_ns - now_ns) * 1e-9, 44.0) << "beyond the replanning horizon";
+    ASSERT_TRUE(station_->obstacles->write(block->update).ok());
   }
 
   // Each update makes one revision: waits for the revision after `revision` at the station.

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
 #include "service/mission_types.hpp"
 
@@ -48,6 +49,31 @@ inline bool obstacleMeets(const TrajectoryData& t, const ObstacleUpdateData& u, 
     if (insideGrown(u, s.position_enu_m, s.utc_ns, margin_m)) return true;
   }
   return false;
+}
+
+// A 40 m box on `current` where the vehicle will be at least 20 s and distance_m (along the
+// straight line) after its first sample from now_ns: the update a test sends so that the
+// vehicle's owner replans round it. Nothing when the trajectory does not reach that far.
+struct BlockAhead {
+  ObstacleUpdateData update;
+  std::int64_t meets_utc_ns = 0;  // when the vehicle would be at the box's centre
+};
+inline std::optional<BlockAhead> blockAhead(const TrajectoryData& current, std::uint64_t id, double distance_m,
+                                            std::int64_t now_ns) {
+  const TrajectorySampleData* here = nullptr;
+  for (const TrajectorySampleData& s : current.samples) {
+    if (!here && s.utc_ns >= now_ns) here = &s;
+    if (here && s.utc_ns >= now_ns + 20'000'000'000LL && (s.position_enu_m - here->position_enu_m).norm() >= distance_m) {
+      BlockAhead out;
+      out.update.obstacle.id = id;
+      out.update.obstacle.size_m = Eigen::Vector3d::Constant(40.0);
+      out.update.obstacle.center_m = s.position_enu_m;
+      out.update.valid_from_utc_ns = now_ns;
+      out.meets_utc_ns = s.utc_ns;
+      return out;
+    }
+  }
+  return std::nullopt;
 }
 
 }  // namespace skyroute::testing

@@ -22,6 +22,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -29,6 +30,7 @@
 
 #include "service/shard_assignment.hpp"
 #include "tests/daemon/daemon_fixture.hpp"
+#include "tests/daemon/obstacle_reach.hpp"
 
 namespace skyroute::testing {
 namespace {
@@ -535,24 +537,9 @@ TEST_F(ShardE2E, AShardPausedPastItsLeasePublishesNoneOfTheVehiclesItLostAndNoRe
   const auto blockAhead = [&](std::uint64_t id, double distance_m) {
     const TrajectoryData* current = station_->lastReceived(watched);
     ASSERT_NE(current, nullptr);
-    const std::int64_t now_ns = utcNowNs();
-    const TrajectorySampleData* here = nullptr;
-    const TrajectorySampleData* target = nullptr;
-    for (const TrajectorySampleData& s : current->samples) {
-      if (!here && s.utc_ns >= now_ns) here = &s;
-      if (here && s.utc_ns >= now_ns + 20'000'000'000LL &&
-          (s.position_enu_m - here->position_enu_m).norm() >= distance_m) {
-        target = &s;
-        break;
-      }
-    }
-    ASSERT_NE(target, nullptr) << "the trajectory of " << watched << " does not reach " << distance_m << " m further";
-    ObstacleUpdateData blocking;
-    blocking.obstacle.id = id;
-    blocking.obstacle.size_m = Eigen::Vector3d::Constant(40.0);
-    blocking.obstacle.center_m = target->position_enu_m;
-    blocking.valid_from_utc_ns = utcNowNs();
-    EXPECT_TRUE(station_->obstacles->write(blocking).ok());
+    const std::optional<BlockAhead> block = testing::blockAhead(*current, id, distance_m, utcNowNs());
+    ASSERT_TRUE(block) << "the trajectory of " << watched << " does not reach " << distance_m << " m further";
+    EXPECT_TRUE(station_->obstacles->write(block->update).ok());
   };
   // The newest revision of `v` at the station, and whether one newer than `revision` has come,
   // from another daemon than the paused one when `others_only`.
