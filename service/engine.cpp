@@ -309,6 +309,15 @@ bool Engine::cancel(const CancelRequestData& request) {
   std::vector<std::string> retracted;
   bool matched = false;
   std::optional<Error> unrecorded;  // the journal could not record the cancel
+  // A refused cancel is answered to the canceller under the identity it gave.
+  auto refuse = [&](const PlanError& error) {
+    MissionRequestData identity;
+    identity.request_id = request.request_id;
+    identity.vehicle_id = request.vehicle_id;
+    identity.requester = request.requester;
+    sink_.publishStatus(PlanStatusData::failed(identity, error, 0.0));
+    return false;
+  };
   {
     std::lock_guard lock(mutex_);
     // A cancel names a vehicle, a request, or both; a fleet job's request is empty: never matches.
@@ -355,12 +364,7 @@ bool Engine::cancel(const CancelRequestData& request) {
                               "); the mission goes on, retry when the journal can write"};
     spdlog::warn("event=cancel_rejected vehicle={} request={} code={} message=\"{}\"", request.vehicle_id,
                  request.request_id, to_string(error.code), error.message);
-    MissionRequestData identity;
-    identity.request_id = request.request_id;
-    identity.vehicle_id = request.vehicle_id;
-    identity.requester = request.requester;
-    sink_.publishStatus(PlanStatusData::failed(identity, error, 0.0));
-    return false;
+    return refuse(error);
   }
   // Mission locks are never taken under the engine lock (the replanning loop holds a mission's
   // lock while it plans).
@@ -388,12 +392,7 @@ bool Engine::cancel(const CancelRequestData& request) {
   throttle_.warn("cancel_unknown:" + request.vehicle_id + ":" + request.request_id,
                  fmt::format("event=cancel_rejected vehicle={} request={} message=\"{}\"", request.vehicle_id,
                              request.request_id, error.message));
-  MissionRequestData identity;
-  identity.request_id = request.request_id;
-  identity.vehicle_id = request.vehicle_id;
-  identity.requester = request.requester;
-  sink_.publishStatus(PlanStatusData::failed(identity, error, 0.0));
-  return false;
+  return refuse(error);
 }
 
 std::optional<PlanError> Engine::updateObstacle(const ObstacleUpdateData& update) {

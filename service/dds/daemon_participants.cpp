@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <map>
 #include <optional>
-#include <string_view>
 #include <vector>
 
 #include "service/dds/dds_entities.hpp"
@@ -11,19 +10,6 @@
 #include "service/dds/typed_io.hpp"
 
 namespace skyroute::dds {
-namespace {
-
-std::optional<ServiceInstance> instanceOf(const dds_qos_t* qos) {
-  if (qos == nullptr) return std::nullopt;
-  void* value = nullptr;
-  std::size_t size = 0;
-  if (!dds_qget_userdata(qos, &value, &size) || value == nullptr) return std::nullopt;
-  auto instance = ServiceInstance::fromUserData(std::string_view(static_cast<const char*>(value), size));
-  dds_free(value);
-  return instance;
-}
-
-}  // namespace
 
 std::vector<DaemonParticipant> daemonParticipants(dds_entity_t participant_reader, dds_entity_t heartbeat_reader) {
   std::map<std::string, std::string> guid_of;  // instance id -> GUID
@@ -37,7 +23,7 @@ std::vector<DaemonParticipant> daemonParticipants(dds_entity_t participant_reade
   for (dds_return_t i = 0; i < n; ++i) {
     if (!infos[i].valid_data || infos[i].instance_state != DDS_IST_ALIVE) continue;
     const auto* participant = static_cast<const dds_builtintopic_participant_t*>(loans[i]);
-    if (auto instance = instanceOf(participant->qos)) guid_of[instance->instance_id] = guidText(participant->key);
+    if (auto instance = announcedInstance(participant->qos)) guid_of[instance->instance_id] = guidText(participant->key);
   }
   if (n > 0) (void)dds_return_loan(participant_reader, loans.data(), n);
   std::vector<dds_instance_handle_t> handles(kMost);
@@ -45,7 +31,7 @@ std::vector<DaemonParticipant> daemonParticipants(dds_entity_t participant_reade
   for (dds_return_t i = 0; i < std::min<dds_return_t>(m, static_cast<dds_return_t>(handles.size())); ++i) {
     const Endpoint writer = matchedPublication(heartbeat_reader, handles[static_cast<std::size_t>(i)]);
     if (!writer) continue;
-    if (auto instance = instanceOf(writer->qos)) guid_of.emplace(instance->instance_id, guidText(writer->key));
+    if (auto instance = announcedInstance(writer->qos)) guid_of.emplace(instance->instance_id, guidText(writer->key));
   }
   std::vector<DaemonParticipant> out;
   for (auto& [instance, guid] : guid_of) out.push_back(DaemonParticipant{instance, guid});

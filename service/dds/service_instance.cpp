@@ -108,9 +108,7 @@ std::string ServiceInstance::describe() const {
          utcText(started_utc_ns) + ")";
 }
 
-namespace {
-
-std::optional<ServiceInstance> fromQos(const dds_qos_t* qos) {
+std::optional<ServiceInstance> announcedInstance(const dds_qos_t* qos) {
   if (qos == nullptr) return std::nullopt;
   void* value = nullptr;
   std::size_t size = 0;
@@ -119,8 +117,6 @@ std::optional<ServiceInstance> fromQos(const dds_qos_t* qos) {
   dds_free(value);
   return instance;
 }
-
-}  // namespace
 
 std::vector<ServiceInstance> discoveredInstances(dds_entity_t participant_reader) {
   std::vector<ServiceInstance> out;
@@ -133,7 +129,7 @@ std::vector<ServiceInstance> discoveredInstances(dds_entity_t participant_reader
   for (dds_return_t i = 0; i < n; ++i) {
     if (!infos[i].valid_data || infos[i].instance_state != DDS_IST_ALIVE) continue;
     const auto* participant = static_cast<const dds_builtintopic_participant_t*>(loans[i]);
-    if (auto instance = fromQos(participant->qos)) out.push_back(std::move(*instance));
+    if (auto instance = announcedInstance(participant->qos)) out.push_back(std::move(*instance));
   }
   (void)dds_return_loan(participant_reader, loans.data(), n);
   return out;
@@ -147,7 +143,7 @@ std::vector<ServiceInstance> matchedInstances(dds_entity_t heartbeat_reader) {
   for (dds_return_t i = 0; i < std::min<dds_return_t>(n, static_cast<dds_return_t>(handles.size())); ++i) {
     const Endpoint endpoint = matchedPublication(heartbeat_reader, handles[i]);
     if (!endpoint) continue;
-    if (auto instance = fromQos(endpoint->qos)) out.push_back(std::move(*instance));
+    if (auto instance = announcedInstance(endpoint->qos)) out.push_back(std::move(*instance));
   }
   return out;
 }

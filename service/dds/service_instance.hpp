@@ -50,6 +50,10 @@ struct ServiceInstance {
 // own included), from their USER_DATA. Writers without it are skipped.
 std::vector<ServiceInstance> matchedInstances(dds_entity_t heartbeat_reader);
 
+// The instance a discovered participant or endpoint announces in its QoS's USER_DATA; nothing for
+// another program's (no or foreign USER_DATA) or a null QoS.
+std::optional<ServiceInstance> announcedInstance(const dds_qos_t* qos);
+
 // The daemons among the live participants a DCPSParticipant reader (createParticipantReader) has
 // discovered, from their USER_DATA: participant discovery comes first, so this is the earliest
 // count of the daemons on a domain (their endpoints follow).
