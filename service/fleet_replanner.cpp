@@ -460,11 +460,6 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::buildCandidate(std::siz
     if (leg.to_point + 1 < points.size()) c.task_times_world_s.push_back(new_start_s + leg.end_s);
   }
   if (!c.legs.empty()) c.legs.front().start_s = 0.0;
-  // The audit's own check of the whole revision (zones at each sample's time, obstacles, limits);
-  // a refused candidate is never adopted, so never published.
-  if (options_.audit && options_.audit(i, c.trajectory, c.start_world_s, now_s, v.revision + 1)) {
-    return rejected(i, wait_s, "the audit refused it");
-  }
   return c;
 }
 
@@ -485,6 +480,12 @@ std::optional<FleetReplanner::Candidate> FleetReplanner::replanVehicle(std::size
     if (!separatedFromOthers(i, c->trajectory, c->start_world_s, c->start_world_s)) {
       spdlog::debug("event=fleet_candidate vehicle={} wait_s={:.0f} rejected=\"too close to another vehicle\"",
                     request_.vehicle_ids[i], wait_s);
+      return false;
+    }
+    // Last, the audit's own check of the whole revision (zones at each sample's time, obstacles,
+    // limits): every candidate adopted comes through here, so none refused is ever published.
+    if (options_.audit && options_.audit(i, c->trajectory, c->start_world_s, now_s, vehicles_[i].revision + 1)) {
+      rejected(i, wait_s, "the audit refused it");
       return false;
     }
     return true;
